@@ -1,0 +1,1 @@
+"""Subcommands of the ``flexkane`` command line, one module each."""
