@@ -1,0 +1,163 @@
+"""Quantities computed along a trajectory: energy, momentum, positions, tip deflections, efforts.
+
+Names of the outputs (columns of results files):
+
+* ``kinetic``, ``potential_gravity``, ``strain``, ``potential_springs``, ``energy`` [J]:
+  kinetic energy ``1/2 sum m v.v + 1/2 I w^2 + 1/2 int rho v_P.v_P dx``, gravity potential
+  ``-sum m g.r - int rho g.r_P dx`` (or the whole weight at the deformed midpoint for ``midpoint``
+  beams), strain energy ``1/2 q^T H q`` (eq. 8.32) plus axial, spring energy, and their sum;
+* ``power_nonconservative`` [W]: power of drivers, applied loads and dampers;
+* ``x_<link>``, ``y_<link>``, ``theta_<link>`` [m, m, rad]: mass centre of each body, root of each
+  beam, and the frame angle;
+* ``tip_<beam>`` [m]: deflection of the beam's tip in the beam frame, ``sum_i Phi_i(L) q_i``;
+* ``x_cm``, ``y_cm`` [m], ``p_x``, ``p_y`` [kg m/s]: centre of mass of the whole system and its
+  linear momentum; ``h_cm`` [kg m^2/s]: angular momentum about the centre of mass;
+* ``effort_<joint>`` [N m or N]: generalized force supplied by each driver.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from .active import gravity_vector
+from .kinematics import rot
+from .modal_field import ONE, X, phi, rigid
+
+__all__ = ["output_expressions"]
+
+
+def _cross(a, b):
+    return a[0] * b[1] - a[1] * b[0]
+
+
+def output_expressions(eom) -> dict:
+    """Output expressions of an :class:`~flexkane.kane.equations.EquationsOfMotion` (unsubstituted)."""
+    kin = eom.kinematics
+    chain = eom.chain
+    model = chain.model
+    out: dict = {}
+    kinetic = []
+    mass_total = []
+    first_moment = [[], []]
+    momentum = [[], []]
+    h_origin = []
+    for name, frame in kin.bodies.items():
+        body = model.bodies[name]
+        m = kin.value(f"bodies.{name}.mass", body.mass, f"m_{name}")
+        inertia = kin.value(f"bodies.{name}.inertia", body.inertia, f"I_{name}")
+        vx, vy = frame.v
+        kinetic.append(m * (vx ** 2 + vy ** 2) / 2 + inertia * frame.omega ** 2 / 2)
+        vN = rot(frame.theta, frame.v)
+        mass_total.append(m)
+        for k in range(2):
+            first_moment[k].append(m * frame.r[k])
+            momentum[k].append(m * vN[k])
+        h_origin.append(inertia * frame.omega + m * _cross(frame.r, vN))
+        out[f"x_{name}"], out[f"y_{name}"], out[f"theta_{name}"] = frame.r[0], frame.r[1], frame.theta
+    strain = []
+    for name, bm in kin.beams.items():
+        c = bm.constants
+        v = bm.v
+        kinetic.append((c.integrate(v[0], v[0]) + c.integrate(v[1], v[1])) / 2)
+        mB = c.pair(ONE, ONE)
+        mass_total.append(mB)
+        fr = bm.frame
+        mom_local = (c.integrate1(v[0]), c.integrate1(v[1]))
+        first_local = (c.integrate1(bm.X), c.integrate1(bm.Y))
+        first_N = rot(fr.theta, first_local)
+        mom_N = rot(fr.theta, mom_local)
+        for k in range(2):
+            first_moment[k].append(mB * fr.r[k] + first_N[k])
+            momentum[k].append(mom_N[k])
+        # r_P x v_P is invariant under rotation: use beam-frame components
+        r_local = rot(-fr.theta, fr.r)
+        h_origin.append(_cross(r_local, mom_local)
+                        + c.integrate(bm.X, v[1]) - c.integrate(bm.Y, v[0]))
+        out[f"x_{name}"], out[f"y_{name}"], out[f"theta_{name}"] = fr.r[0], fr.r[1], fr.theta
+        L = kin.value(f"beams.{name}.L", bm.beam.L, f"L_{name}")
+        text = bm.beam.L.strip() if isinstance(bm.beam.L, str) else repr(bm.beam.L)
+        out[f"tip_{name}"] = bm.Y.evaluate(lambda a: c.station(a, L, text))
+        modes = chain.beam_modes(name)
+        strain.append(sp.Add(*[c.stiffness(i + 1, j + 1) * qi * qj * (1 if i == j else 2)
+                               for i, qi in enumerate(modes) for j, qj in enumerate(modes) if j >= i]) / 2)
+        axial = chain.beam_axial(name)
+        strain.append(sp.Add(*[c.axial_stiffness(k + 1, l + 1) * sk * sl * (1 if k == l else 2)
+                               for k, sk in enumerate(axial) for l, sl in enumerate(axial) if l >= k]) / 2)
+    M = sp.Add(*mass_total)
+    out["x_cm"] = sp.Add(*first_moment[0]) / M
+    out["y_cm"] = sp.Add(*first_moment[1]) / M
+    out["p_x"] = sp.Add(*momentum[0])
+    out["p_y"] = sp.Add(*momentum[1])
+    out["h_cm"] = sp.Add(*h_origin) - _cross((out["x_cm"], out["y_cm"]), (out["p_x"], out["p_y"]))
+    # ---------------------------------------------------------------- potential energy
+    gravity = []
+    gvec = gravity_vector(kin)
+    if gvec is not None:
+        for name, frame in kin.bodies.items():
+            m = kin.value(f"bodies.{name}.mass", model.bodies[name].mass, f"m_{name}")
+            gravity.append(-m * (gvec[0] * frame.r[0] + gvec[1] * frame.r[1]))
+        for name, bm in kin.beams.items():
+            c = bm.constants
+            fr = bm.frame
+            mB = c.pair(ONE, ONE)
+            if bm.beam.gravity == "midpoint":
+                L = kin.value(f"beams.{name}.L", bm.beam.L, f"L_{name}")
+                text = bm.beam.L.strip() if isinstance(bm.beam.L, str) else repr(bm.beam.L)
+                half = f"{text}/2" if isinstance(bm.beam.L, str) else repr(bm.beam.L / 2)
+                p = (bm.X.evaluate(lambda a: c.station(a, L / 2, half)),
+                     bm.Y.evaluate(lambda a: c.station(a, L / 2, half)))
+                pN = rot(fr.theta, p)
+                gravity.append(-mB * (gvec[0] * (fr.r[0] + pN[0]) + gvec[1] * (fr.r[1] + pN[1])))
+            else:
+                firstN = rot(fr.theta, (c.integrate1(bm.X), c.integrate1(bm.Y)))
+                gravity.append(-(gvec[0] * (mB * fr.r[0] + firstN[0]) + gvec[1] * (mB * fr.r[1] + firstN[1])))
+    springs = []
+    for joint in chain.joints:
+        if joint.stiffness is not None:
+            coord = chain.of(joint.name)[0]
+            k = kin.value(f"joints.{joint.name}.stiffness", joint.stiffness, f"k_{joint.name}")
+            rest = kin.value(f"joints.{joint.name}.rest", joint.rest, f"{coord.q.name}_rest")
+            springs.append(k * (coord.q - rest) ** 2 / 2)
+    dissipation = []
+    for spring in model.springs.values():
+        path = f"springs.{spring.name}"
+        ends = []
+        for end in ("a", "b"):
+            body = getattr(spring, f"body_{end}")
+            if body == "ground":
+                pos = getattr(spring, f"position_{end}")
+                ends.append((kin.value(f"{path}.position_{end}[0]", pos[0], f"x_{spring.name}_{end}"),
+                             kin.value(f"{path}.position_{end}[1]", pos[1], f"y_{spring.name}_{end}")))
+            else:
+                ends.append(kin.bodies[body].point(kin.body_point(body, getattr(spring, f"point_{end}")), chain).r)
+        length = sp.sqrt((ends[1][0] - ends[0][0]) ** 2 + (ends[1][1] - ends[0][1]) ** 2)
+        k = kin.value(f"{path}.stiffness", spring.stiffness, f"k_{spring.name}")
+        l0 = kin.value(f"{path}.rest_length", spring.rest_length, f"l0_{spring.name}")
+        springs.append(k * (length - l0) ** 2 / 2)
+    out["kinetic"] = sp.Add(*kinetic)
+    out["potential_gravity"] = sp.Add(*gravity)
+    out["strain"] = sp.Add(*strain)
+    out["potential_springs"] = sp.Add(*springs)
+    out["energy"] = out["kinetic"] + out["potential_gravity"] + out["strain"] + out["potential_springs"]
+    # ---------------------------------------------------------------- power of non-conservative forces
+    speeds = chain.u
+    power = []
+    for kind in ("damping", "loads"):
+        power += [u * f for u, f in zip(speeds, eom.F_r[kind]) if f != 0]
+    for joint in chain.joints:
+        if joint.damping is not None:
+            coord = chain.of(joint.name)[0]
+            c = kin.value(f"joints.{joint.name}.damping", joint.damping, f"c_{joint.name}")
+            power.append(-c * coord.u ** 2)
+    # springs between points: total power of the spring forces minus the rate of their energy
+    spring_power = sp.Add(*[u * f for u, f in zip(speeds, eom.F_r["springs"]) if f != 0])
+    if model.springs:
+        springs_energy = sp.Add(*springs[len(springs) - len(model.springs):])
+        power.append(spring_power + chain.dt(springs_energy))
+    for owner, effort in eom.driver_efforts.items():
+        coord = chain.of(owner)[0]
+        power.append(effort * coord.u)
+    out["power_nonconservative"] = sp.Add(*power)
+    for owner, effort in eom.driver_efforts.items():
+        out[f"effort_{owner}"] = effort
+    return out

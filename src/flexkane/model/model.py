@@ -1,0 +1,101 @@
+"""The model: a planar chain of rigid bodies and beams with its parameters and initial conditions."""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import dataclass, field
+
+from ..errors import ModelError
+from .parts import Beam, Gravity, Joint, Load, PointSpring, RigidBody, Simulation, Value
+
+__all__ = ["Model", "NAMING_STYLES"]
+
+#: ``joint``: coordinates named after their joint and beam (``q_shoulder``, ``q_arm_1``);
+#: ``sequential``: q1, q2, ... and u1, u2, ... in tree order (the chapter's naming).
+NAMING_STYLES = ("joint", "sequential")
+
+
+@dataclass
+class Model:
+    """A planar kinematic chain with continuous flexible links.
+
+    The same content as a TOML model file (:func:`flexkane.model.load_model`,
+    :func:`flexkane.model.dumps_model`). Build one in Python by filling the dictionaries, then call
+    :meth:`validate` (done by every pipeline stage).
+
+    Parameters
+    ----------
+    name : str
+        Model name (used in output titles).
+    parameters : dict of str to Value
+        Named parameters; any field may refer to them. They stay symbols in the derived equations.
+    bodies : dict of str to RigidBody
+    beams : dict of str to Beam
+    joints : dict of str to Joint
+    gravity : Gravity, optional
+    loads : dict of str to Load
+    springs : dict of str to PointSpring
+    initial : dict of str to Value
+        Initial values of generalized coordinates and speeds, by name; others start at 0.
+    naming : str
+        One of :data:`NAMING_STYLES`.
+    simulation : Simulation
+        Default run settings.
+    description : str
+        Free text.
+    """
+
+    name: str = "model"
+    parameters: dict[str, Value] = field(default_factory=dict)
+    bodies: dict[str, RigidBody] = field(default_factory=dict)
+    beams: dict[str, Beam] = field(default_factory=dict)
+    joints: dict[str, Joint] = field(default_factory=dict)
+    gravity: Gravity | None = None
+    loads: dict[str, Load] = field(default_factory=dict)
+    springs: dict[str, PointSpring] = field(default_factory=dict)
+    initial: dict[str, Value] = field(default_factory=dict)
+    naming: str = "joint"
+    simulation: Simulation = field(default_factory=Simulation)
+    description: str = ""
+
+    # ------------------------------------------------------------------ queries
+    def link_names(self) -> list[str]:
+        """Names of all links (bodies then beams)."""
+        return list(self.bodies) + list(self.beams)
+
+    def joint_of_child(self, link: str) -> Joint:
+        """The joint whose child is ``link``."""
+        for joint in self.joints.values():
+            if joint.child == link:
+                return joint
+        raise ModelError(f"joints", f"a joint whose child is {link!r}", None, show_given=False)
+
+    def copy(self) -> "Model":
+        """A deep copy, safe to modify."""
+        return copy.deepcopy(self)
+
+    def validate(self) -> "Model":
+        """Check every field and reference; raise :class:`~flexkane.errors.ModelError` on the first
+        problem. Returns ``self`` for chaining."""
+        from .validate import validate_model
+
+        validate_model(self)
+        return self
+
+    def with_modes(self, n_modes: int) -> "Model":
+        """A copy in which every beam has ``n_modes`` transverse shape functions.
+
+        Beams whose shape roots were typed explicitly keep them only when their count matches.
+        """
+        if isinstance(n_modes, bool) or not isinstance(n_modes, int) or not 1 <= n_modes <= 200:
+            raise ModelError("--n-modes", "an integer from 1 to 200", n_modes)
+        new = self.copy()
+        for beam in new.beams.values():
+            beam.n_modes = n_modes
+            if beam.shape.roots is not None and len(beam.shape.roots) != n_modes:
+                raise ModelError(f"beams.{beam.name}.shape.roots",
+                                 f"{n_modes} roots to match --n-modes (or a model without typed roots)",
+                                 beam.shape.roots)
+            if beam.damping and len(beam.damping) != n_modes:
+                beam.damping = (list(beam.damping) + [beam.damping[-1]] * n_modes)[:n_modes]
+        return new

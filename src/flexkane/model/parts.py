@@ -1,0 +1,301 @@
+"""The parts of a planar chain: rigid bodies, flexible beams, joints, loads and drivers.
+
+Values of physical fields are kept as given (a number, or the text of an expression of the model's
+parameters) so that a model can be saved back to the same file and so that the derivation can keep
+every value as a symbol. They are checked and turned into SymPy expressions by
+:mod:`flexkane.model.values`.
+
+A chain is a tree rooted at the ground: every link (rigid body or beam) is the child of exactly one
+joint. A beam clamped to a body (the chapter's Fig. 8.2) is the child of a ``weld`` joint.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Union
+
+#: A field value as given: a number or the text of an expression of parameters (and t where allowed).
+Value = Union[int, float, str]
+
+JOINT_TYPES = ("free", "revolute", "prismatic", "weld")
+#: Generalized coordinates that each joint type introduces, in order, by role.
+JOINT_DOFS = {"free": ("x", "y", "angle"), "revolute": ("angle",), "prismatic": ("slide",), "weld": ()}
+GRAVITY_MODELS = ("distributed", "midpoint")
+ELASTIC_MODELS = ("strain-energy", "shear-moment")
+FRAMES = ("ground", "local")
+
+
+@dataclass
+class RigidBody:
+    """A rigid body moving in the plane.
+
+    Parameters
+    ----------
+    name : str
+        Unique name among bodies and beams.
+    mass : Value
+        Mass [kg].
+    inertia : Value
+        Moment of inertia about the mass centre, about an axis normal to the plane [kg m^2].
+    points : dict of str to (Value, Value)
+        Named points in the body frame, relative to the mass centre [m].
+    outline : list of (Value, Value)
+        Closed polygon drawn in animations, in the body frame [m]; may be empty.
+    """
+
+    name: str
+    mass: Value
+    inertia: Value
+    points: dict[str, tuple[Value, Value]] = field(default_factory=dict)
+    outline: list[tuple[Value, Value]] = field(default_factory=list)
+
+
+@dataclass
+class ShapeSpec:
+    """Choice of shape functions Phi_i (eq. 8.15) for one beam.
+
+    Parameters
+    ----------
+    family : str
+        Family name (``clamped-free`` is the chapter's, eq. 8.4).
+    roots : list of float, optional
+        Eigenvalue parameters used instead of the exact roots (the chapter's notebook types
+        ``lambda1 = 1.875``).
+    options : dict
+        Family options (tip-mass ratios, expressions, ...).
+    """
+
+    family: str = "clamped-free"
+    roots: list[float] | None = None
+    options: dict = field(default_factory=dict)
+
+
+@dataclass
+class Beam:
+    """A uniform Euler-Bernoulli beam described by assumed modes (eqs. 8.15, 8.16).
+
+    The beam frame has its origin at the root (x = 0, the point Q of Fig. 8.2) and its x axis along
+    the undeformed beam. A point at distance x from the root is displaced by
+    ``y(x, t) = sum_i Phi_i(x) q_i(t)`` along the beam frame's y axis.
+
+    Parameters
+    ----------
+    name : str
+        Unique name among bodies and beams.
+    L : Value
+        Length [m].
+    EI : Value
+        Flexural rigidity [N m^2].
+    rho : Value
+        Mass per unit length [kg/m].
+    n_modes : int
+        Number of transverse shape functions n.
+    shape : ShapeSpec
+        Shape-function family.
+    damping : list of Value
+        Modal damping ratios zeta_i [-], empty for none.
+    gravity : str
+        ``distributed`` (the weight integrated along the beam) or ``midpoint`` (the whole weight at
+        the deformed midpoint, eqs. 8.19, 8.33, 8.34, as the chapter's notebook does).
+    elastic_forces : str
+        ``strain-energy`` (eqs. 8.31-8.32, -sum_j H_ij q_j) or ``shear-moment`` (eq. 8.28 as the
+        notebook evaluates it, boundary terms kept).
+    geometric_stiffening : bool
+        Keep the foreshortening of the beam axis in the kinematics.
+    EA : Value, optional
+        Axial stiffness [N], required when ``n_axial > 0``.
+    n_axial : int
+        Number of axial shape functions.
+    axial_shape : ShapeSpec, optional
+        Axial shape-function family.
+    """
+
+    name: str
+    L: Value
+    EI: Value
+    rho: Value
+    n_modes: int
+    shape: ShapeSpec = field(default_factory=ShapeSpec)
+    damping: list[Value] = field(default_factory=list)
+    gravity: str = "distributed"
+    elastic_forces: str = "strain-energy"
+    geometric_stiffening: bool = False
+    EA: Value | None = None
+    n_axial: int = 0
+    axial_shape: ShapeSpec | None = None
+
+
+@dataclass
+class Driver:
+    """A prescribed joint coordinate.
+
+    Exactly one of ``coordinate`` and ``speed`` is given, as an expression of t [s].
+
+    Parameters
+    ----------
+    coordinate : Value, optional
+        The coordinate as a function of time [m or rad].
+    speed : Value, optional
+        Its time derivative [m/s or rad/s]; the coordinate is then integrated from its initial value.
+    """
+
+    coordinate: Value | None = None
+    speed: Value | None = None
+
+
+@dataclass
+class Joint:
+    """A joint between a parent attachment and a child link.
+
+    Parameters
+    ----------
+    name : str
+        Unique joint name; generalized coordinates are named after it.
+    type : str
+        ``free`` (3 DoF, eqs. 8.10-8.14), ``revolute``, ``prismatic`` or ``weld``.
+    parent : str
+        ``ground``, a body name or a beam name.
+    child : str
+        A body name or a beam name.
+    parent_point : str, optional
+        Name of a point of the parent body.
+    parent_position : (Value, Value), optional
+        Position on the ground [m] (parent ``ground`` only).
+    station : Value, optional
+        Distance x from the root of the parent beam [m] (parent a beam only); the child follows the
+        beam's deflected position and slope there.
+    child_point : str, optional
+        Point of the child body that sits at the joint; the mass centre when omitted.
+        A beam child is always attached at its root.
+    angle : Value
+        Constant angle of the child frame relative to the attachment frame [rad] (added to the
+        joint angle of revolute and free joints).
+    axis : Value
+        Direction of a prismatic joint's slide, as an angle in the attachment frame [rad].
+    coordinates, speeds : list of str, optional
+        Names of the joint's generalized coordinates and speeds.
+    stiffness, damping : Value, optional
+        Linear spring [N m/rad or N/m] and damper [N m s/rad or N s/m] acting on the joint
+        coordinate of a revolute or prismatic joint.
+    rest : Value
+        Coordinate at which the spring is relaxed [rad or m].
+    driver : Driver, optional
+        Prescribed motion of the (single) joint coordinate.
+    """
+
+    name: str
+    type: str
+    parent: str
+    child: str
+    parent_point: str | None = None
+    parent_position: tuple[Value, Value] | None = None
+    station: Value | None = None
+    child_point: str | None = None
+    angle: Value = 0
+    axis: Value = 0
+    coordinates: list[str] | None = None
+    speeds: list[str] | None = None
+    stiffness: Value | None = None
+    damping: Value | None = None
+    rest: Value = 0
+    driver: Driver | None = None
+
+
+@dataclass
+class Gravity:
+    """Uniform gravity.
+
+    Parameters
+    ----------
+    g : Value
+        Magnitude [m/s^2].
+    direction : (Value, Value)
+        Direction in the ground frame (normalised when used), e.g. ``(0, -1)`` for -j0.
+    """
+
+    g: Value
+    direction: tuple[Value, Value]
+
+
+@dataclass
+class Load:
+    """A force and/or torque applied to a body point or a beam station.
+
+    Parameters
+    ----------
+    name : str
+        Unique load name.
+    body : str
+        Body or beam name.
+    point : str, optional
+        Point of a body; the mass centre when omitted.
+    station : Value, optional
+        Station x on a beam [m].
+    force : (Value, Value), optional
+        Force components [N], expressions of t allowed.
+    torque : Value, optional
+        Torque about the normal to the plane [N m], expression of t allowed.
+    frame : str
+        ``ground`` or ``local`` (components along the body or beam-station frame).
+    """
+
+    name: str
+    body: str
+    point: str | None = None
+    station: Value | None = None
+    force: tuple[Value, Value] | None = None
+    torque: Value | None = None
+    frame: str = "ground"
+
+
+@dataclass
+class PointSpring:
+    """A linear spring and damper between two points.
+
+    Parameters
+    ----------
+    name : str
+        Unique name.
+    a, b : tuple of (str, str or None)
+        End points as (body, point name) or ("ground", None) with ``a_position``/``b_position``.
+    stiffness : Value
+        [N/m].
+    damping : Value
+        [N s/m].
+    rest_length : Value
+        [m].
+    """
+
+    name: str
+    body_a: str
+    body_b: str
+    point_a: str | None = None
+    point_b: str | None = None
+    position_a: tuple[Value, Value] | None = None
+    position_b: tuple[Value, Value] | None = None
+    stiffness: Value = 0
+    damping: Value = 0
+    rest_length: Value = 0
+
+
+@dataclass
+class Simulation:
+    """Default settings of a run.
+
+    Parameters
+    ----------
+    t_end : float, optional
+        End time [s]; required by ``run`` when the command line does not give it.
+    dt_out : float, optional
+        Output interval [s]; t_end / 100 when omitted.
+    rtol, atol : float
+        Integrator tolerances [-].
+    method : str
+        ``auto`` or a method name.
+    """
+
+    t_end: float | None = None
+    dt_out: float | None = None
+    rtol: float = 1e-8
+    atol: float = 1e-10
+    method: str = "auto"

@@ -1,0 +1,112 @@
+"""Field values as symbols: one derivation serves every numeric value.
+
+Every physical field of a model becomes a SymPy expression for the derivation:
+
+* a literal zero stays ``0`` (zeros are part of the model's structure: they simplify the equations);
+* a field that names a parameter becomes that parameter's symbol (the chapter's ``mR``, ``Iz``, ``b``);
+* any other value becomes a symbol of its own named after the field (``m_RB``, ``L_arm``), whose
+  numeric value is computed from the field's text at run time;
+* fields that may depend on time (loads, drivers) are parsed into expressions of ``t`` and the
+  parameter symbols.
+
+:class:`FieldSymbols` records, for each symbol, the expression that gives its value, so that
+:meth:`FieldSymbols.numeric_values` evaluates all of them for a given set of parameter values.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+import sympy as sp
+
+from ..errors import ModelError
+from .model import Model
+
+__all__ = ["FieldSymbols", "TIME"]
+
+#: The time symbol t [s].
+TIME = sp.Symbol("t", real=True)
+_SAFE = re.compile(r"[^0-9A-Za-z_]")
+
+
+class FieldSymbols:
+    """Symbols for a model's parameters and field values.
+
+    Parameters
+    ----------
+    model : Model
+        The (validated) model.
+    """
+
+    def __init__(self, model: Model):
+        from ..expressions import parse_expression
+
+        self._parse = parse_expression
+        self.model = model
+        self.parameters = {name: sp.Symbol(name, real=True) for name in model.parameters}
+        #: symbol -> (path, value text or number) for field symbols
+        self.definitions: dict[sp.Symbol, tuple[str, object]] = {}
+        self._by_path: dict[str, sp.Expr] = {}
+
+    # ------------------------------------------------------------------ construction
+    def _fresh_name(self, base: str) -> str:
+        base = _SAFE.sub("_", base)
+        taken = set(self.model.parameters) | {s.name for s in self.definitions} | {"t", "pi"}
+        name, k = base, 1
+        while name in taken:
+            k += 1
+            name = f"{base}{k}"
+        return name
+
+    def value(self, path: str, value, name: str) -> sp.Expr:
+        """The expression standing for a constant field.
+
+        Parameters
+        ----------
+        path : str
+            Key path of the field (for messages and for ``--set``).
+        value : int, float or str
+            The field as given.
+        name : str
+            Preferred symbol name when the field needs a symbol of its own.
+        """
+        if path in self._by_path:
+            return self._by_path[path]
+        if isinstance(value, (int, float)) and not isinstance(value, bool) and value == 0:
+            expr = sp.Integer(0)
+        elif isinstance(value, str) and value.strip() in self.parameters:
+            expr = self.parameters[value.strip()]
+        else:
+            # check now that it parses and uses only parameters
+            self._parse(value, {**self.parameters}, path=path)
+            symbol = sp.Symbol(self._fresh_name(name), real=True)
+            self.definitions[symbol] = (path, value)
+            expr = symbol
+        self._by_path[path] = expr
+        return expr
+
+    def time_function(self, path: str, value) -> sp.Expr:
+        """An expression of t and the parameters (loads, drivers); kept as it is in the equations."""
+        names = {**self.parameters, "t": TIME}
+        return self._parse(value, names, path=path)
+
+    # ------------------------------------------------------------------ evaluation
+    def parameter_values(self) -> dict[str, float]:
+        """Numeric values of the model's parameters [their units]."""
+        from ..expressions import resolve_parameters
+
+        return resolve_parameters(self.model.parameters, path_prefix="parameters")
+
+    def numeric_values(self) -> dict[sp.Symbol, float]:
+        """Numeric value of every parameter symbol and field symbol."""
+        params = self.parameter_values()
+        values: dict[sp.Symbol, float] = {self.parameters[k]: float(v) for k, v in params.items()}
+        names = dict(self.parameters)
+        for symbol, (path, text) in self.definitions.items():
+            expr = self._parse(text, names, path=path)
+            number = float(expr.subs(values).evalf()) if expr.free_symbols else float(expr)
+            if not math.isfinite(number):
+                raise ModelError(path, "a finite value", text)
+            values[symbol] = number
+        return values
