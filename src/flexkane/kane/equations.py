@@ -128,7 +128,6 @@ class EquationsOfMotion:
         typed roots); its structure must be the same.
         """
         from ..expressions import parse_expression, resolve_parameters
-        from ..modes import get_family
 
         model = model or self.model
         params = resolve_parameters(model.parameters, path_prefix="parameters")
@@ -138,8 +137,7 @@ class EquationsOfMotion:
 
         def number(path, value):
             expr = parse_expression(value, names, path=path)
-            result = float(expr.xreplace(values).evalf()) if expr.free_symbols else float(expr)
-            return result
+            return float(expr.subs(values)) if expr.free_symbols else float(expr)
 
         for symbol, (path, _) in self.chain.symbols.definitions.items():
             values[symbol] = number(path, get_value(model, path))
@@ -148,19 +146,12 @@ class EquationsOfMotion:
                 continue
             beam = model.beams[name]
             path = f"beams.{name}"
-            options = dict(beam.shape.options)
-            if beam.shape.roots is not None:
-                options["roots"] = list(beam.shape.roots)
-            family = get_family(beam.shape.family, path=f"{path}.shape", **options)
-            axial = None
-            if beam.n_axial:
-                axial = get_family(beam.axial_shape.family, path=f"{path}.axial_shape",
-                                   **dict(beam.axial_shape.options))
+            family = shape_family(beam.shape, f"{path}.shape")
+            axial = shape_family(beam.axial_shape, f"{path}.axial_shape") if beam.n_axial else None
             stations = {}
             for spec in consts.used.values():
                 if spec[0] == "station":
-                    stations[spec[3]] = float(spec[3].xreplace(values).evalf()) \
-                        if isinstance(spec[3], sp.Expr) and spec[3].free_symbols else float(spec[3])
+                    stations[spec[3]] = float(sp.sympify(spec[3]).subs(values))
             values.update(consts.values(
                 L=number(f"{path}.L", beam.L), rho=number(f"{path}.rho", beam.rho),
                 EI=number(f"{path}.EI", beam.EI), family=family, n=beam.n_modes,
@@ -188,8 +179,34 @@ class EquationsOfMotion:
         for s in self.q + self.u:
             value = model.initial.get(s.name, 0)
             expr = parse_expression(value, dict(psyms), path=f"initial.{s.name}")
-            state.append(float(expr.xreplace(values).evalf()) if expr.free_symbols else float(expr))
+            state.append(float(expr.subs(values)) if expr.free_symbols else float(expr))
         return np.array(state, dtype=float)
+
+
+def shape_family(spec, path: str):
+    """The :class:`~flexkane.modes.ShapeFamily` of a beam's shape specification.
+
+    Expressions of ``xi`` given in a model file (family ``expression``) are parsed with the safe
+    expression language; errors name the key path.
+    """
+    from ..errors import ModelError
+    from ..expressions import parse_expression
+    from ..modes import XI, get_family
+
+    options = dict(spec.options)
+    if spec.roots is not None:
+        options["roots"] = list(spec.roots)
+    if spec.family == "expression" and "expressions" in options:
+        texts = options["expressions"]
+        if not isinstance(texts, list) or not texts:
+            raise ModelError(f"{path}.expressions", "a non-empty list of expressions of xi", texts)
+        options["expressions"] = [parse_expression(text, {"xi": XI}, path=f"{path}.expressions[{i}]")
+                                  for i, text in enumerate(texts)]
+    try:
+        return get_family(spec.family, **options)
+    except ModelError as exc:
+        raise ModelError(f"{path}.{exc.path}" if exc.path != "family" else f"{path}.family",
+                         exc.expected, exc.given, exc.hint) from None
 
 
 def derive(model: Model) -> EquationsOfMotion:

@@ -1,0 +1,36 @@
+"""``flexkane derive``: print F*_r and F_r of a model in the chapter's notation."""
+
+from __future__ import annotations
+
+import sys
+import time
+
+from ._common import add_model_arguments, model_from_args
+
+__all__ = ["register"]
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser("derive", help="print the generalized inertia and active forces",
+                              description="Derive Kane's equations and print F*_r (eq. 8.22) and F_r by "
+                                          "source (eqs. 8.28-8.35) for every generalized speed.")
+    add_model_arguments(p)
+    p.add_argument("--latex", action="store_true", help="print LaTeX instead of text")
+    p.add_argument("--markdown", action="store_true", help="print the whole Markdown report (equations.md)")
+    p.set_defaults(handler=_handle)
+
+
+def _handle(args) -> int:
+    from ..kane import derive
+    from ..report import equations_markdown, format_equations
+
+    model = model_from_args(args)
+    start = time.perf_counter()
+    eom = derive(model)
+    elapsed = time.perf_counter() - start
+    if args.markdown:
+        print(equations_markdown(eom, eom.constant_values(model)))
+    else:
+        print(format_equations(eom, latex=args.latex))
+    print(f"# derived {len(eom.all_speeds)} equations in {elapsed:.3f} s", file=sys.stderr)
+    return 0

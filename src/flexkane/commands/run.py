@@ -1,0 +1,100 @@
+"""``flexkane run``: derive, compile and integrate a model; write results, plots and equations."""
+
+from __future__ import annotations
+
+import signal
+import sys
+import time
+from pathlib import Path
+
+from ..errors import ModelError, SolverFailure
+from ._common import add_model_arguments, model_from_args
+
+__all__ = ["register", "run_model"]
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser("run", help="simulate a model and write results, plots and equations",
+                              description="Derive Kane's equations of a model, integrate them and write "
+                                          "results.csv, results.npz, plots (PNG) and equations.md to DIR.")
+    add_model_arguments(p)
+    p.add_argument("--out", metavar="DIR", default=None, help="output directory [default: out/MODEL_NAME]")
+    p.add_argument("--t-end", type=float, default=None, metavar="T", help="end time [s]")
+    p.add_argument("--dt-out", type=float, default=None, metavar="DT", help="output interval [s]")
+    p.add_argument("--rtol", type=float, default=None, metavar="R", help="relative tolerance")
+    p.add_argument("--atol", type=float, default=None, metavar="A", help="absolute tolerance")
+    p.add_argument("--method", default=None, choices=("auto", "dop853", "radau"),
+                   help="integration method [default: the model's, else auto]")
+    p.add_argument("--force", action="store_true", help="write into an existing non-empty directory")
+    p.add_argument("--quiet", action="store_true", help="no progress bar and no summary")
+    p.set_defaults(handler=_handle)
+
+
+def _handle(args) -> int:
+    model = model_from_args(args)
+    out = Path(args.out) if args.out else Path("out") / model.name
+    return run_model(model, out, t_end=args.t_end, dt_out=args.dt_out, rtol=args.rtol, atol=args.atol,
+                     method=args.method, force=args.force, quiet=args.quiet)
+
+
+def _terminate(signum, frame):  # SIGTERM behaves as Ctrl-C: partial results are kept
+    raise KeyboardInterrupt
+
+
+def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None, method=None,
+              force=False, quiet=False) -> int:
+    """Run a validated model into directory ``out``; return the exit code (0 ok, 3 solver failure)."""
+    from ..atomic import atomic_write_text, prepare_output_dir
+    from ..kane import derive
+    from ..model import dumps_model
+    from ..plots import write_plots
+    from ..progress import ProgressBar
+    from ..report import equations_markdown
+    from ..simulation import compile_model, simulate
+
+    sim = model.simulation
+    t_end = t_end if t_end is not None else sim.t_end
+    if t_end is None:
+        raise ModelError("--t-end", "an end time [s] (the model has no simulation.t_end)", None, show_given=False)
+    dt_out = dt_out if dt_out is not None else (sim.dt_out or t_end / 100)
+    rtol = rtol if rtol is not None else sim.rtol
+    atol = atol if atol is not None else sim.atol
+    method = method or sim.method
+    out = prepare_output_dir(out, force=force)
+    started = time.perf_counter()
+    eom = derive(model)
+    derive_time = time.perf_counter() - started
+    compiled = compile_model(eom)
+    previous = signal.signal(signal.SIGTERM, _terminate)
+    try:
+        with ProgressBar(t_end, enabled=not quiet, unit="s") as bar:
+            results = simulate(compiled, t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol, method=method,
+                               model=model, progress=bar.update)
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    results.solver["derive_time"] = derive_time
+    written = results.write(out)
+    atomic_write_text(out / "model.toml", dumps_model(model))
+    values = eom.constant_values(model)
+    atomic_write_text(out / "equations.md", equations_markdown(eom, values))
+    if len(results.t) > 1:
+        written += write_plots(results, eom, out)
+    s = results.solver
+    if not quiet or results.partial:
+        drift = ""
+        if "energy" in results.outputs and len(results.t) > 1:
+            e = results["energy"]
+            scale = max(abs(e).max(), abs(results["kinetic"]).max(), 1e-300)
+            drift = f", energy drift {abs(e - e[0]).max() / scale:.2e} (relative)"
+        stream = sys.stderr if results.partial else sys.stdout
+        print(f"{model.name}: {s['method']}, {s['nsteps']} steps, {s['nfev']} evaluations, "
+              f"derive {derive_time:.2f} s, compile {s['compile_time']:.2f} s, integrate {s['wall_time']:.3f} s"
+              f"{drift}", file=stream)
+        print(f"wrote {len(written) + 2} files to {out}", file=stream)
+    if results.partial:
+        if s.get("status") == "interrupted":
+            print(f"flexkane: interrupted at t = {s['t_reached']:.6g} s; the files hold the results up to "
+                  "there (marked partial)", file=sys.stderr)
+            return 130
+        raise SolverFailure(s["t_reached"], f"{s['message']}; partial results written to {out}")
+    return 0

@@ -1,0 +1,121 @@
+"""Plots of a run: every coordinate and speed against t, tip deflections, energy and its drift.
+
+The chapter's notebook plots u1, u2, u3, u4, q3 and q4 against t; :func:`write_plots` draws those
+and every other state variable, each as ``<name>.png``, with labelled axes and units.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .atomic import atomic_writer
+from .results import Results
+
+__all__ = ["write_plots", "plot_series", "plot_energy", "units"]
+
+_UNITS = {"x": "m", "y": "m", "angle": "rad", "slide": "m", "mode": "m", "axial": "m"}
+_RATE = {"m": "m/s", "rad": "rad/s"}
+
+
+def _figure():
+    import matplotlib
+
+    matplotlib.use("Agg", force=True)
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def units(eom) -> dict[str, str]:
+    """Unit of every state variable and output, by name."""
+    out = {}
+    for c in eom.chain.coordinates:
+        unit = _UNITS[c.role]
+        out[c.q.name] = unit
+        out[c.u.name] = _RATE[unit]
+    for name in eom.outputs:
+        if name.startswith(("x_", "y_", "tip_")):
+            out[name] = "m"
+        elif name.startswith("theta_"):
+            out[name] = "rad"
+        elif name in ("kinetic", "potential_gravity", "strain", "potential_springs", "energy"):
+            out[name] = "J"
+        elif name.startswith("effort_"):
+            joint = name[len("effort_"):]
+            role = eom.chain.of(joint)[0].role
+            out[name] = "N m" if role == "angle" else "N"
+        elif name == "power_nonconservative":
+            out[name] = "W"
+    return out
+
+
+def _save(fig, path: Path) -> Path:
+    with atomic_writer(path) as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
+    return path
+
+
+def plot_series(results: Results, names: list[str], unit: str, path: Path, title: str = "") -> Path:
+    """One figure of the named columns against t [s]."""
+    plt = _figure()
+    fig, ax = plt.subplots(figsize=(6.4, 3.8))
+    for name in names:
+        ax.plot(results.t, results[name], label=name, lw=1.4)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel(f"{', '.join(names)} [{unit}]")
+    if len(names) > 1:
+        ax.legend(loc="best", fontsize=8)
+    if title:
+        ax.set_title(title, fontsize=10)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    _save(fig, path)
+    plt.close(fig)
+    return path
+
+
+def plot_energy(results: Results, path: Path, title: str = "") -> Path:
+    """Total energy [J] and its relative drift (E - E0)/max|E| against t."""
+    plt = _figure()
+    energy = results["energy"]
+    scale = max(np.max(np.abs(energy)), np.max(np.abs(results["kinetic"])), 1e-300)
+    drift = (energy - energy[0]) / scale
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(6.4, 5.2), sharex=True)
+    ax1.plot(results.t, energy, lw=1.4, label="total")
+    ax1.plot(results.t, results["kinetic"], lw=1.0, ls="--", label="kinetic")
+    ax1.set_ylabel("energy [J]")
+    ax1.legend(fontsize=8)
+    ax1.grid(alpha=0.3)
+    ax2.plot(results.t, drift, lw=1.2, color="C3")
+    ax2.set_ylabel("drift (E - E0)/max|E| [-]")
+    ax2.set_xlabel("t [s]")
+    ax2.grid(alpha=0.3)
+    if title:
+        ax1.set_title(title, fontsize=10)
+    fig.tight_layout()
+    _save(fig, path)
+    plt.close(fig)
+    return path
+
+
+def write_plots(results: Results, eom, directory: Path) -> list[Path]:
+    """Write a PNG per state variable, one of tip deflections (if any), and the energy plot."""
+    directory = Path(directory)
+    unit = units(eom)
+    title = eom.model.name
+    paths = []
+    for name in results.state_names:
+        paths.append(plot_series(results, [name], unit.get(name, "-"), directory / f"{name}.png", title))
+    tips = [k for k in results.outputs if k.startswith("tip_")]
+    if tips:
+        paths.append(plot_series(results, tips, "m", directory / "tip_deflection.png",
+                                 f"{title}: tip deflection in the beam frame"))
+    efforts = [k for k in results.outputs if k.startswith("effort_")]
+    for name in efforts:
+        paths.append(plot_series(results, [name], unit.get(name, "-"), directory / f"{name}.png",
+                                 f"{title}: driver effort"))
+    if "energy" in results.outputs and len(results.t) > 1:
+        paths.append(plot_energy(results, directory / "energy.png", title))
+    return paths

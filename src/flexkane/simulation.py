@@ -1,0 +1,175 @@
+"""Simulation: compile the equations of motion once, integrate them, evaluate the outputs.
+
+``compile_model(eom)`` generates the Numba right-hand side of ``M u' = f`` with ``q' = qdot`` and
+loads (or builds) it from the on-disk cache; ``simulate(compiled, ...)`` integrates it on an output
+grid with dense output and returns :class:`~flexkane.results.Results`.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+from . import __version__
+from .errors import ModelError
+from .kane import EquationsOfMotion
+from .model import Model, dumps_model
+from .results import Results
+
+__all__ = ["CompiledModel", "compile_model", "simulate", "output_grid", "OutputEvaluator"]
+
+
+def output_grid(t_end: float, dt_out: float) -> np.ndarray:
+    """Output times 0, dt, 2 dt, ..., t_end [s] (t_end included even when not a multiple of dt)."""
+    if not (t_end > 0 and np.isfinite(t_end)):
+        raise ModelError("--t-end", "a positive end time [s]", t_end)
+    if not (dt_out > 0 and np.isfinite(dt_out)):
+        raise ModelError("--dt-out", "a positive output interval [s]", dt_out)
+    count = int(np.floor(t_end / dt_out + 1e-9))
+    if count > 10_000_000:
+        raise ModelError("--dt-out", "at most 10 million output rows", f"{count} rows")
+    grid = np.arange(count + 1) * dt_out
+    if t_end - grid[-1] > 1e-9 * t_end:
+        grid = np.append(grid, t_end)
+    else:
+        grid[-1] = t_end if abs(grid[-1] - t_end) < 1e-9 * t_end else grid[-1]
+    return grid
+
+
+class OutputEvaluator:
+    """Vectorised evaluation of the outputs of an equation set over many samples.
+
+    Parameters
+    ----------
+    eom : EquationsOfMotion
+    """
+
+    def __init__(self, eom: EquationsOfMotion):
+        self.eom = eom
+        self.names = list(eom.outputs)
+        args = [eom.t] + list(eom.q) + list(eom.u) + list(eom.ud) + list(eom.constants)
+        self._needs_ud = any(e.free_symbols & set(eom.ud) for e in eom.outputs.values())
+        self._f = sp.lambdify(args, [eom.outputs[k] for k in self.names], modules="numpy", cse=True)
+
+    def __call__(self, t: np.ndarray, state: np.ndarray, p: np.ndarray, ud: np.ndarray | None) -> dict:
+        """Outputs at times ``t`` (N,), states (N, n), constants p, and speed derivatives ud (N, nu)."""
+        nq = len(self.eom.q)
+        nu = len(self.eom.u)
+        cols = [t] + [state[:, k] for k in range(nq + nu)]
+        if ud is None:
+            ud = np.zeros((len(t), nu))
+        cols += [ud[:, k] for k in range(nu)] + list(p)
+        with np.errstate(all="ignore"):
+            values = self._f(*cols)
+        return {k: np.broadcast_to(np.asarray(v, dtype=float), t.shape).copy() for k, v in zip(self.names, values)}
+
+
+@dataclass
+class CompiledModel:
+    """Equations of motion with their compiled right-hand side.
+
+    Attributes
+    ----------
+    eom : EquationsOfMotion
+    module : module
+        Generated Numba module (``rhs`` and the integrators).
+    key : str
+        Cache key of the generated module.
+    compile_time : float
+        Seconds spent generating and loading the module [s].
+    """
+
+    eom: EquationsOfMotion
+    module: object
+    key: str
+    compile_time: float
+    _outputs: OutputEvaluator | None = None
+
+    @property
+    def outputs(self) -> OutputEvaluator:
+        if self._outputs is None:
+            self._outputs = OutputEvaluator(self.eom)
+        return self._outputs
+
+    def rhs(self, t: float, y: np.ndarray, p: np.ndarray) -> np.ndarray:
+        """First-order right-hand side dy/dt, shape (n,)."""
+        dy = np.empty_like(np.asarray(y, dtype=float))
+        self.module.rhs(float(t), np.asarray(y, dtype=float), np.asarray(p, dtype=float), dy)
+        return dy
+
+
+def compile_model(eom: EquationsOfMotion, cache_dir=None) -> CompiledModel:
+    """Generate, build (or load from the cache) the right-hand side of an equation set."""
+    from .numerics.codegen import generate_rhs_source
+    from .numerics.jit_module import build_module, structure_key
+
+    start = time.perf_counter()
+    source = generate_rhs_source(eom)
+    key = structure_key(__version__, source)
+    module = build_module(source, key, cache_dir)
+    return CompiledModel(eom, module, key, time.perf_counter() - start)
+
+
+def simulate(compiled: CompiledModel, *, t_end: float, dt_out: float, rtol: float = 1e-8,
+             atol: float = 1e-10, method: str = "auto", model: Model | None = None,
+             progress=None, max_steps: int | None = None) -> Results:
+    """Integrate a compiled model from its initial state.
+
+    Parameters
+    ----------
+    compiled : CompiledModel
+    t_end : float
+        End time [s].
+    dt_out : float
+        Output interval [s]; rows at 0, dt, ..., t_end come from dense output.
+    rtol, atol : float
+        Integrator tolerances.
+    method : str
+        ``auto``, ``dop853`` or ``radau``.
+    model : Model, optional
+        Model giving the numbers (parameters, initial conditions); the derived one by default.
+        Its structure must be that of the derived model.
+    progress : callable, optional
+        ``progress(t_reached, t_end)`` called between chunks.
+    max_steps : int, optional
+        Step budget.
+
+    Returns
+    -------
+    Results
+        ``partial`` is set when the integration stopped early; ``solver["message"]`` says why.
+    """
+    from .numerics.integrate import integrate
+
+    eom = compiled.eom
+    model = model or eom.model
+    for name, value in (("--rtol", rtol), ("--atol", atol)):
+        if not (isinstance(value, (int, float)) and value > 0 and np.isfinite(value)):
+            raise ModelError(name, "a positive tolerance", value)
+    values = eom.constant_values(model)
+    p = np.array([values[s] for s in eom.constants], dtype=float)
+    y0 = eom.initial_state(model)
+    grid = output_grid(t_end, dt_out)
+    kwargs = {"rtol": rtol, "atol": atol, "method": method, "progress": progress}
+    if max_steps is not None:
+        kwargs["max_steps"] = max_steps
+    result = integrate(compiled.module, y0, grid, p, **kwargs)
+    n_valid = result.n_valid
+    t = grid[:n_valid]
+    state = np.asarray(result.y)[:n_valid]
+    ud = None
+    if n_valid:
+        nq = len(eom.q)
+        ud = np.array([compiled.rhs(ti, yi, p)[nq:] for ti, yi in zip(t, state)]).reshape(n_valid, -1)
+    outputs = compiled.outputs(t, state, p, ud) if n_valid else {k: np.zeros(0) for k in compiled.outputs.names}
+    solver = {"method": result.method, "rtol": rtol, "atol": atol, "status": result.status.name.lower(),
+              "message": result.message, "nfev": int(result.nfev), "nsteps": int(result.nsteps),
+              "naccept": int(getattr(result, "naccept", 0)), "nreject": int(getattr(result, "nreject", 0)),
+              "wall_time": float(result.wall_time), "t_reached": float(result.t_reached),
+              "compile_time": float(compiled.compile_time)}
+    return Results(t=t, state=state, state_names=eom.state_names, outputs=outputs,
+                   model_text=dumps_model(model), parameters={s.name: values[s] for s in eom.constants},
+                   solver=solver, partial=n_valid < len(grid) or int(result.status) != 0)
