@@ -8,7 +8,7 @@
   deformed midpoint (eq. 8.19, the notebook).
 * ``damping``: modal damping of the beams, ``-2 zeta_i sqrt(H_ii G_ii) u_i``.
 * ``joints``: springs and dampers on joint coordinates.
-* ``loads``: applied forces and torques, constant or functions of t.
+* ``loads``: applied forces and torques, constant or functions of t, and actuator torques of joints.
 * ``springs``: linear springs and dampers between points.
 
 Each source is a list of n expressions (one per speed).
@@ -141,6 +141,10 @@ def generalized_active_forces(kin: Kinematics) -> dict[str, list]:
 
     # ---------------------------------------------------------------- joint springs and dampers
     for joint in chain.joints:
+        if joint.torque is not None:
+            coord = chain.of(joint.name)[0]
+            torque = kin.symbols.time_function(f"joints.{joint.name}.torque", joint.torque)
+            parts["loads"][speeds.index(coord.u)] += torque
         if joint.stiffness is None and joint.damping is None:
             continue
         coord = chain.of(joint.name)[0]

@@ -179,6 +179,9 @@ class Joint:
         coordinate of a revolute or prismatic joint.
     rest : Value
         Coordinate at which the spring is relaxed [rad or m].
+    torque : Value, optional
+        Actuator torque [N m] (revolute) or force [N] (prismatic) acting along the joint coordinate
+        between parent and child, an expression of t.
     driver : Driver, optional
         Prescribed motion of the (single) joint coordinate.
     """
@@ -198,6 +201,7 @@ class Joint:
     stiffness: Value | None = None
     damping: Value | None = None
     rest: Value = 0
+    torque: Value | None = None
     driver: Driver | None = None
 
 

@@ -158,7 +158,7 @@ _BODY_KEYS = ("mass", "inertia", "points", "outline")
 _BEAM_KEYS = ("L", "EI", "rho", "n_modes", "shape", "damping", "gravity", "elastic_forces",
               "geometric_stiffening", "EA", "n_axial", "axial_shape")
 _JOINT_KEYS = ("type", "parent", "child", "parent_point", "parent_position", "station", "child_point",
-               "angle", "axis", "coordinates", "speeds", "stiffness", "damping", "rest", "driver")
+               "angle", "axis", "coordinates", "speeds", "stiffness", "damping", "rest", "torque", "driver")
 _LOAD_KEYS = ("body", "point", "station", "force", "torque", "frame")
 _SPRING_KEYS = ("body_a", "point_a", "position_a", "body_b", "point_b", "position_b", "stiffness",
                 "damping", "rest_length")
@@ -239,7 +239,8 @@ def _model_from_dict(data: dict) -> Model:
             coordinates=_names(joint, "coordinates", path), speeds=_names(joint, "speeds", path),
             stiffness=_value(joint, "stiffness", path, required=False),
             damping=_value(joint, "damping", path, required=False),
-            rest=_value(joint, "rest", path, required=False, default=0), driver=driver)
+            rest=_value(joint, "rest", path, required=False, default=0),
+            torque=_value(joint, "torque", path, required=False), driver=driver)
     if "gravity" in data:
         grav = _table(data, "gravity", "")
         _check_keys(grav, ("g", "direction"), "gravity")
@@ -381,7 +382,7 @@ def model_to_dict(model: Model) -> dict:
                         "parent_point": j.parent_point, "parent_position": j.parent_position,
                         "station": j.station, "child_point": j.child_point,
                         "coordinates": j.coordinates, "speeds": j.speeds,
-                        "stiffness": j.stiffness, "damping": j.damping})
+                        "stiffness": j.stiffness, "damping": j.damping, "torque": j.torque})
         if j.angle != 0:
             t["angle"] = j.angle
         if j.axis != 0:

@@ -177,6 +177,11 @@ def _validate_joints(model: Model, params) -> None:
             if (joint.driver.coordinate is None) == (joint.driver.speed is None):
                 raise ModelError(f"{path}.driver", "exactly one of 'coordinate' and 'speed'",
                                  "both" if joint.driver.coordinate is not None else "neither")
+        if joint.torque is not None and dofs != 1:
+            raise ModelError(f"{path}.torque", "a revolute or prismatic joint for an actuator torque", joint.type)
+        if joint.torque is not None and joint.driver is not None:
+            raise ModelError(f"{path}.torque", "no actuator torque on a driven joint (the driver supplies it)",
+                             joint.torque)
         if (joint.stiffness is not None or joint.damping is not None) and dofs != 1:
             raise ModelError(f"{path}.stiffness", "a revolute or prismatic joint for joint springs",
                              joint.type)
