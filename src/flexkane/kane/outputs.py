@@ -11,7 +11,8 @@ Names of the outputs (columns of results files):
   beam, and the frame angle;
 * ``tip_<beam>`` [m]: deflection of the beam's tip in the beam frame, ``sum_i Phi_i(L) q_i``;
 * ``x_cm``, ``y_cm`` [m], ``p_x``, ``p_y`` [kg m/s]: centre of mass of the whole system and its
-  linear momentum; ``h_cm`` [kg m^2/s]: angular momentum about the centre of mass;
+  linear momentum; ``h_cm`` and ``h_o`` [kg m^2/s]: angular momentum about the centre of mass and
+  about the ground origin;
 * ``effort_<joint>`` [N m or N]: generalized force supplied by each driver.
 """
 
@@ -88,6 +89,7 @@ def output_expressions(eom) -> dict:
     out["y_cm"] = sp.Add(*first_moment[1]) / M
     out["p_x"] = sp.Add(*momentum[0])
     out["p_y"] = sp.Add(*momentum[1])
+    out["h_o"] = sp.Add(*h_origin)
     out["h_cm"] = sp.Add(*h_origin) - _cross((out["x_cm"], out["y_cm"]), (out["p_x"], out["p_y"]))
     # ---------------------------------------------------------------- potential energy
     gravity = []

@@ -1,0 +1,79 @@
+"""Generated modules on disk: keys, atomic writing, and Numba's cache across processes."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from flexkane.numerics import build_module, generate_rhs_source, structure_key
+
+
+def test_structure_key_is_deterministic_and_depends_on_every_part():
+    assert structure_key("a", "b") == structure_key("a", "b")
+    assert structure_key("a", "b") != structure_key("ab")
+    assert len(structure_key("x")) == 32
+
+
+def test_same_key_in_one_process_returns_the_same_module(tmp_path, models):
+    source = generate_rhs_source(models.pendulum())
+    key = structure_key(source, "same-process")
+    first = build_module(source, key, tmp_path)
+    assert build_module(source, key, tmp_path) is first
+    path = tmp_path / key / f"flexkane_generated_{key}.py"
+    assert Path(first.__file__) == path
+    assert not [p for p in path.parent.iterdir() if p.suffix == ".tmp"]
+
+
+def test_invalid_key_is_rejected(tmp_path):
+    with pytest.raises(ValueError, match="key"):
+        build_module("", "../escape", tmp_path)
+
+
+_CHILD = textwrap.dedent("""
+    import json, sys, time
+    tic = time.perf_counter()
+    import numpy as np
+    from flexkane.numerics import build_module
+    source, key, cache = sys.argv[1:4]
+    module = build_module(open(source).read(), key, cache)
+    imported = time.perf_counter()
+    t = np.linspace(0.0, 1.0, 11)
+    Y = np.empty((11, 2))
+    out = module.dop853_chunk(0.0, np.array([1.0, 0.0]), 0.0, t, np.array([1.0, 1.0, 9.81]),
+                              1e-8, np.full(2, 1e-8), 10000, Y)
+    done = time.perf_counter()
+    print(json.dumps({"import": imported - tic, "first_call": done - imported,
+                      "status": int(out[3]), "y_end": Y[-1].tolist()}))
+""")
+
+
+def _run_child(script, source_file, key, cache):
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([str(Path(__file__).parents[2] / "src"),
+                                         env.get("PYTHONPATH", "")])
+    out = subprocess.run([sys.executable, str(script), str(source_file), key, str(cache)],
+                         capture_output=True, text=True, env=env, check=True, timeout=300)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def test_second_process_loads_numba_cache(tmp_path, models):
+    source = generate_rhs_source(models.pendulum())
+    key = structure_key(source, "two-processes")
+    source_file = tmp_path / "source.py"
+    source_file.write_text(source)
+    script = tmp_path / "child.py"
+    script.write_text(_CHILD)
+    cache = tmp_path / "cache"
+    cold = _run_child(script, source_file, key, cache)
+    warm = _run_child(script, source_file, key, cache)
+    print(f"\ncold: import {cold['import']:.2f} s + first call {cold['first_call']:.2f} s; "
+          f"cached: import {warm['import']:.2f} s + first call {warm['first_call']:.2f} s")
+    assert cold["status"] == warm["status"] == 0
+    assert cold["y_end"] == warm["y_end"]
+    assert list((cache / key / "__pycache__").glob("*.nbi"))
