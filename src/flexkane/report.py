@@ -26,9 +26,10 @@ _PRIME = re.compile(r"^(?P<stem>[A-Za-z]+)(?P<primes>'*)_(?P<idx>[^()]*)(?P<arg>
 
 
 def _latex_symbol(name: str) -> str:
-    if name.endswith("'") and name[:-1].startswith("u"):
+    if name.endswith("'") and name[:-1].startswith(("u", "v")):
         inner = _latex_symbol(name[:-1])
-        return r"\dot{" + inner + "}"
+        head, _, idx = inner.partition("_")
+        return r"\dot{" + head + "}" + ("_" + idx if idx else "")
     m = re.fullmatch(r"([qu])(\d+)", name)
     if m:
         return f"{m.group(1)}_{{{m.group(2)}}}"
