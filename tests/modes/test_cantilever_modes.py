@@ -1,4 +1,4 @@
-"""The chapter's cantilever (eqs. 8.2, 8.4, 8.6): boundary conditions, values, stability, typed roots."""
+"""The chapter's cantilever (eqs. 8.2, 8.4, 8.6): end conditions, values, stability, typed roots."""
 
 import numpy as np
 import pytest

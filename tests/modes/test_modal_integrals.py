@@ -52,6 +52,11 @@ def test_cantilever_E_and_F_have_closed_forms():
     integrals = mass_integrals(family, n, L, RHO)
     np.testing.assert_allclose(integrals.E, 2 * M * sigma / lam, rtol=1e-12)
     np.testing.assert_allclose(integrals.F, 2 * M * L / lam ** 2, rtol=1e-12)
+    # and plain quadrature agrees, to rounding of an O(rho L) oscillating integrand
+    modes = lambda x: family.phi(x / L, n)  # noqa: E731
+    by_quadrature = gram(modes, lambda x: np.vstack([np.ones_like(x), x]), L, lambda x: RHO + 0 * x)
+    np.testing.assert_allclose(by_quadrature[:, 0], 2 * M * sigma / lam, rtol=0, atol=1e-14 * M)
+    np.testing.assert_allclose(by_quadrature[:, 1], 2 * M * L / lam ** 2, rtol=0, atol=1e-14 * M * L)
 
 
 def test_rigid_body_constants_of_a_uniform_beam():
@@ -169,7 +174,9 @@ def test_centrifugal_stiffening_integrals_match_adaptive_quadrature():
     tension = lambda x: RHO * omega ** 2 * (L ** 2 - x ** 2) / 2  # noqa: E731
     s = stiffening_integrals(family, 6, L, tension)
     for i, j in ((0, 0), (1, 4), (5, 5)):
-        f = lambda x: tension(x) * (family.phi(x / L, 6, 1)[i, 0] * family.phi(x / L, 6, 1)[j, 0]) / L ** 2  # noqa: E731
+        def f(x):
+            slope = family.phi(x / L, 6, 1)[:, 0] / L
+            return tension(x) * slope[i] * slope[j]
         ref = quad(f, 0, L, epsabs=1e-14, limit=200)[0]
         assert s[i, j] == pytest.approx(ref, rel=1e-11, abs=1e-13)
 

@@ -210,6 +210,12 @@ def test_bad_arguments_raise_model_errors_naming_them(call, path):
     assert info.value.path == path
 
 
+def test_abscissae_rounded_past_the_ends_are_accepted():
+    family = get_family("clamped-free")
+    np.testing.assert_array_equal(family.phi([1.0 + 2e-16, -1e-17], 3),
+                                  family.phi([1.0, 0.0], 3))
+
+
 def test_admissibility_accepts_the_family_boundary_and_rejects_a_stricter_one():
     get_family("clamped-free").admissibility("clamped-free")
     get_family("clamped-pinned").admissibility("clamped-pinned")

@@ -5,6 +5,8 @@ import math
 import mpmath as mp
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from flexkane.modes import get_family
 
@@ -127,3 +129,13 @@ def test_families_without_eigenvalues_have_no_roots(name):
     family = get_family(name)
     assert family.roots(3) is None
     assert family.frequencies(3, 1.0, 1.0, 1.0) is None
+
+
+@settings(max_examples=25, deadline=None)
+@given(mu=st.floats(0.0, 50.0), extra=st.floats(1e-3, 50.0), kappa=st.floats(0.0, 2.0))
+def test_a_heavier_tip_body_lowers_every_frequency(mu, extra, kappa):
+    light = get_family("clamped-free-tip-mass", mass_ratio=mu, inertia_ratio=kappa).roots(6)
+    heavy = get_family("clamped-free-tip-mass", mass_ratio=mu + extra, inertia_ratio=kappa).roots(6)
+    assert np.all(heavy < light)
+    # interlacing of a rank-one mass increase: lambda_i(heavy) > lambda_{i-1}(light)
+    assert np.all(heavy[1:] > light[:-1])

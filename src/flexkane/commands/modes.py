@@ -14,55 +14,20 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
-import tempfile
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
+from ..atomic import atomic_writer
 from ..errors import ModelError
 
-__all__ = ["register", "run", "family_from_args", "write_atomically", "add_family_arguments"]
+__all__ = ["register", "run", "family_from_args", "add_family_arguments", "output_directory",
+           "parse_xi_expressions", "plot_family"]
 
 #: Family options settable from the command line: option name -> flag.
 _OPTION_FLAGS = {"mass_ratio": "--mass-ratio", "inertia_ratio": "--inertia-ratio",
-                 "expressions": "--expression"}
-
-
-def _umask() -> int:
-    mask = os.umask(0o022)
-    os.umask(mask)
-    return mask
-
-
-def write_atomically(path: Path, write: Callable[[Path], None]) -> Path:
-    """Write a file through a temporary sibling and ``os.replace``, so readers never see half.
-
-    Parameters
-    ----------
-    path : pathlib.Path
-        Final path.
-    write : callable
-        ``write(temporary_path)`` creates the content.
-
-    Returns
-    -------
-    pathlib.Path
-        ``path``.
-    """
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}-", suffix=path.suffix)
-    os.close(fd)
-    try:
-        write(Path(tmp))
-        os.chmod(tmp, 0o666 & ~_umask())
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return path
+                 "expressions": "--expression", "boundary": "--boundary"}
 
 
 def output_directory(value: str | None) -> Path:
@@ -84,19 +49,30 @@ def parse_xi_expressions(texts: list[str], flag: str) -> list[Any]:
                          hint="this installation has no expression parser (flexkane.expressions)") \
             from None
     from ..modes import XI
+    if len(texts) == 1:
+        return [parse_expression(texts[0], {"xi": XI}, path=flag)]
     return [parse_expression(text, {"xi": XI}, path=f"{flag}[{k}]") for k, text in enumerate(texts)]
 
 
-def add_family_arguments(parser: argparse.ArgumentParser, default: str | None) -> None:
-    """Add ``FAMILY`` and the family options ``--mass-ratio``, ``--inertia-ratio``, ``--expression``."""
+def add_family_arguments(parser: argparse.ArgumentParser, default: str | None,
+                         options: bool = True) -> None:
+    """Add ``FAMILY`` and, if ``options``, the family options (``--mass-ratio``,
+    ``--inertia-ratio``, ``--expression``, ``--boundary``)."""
+    from ..modes import family_names
+
     parser.add_argument("family", nargs="?", default=default, metavar="FAMILY",
-                        help="family of shape functions" + (f" (default {default})" if default else ""))
+                        help="family of shape functions: " + ", ".join(family_names())
+                        + (f" (default {default})" if default else ""))
+    if not options:
+        return
     parser.add_argument("--mass-ratio", type=float, default=None, metavar="MU",
                         help="tip mass over beam mass M/(rho L) [-] (clamped-free-tip-mass)")
     parser.add_argument("--inertia-ratio", type=float, default=None, metavar="KAPPA",
                         help="tip moment of inertia over rho L^3 [-] (clamped-free-tip-mass)")
     parser.add_argument("--expression", action="append", default=None, metavar="EXPR",
                         help="a shape function of xi = x/L (family expression; repeat per function)")
+    parser.add_argument("--boundary", default=None, metavar="ROOT-TIP",
+                        help="boundary the expressions must be admissible for, e.g. clamped-free")
 
 
 def family_from_args(args: argparse.Namespace):
@@ -110,12 +86,12 @@ def family_from_args(args: argparse.Namespace):
     from ..modes import get_family
 
     options: dict[str, Any] = {}
-    if args.mass_ratio is not None:
-        options["mass_ratio"] = args.mass_ratio
-    if args.inertia_ratio is not None:
-        options["inertia_ratio"] = args.inertia_ratio
-    if args.expression:
-        options["expressions"] = parse_xi_expressions(args.expression, "--expression")
+    for option, flag in _OPTION_FLAGS.items():
+        value = getattr(args, flag[2:].replace("-", "_"), None)
+        if value is not None and value != []:
+            options[option] = value
+    if "expressions" in options:
+        options["expressions"] = parse_xi_expressions(options["expressions"], "--expression")
     if args.family == "clamped-free-tip-mass":
         for option, what in (("mass_ratio", "M_tip / (rho L) [-], a number >= 0"),
                              ("inertia_ratio", "J_tip / (rho L^3) [-], a number >= 0")):
@@ -126,8 +102,8 @@ def family_from_args(args: argparse.Namespace):
         return get_family(args.family, **options)
     except ModelError as exc:
         for option, flag in _OPTION_FLAGS.items():
-            if exc.path.startswith(f"{args.family}.{option}") or exc.path.startswith(f"expression.{option}"):
-                raise ModelError(flag, exc.expected, exc.given, exc.hint,
+            if exc.path == option or exc.path.startswith(f"{option}["):
+                raise ModelError(flag + exc.path[len(option):], exc.expected, exc.given, exc.hint,
                                  show_given=exc.given is not None) from None
         raise
 
@@ -136,9 +112,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``modes`` subcommand."""
     parser = subparsers.add_parser(
         "modes", help="roots, natural frequencies and plot of a family of shape functions",
-        description=__doc__.split("\n\n")[0])
+        description="Print the roots lambda_i of a family of shape functions and, given --L, "
+                    "--EI (--EA) and --rho, the natural frequencies (eq. 8.7); plot the functions "
+                    "to modes-<family>.png.")
     add_family_arguments(parser, "clamped-free")
-    parser.add_argument("--n", type=int, default=4, help="number of modes (default 4)")
+    parser.add_argument("--n", type=int, default=None,
+                        help="number of modes (default 4, or the number of --expression)")
     parser.add_argument("--L", type=float, default=None, help="length of the beam [m]")
     parser.add_argument("--EI", type=float, default=None, help="flexural rigidity [N m^2]")
     parser.add_argument("--EA", type=float, default=None, help="axial rigidity [N] (axial families)")
@@ -213,19 +192,22 @@ def plot_family(family, n: int, path: Path) -> Path:
     axes.set_title(f"{family.name} shape functions")
     if n <= 10:
         axes.legend(fontsize="small")
-    return write_atomically(path, lambda tmp: figure.savefig(tmp, format="png", dpi=120))
+    with atomic_writer(path, "path") as temporary:
+        figure.savefig(temporary, format="png", dpi=120)
+    return path
 
 
 def run(args: argparse.Namespace) -> int:
     """Print the table of roots and frequencies and write ``modes-<family>.png``."""
-    if isinstance(args.n, bool) or args.n < 1:
+    if args.n is not None and args.n < 1:
         raise ModelError("--n", "a positive integer number of modes", args.n)
     family = family_from_args(args)
-    if family.max_modes is not None and args.n > family.max_modes:
-        raise ModelError("--n", f"at most {family.max_modes} modes for this family", args.n)
+    n = args.n if args.n is not None else min(4, family.max_modes or 4)
+    if family.max_modes is not None and n > family.max_modes:
+        raise ModelError("--n", f"at most {family.max_modes} modes for this family", n)
     physical = _physical(args, family.kind == "axial")
-    for line in _table(family, args.n, physical):
+    for line in _table(family, n, physical):
         print(line)
-    path = plot_family(family, args.n, output_directory(args.out) / f"modes-{family.name}.png")
+    path = plot_family(family, n, output_directory(args.out) / f"modes-{family.name}.png")
     print(f"wrote {path}")
     return 0

@@ -19,9 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ..atomic import atomic_writer
 from ..errors import ModelError
-from .modes import (add_family_arguments, family_from_args, output_directory,
-                    parse_xi_expressions, write_atomically)
+from .modes import add_family_arguments, family_from_args, output_directory, parse_xi_expressions
 
 __all__ = ["register", "run"]
 
@@ -33,8 +33,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``vibrate`` subcommand."""
     parser = subparsers.add_parser(
         "vibrate", help="free vibration of a beam on a fixed base (modal superposition)",
-        description=__doc__.split("\n\n")[0])
-    add_family_arguments(parser, "clamped-free")
+        description="Free vibration of a beam on a fixed base by eqs. 8.3 and 8.5, released from "
+                    "a tip load or an initial shape; writes results.csv (t [s], tip [m], mid [m]) "
+                    "and vibration.png.")
+    add_family_arguments(parser, "clamped-free", options=False)
     parser.add_argument("--L", type=float, required=True, help="length of the beam [m]")
     parser.add_argument("--EI", type=float, required=True, help="flexural rigidity [N m^2]")
     parser.add_argument("--rho", type=float, required=True, help="mass per unit length [kg/m]")
@@ -112,7 +114,8 @@ def run(args: argparse.Namespace) -> int:
     dt_out = _positive(args.dt_out, "--dt-out", "the output interval [s]")
     times = output_times(t_end, dt_out)
     family = family_from_args(args)
-    if family.roots(1) is None or family.kind != "transverse" or family.name == "clamped-free-tip-mass":
+    if family.roots(1) is None or family.kind != "transverse" \
+            or family.name == "clamped-free-tip-mass":
         raise ModelError("FAMILY", "a transverse eigenfunction family without tip body",
                          family.name)
     if args.tip_load is not None:
@@ -133,9 +136,11 @@ def run(args: argparse.Namespace) -> int:
     fields = vibration.deflection(np.array([L, 0.5 * L]), times)
     tip, mid = fields[:, 0], fields[:, 1]
     directory = output_directory(args.out)
-    csv_path = write_atomically(directory / "results.csv", lambda p: _write_csv(p, times, tip, mid))
-    png_path = write_atomically(directory / "vibration.png",
-                                lambda p: _plot(p, times, tip, mid, f"{family.name}, {start}"))
+    csv_path, png_path = directory / "results.csv", directory / "vibration.png"
+    with atomic_writer(csv_path, "path") as temporary:
+        _write_csv(temporary, times, tip, mid)
+    with atomic_writer(png_path, "path") as temporary:
+        _plot(temporary, times, tip, mid, f"{family.name}, {start}")
     p1 = vibration.frequencies[0]
     print(f"{family.name}, {args.n} modes, {start}; p_1 = {p1:.10g} rad/s "
           f"(f_1 = {p1 / (2.0 * math.pi):.10g} Hz)")
