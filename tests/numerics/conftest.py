@@ -50,7 +50,9 @@ def harmonic_oscillator():
         |--/\\/\\/\\--[m]--> x
     """
     t, x, v, m, k = sp.symbols("t x v m k")
-    return eom_namespace(t, [x], [v], [m, k], [v], [[m]], [-k * x])
+    eom = eom_namespace(t, [x], [v], [m, k], [v], [[m]], [-k * x])
+    eom.ud = [sp.Symbol("vd")]
+    return eom
 
 
 def pendulum():
@@ -125,20 +127,17 @@ def stiff_chain(n_masses=4):
     return eom_namespace(t, q, u, [*m, *k, *c], u, sp.diag(*m), forcing)
 
 
-def degenerating_slider():
-    """Slider whose mass ``q`` shrinks at rate a:  q' = -a,  q u' = q b.
+def troubled_slider():
+    """Slider whose mass is its coordinate:  q' = -a + e q**2,  q u' = q b.
 
-    The mass matrix [[q]] is singular at ``q = 0``, i.e. at ``t = q(0) / a``; ``u`` grows at
-    rate b while it lasts.
+    Three ways to fail, by the constants (a, e, b):
+
+    * ``q(0) = 0``: the mass matrix [[q]] is singular at the start;
+    * ``a = 1, e = 0, q(0) = 1``: ``q = 1 - t``, singular at ``t = 1`` while ``u = b t``;
+    * ``a = 0, e = 1, q(0) = 1``: ``q = 1 / (1 - t)`` blows up at ``t = 1``.
     """
-    t, q, u, a, b = sp.symbols("t q u a b")
-    return eom_namespace(t, [q], [u], [a, b], [-a], [[q]], [q * b])
-
-
-def blow_up():
-    """``q' = q**2`` (solution ``q0 / (1 - q0 t)``, infinite at ``t = 1 / q0``), ``u' = 0``."""
-    t, q, u = sp.symbols("t q u")
-    return eom_namespace(t, [q], [u], [], [q ** 2], [[1]], [0])
+    t, q, u, a, e, b = sp.symbols("t q u a e b")
+    return eom_namespace(t, [q], [u], [a, e, b], [-a + e * q ** 2], [[q]], [q * b])
 
 
 # Constants of stiff_chain(): masses [kg], springs [N/m], dashpots [N s/m].
@@ -156,8 +155,8 @@ def models():
     return types.SimpleNamespace(
         eom=eom_namespace, compile=compile_eom, harmonic_oscillator=harmonic_oscillator,
         pendulum=pendulum, double_pendulum=double_pendulum, stiff_chain=stiff_chain,
-        stiff_chain_matrix=stiff_chain_matrix, degenerating_slider=degenerating_slider,
-        blow_up=blow_up, STIFF_CHAIN_CONSTANTS=STIFF_CHAIN_CONSTANTS,
+        stiff_chain_matrix=stiff_chain_matrix, troubled_slider=troubled_slider,
+        STIFF_CHAIN_CONSTANTS=STIFF_CHAIN_CONSTANTS,
         BAR_CONSTANTS=BAR_CONSTANTS, STIFF_CHAIN_Y0=STIFF_CHAIN_Y0)
 
 
@@ -166,7 +165,8 @@ def oscillator_module():
     eom = harmonic_oscillator()
     m, k = eom.constants
     x, v = eom.q[0], eom.u[0]
-    return compile_eom(eom, {"energy": m * v ** 2 / 2 + k * x ** 2 / 2, "x2": 2 * x})
+    return compile_eom(eom, {"energy": m * v ** 2 / 2 + k * x ** 2 / 2, "x2": 2 * x,
+                             "spring_force": -m * eom.ud[0]})
 
 
 @pytest.fixture(scope="session")
@@ -214,10 +214,5 @@ def stiff_chain_matrix(p, n_masses=4):
 
 
 @pytest.fixture(scope="session")
-def degenerating_slider_module():
-    return compile_eom(degenerating_slider())
-
-
-@pytest.fixture(scope="session")
-def blow_up_module():
-    return compile_eom(blow_up())
+def troubled_slider_module():
+    return compile_eom(troubled_slider())

@@ -97,12 +97,13 @@ def test_more_speeds_than_unrolled_use_the_ldl_loop(models):
     np.testing.assert_allclose(dy[9:], f / m, rtol=1e-12)
 
 
-def test_outputs_are_evaluated_over_many_samples(oscillator_module):
+def test_outputs_with_accelerations_are_evaluated_over_many_samples(oscillator_module):
     t = np.linspace(0, 1, 50)
     y = np.column_stack([np.cos(t), -np.sin(t)])
     values = evaluate_outputs(oscillator_module, t, y, np.array([2.0, 2.0]))
     np.testing.assert_allclose(values["energy"], 1.0, rtol=1e-14)
     np.testing.assert_allclose(values["x2"], 2 * np.cos(t))
+    np.testing.assert_allclose(values["spring_force"], 2.0 * np.cos(t), rtol=1e-14)
 
 
 def test_undeclared_symbol_is_reported_by_name(models):

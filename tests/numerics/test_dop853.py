@@ -6,10 +6,18 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from flexkane.numerics import Status, integrate
+from flexkane.numerics import Status, dop853, integrate
 
 PENDULUM_P = np.array([1.0, 1.0, 9.81])          # m [kg], l [m], g [m/s^2]
 DOUBLE_PENDULUM_P = np.array([1.0, 1.5, 1.0, 0.7, 9.81])  # m1, m2 [kg], l1, l2 [m], g [m/s^2]
+
+
+def test_dop853_tableau_is_consistent():
+    a, b, c = dop853.DOP853_A, dop853.DOP853_B, dop853.DOP853_C
+    np.testing.assert_allclose(a.sum(axis=1)[:12], c[:12], atol=1e-13)
+    np.testing.assert_allclose(a.sum(axis=1)[13:], c[13:], atol=1e-13)
+    assert b.sum() == pytest.approx(1.0, abs=1e-14)
+    assert b @ c[:12] ** 7 == pytest.approx(1 / 8, abs=1e-14)  # order 8 quadrature condition
 
 
 def _scipy_reference(module, y0, t, p):

@@ -9,9 +9,9 @@ from flexkane.errors import ModelError
 from flexkane.numerics import Status, choose_method, integrate
 
 
-def test_singular_mass_matrix_at_start_is_status_4(degenerating_slider_module):
+def test_singular_mass_matrix_at_start_is_status_4(troubled_slider_module):
     t = np.linspace(0.0, 1.0, 11)
-    result = integrate(degenerating_slider_module, [0.0, 0.0], t, [1.0, 1.0], rtol=1e-8,
+    result = integrate(troubled_slider_module, [0.0, 0.0], t, [1.0, 0.0, 1.0], rtol=1e-8,
                        atol=1e-8, method="dop853")
     assert result.status == Status.SINGULAR_MASS_MATRIX
     assert "singular mass matrix at t = 0 s" in result.message
@@ -20,25 +20,27 @@ def test_singular_mass_matrix_at_start_is_status_4(degenerating_slider_module):
 
 @pytest.mark.parametrize("method", ["dop853", "radau"])
 def test_mass_matrix_becoming_singular_stops_there_with_partial_rows(
-        degenerating_slider_module, method):
+        troubled_slider_module, method):
     t = np.linspace(0.0, 2.0, 21)  # mass q = 1 - t vanishes at t = 1
-    result = integrate(degenerating_slider_module, [1.0, 0.0], t, [1.0, 3.0], rtol=1e-8,
+    result = integrate(troubled_slider_module, [1.0, 0.0], t, [1.0, 0.0, 3.0], rtol=1e-8,
                        atol=1e-8, method=method)
     assert result.status == Status.SINGULAR_MASS_MATRIX
     assert result.t_reached == pytest.approx(1.0, abs=1e-6)
-    assert result.n_valid == 11 and result.y.shape == (11, 2)
+    assert result.n_valid in (10, 11) and result.y.shape == (result.n_valid, 2)
     np.testing.assert_allclose(result.y[:, 1], 3.0 * result.t, atol=1e-7)
 
 
 @pytest.mark.parametrize("method", ["dop853", "radau"])
-def test_blow_up_stops_near_singularity_with_accurate_partial_rows(blow_up_module, method):
+def test_blow_up_stops_near_singularity_with_accurate_partial_rows(troubled_slider_module, method):
     t = np.linspace(0.0, 2.0, 201)  # q = 1 / (1 - t)
-    result = integrate(blow_up_module, [1.0, 0.0], t, [], rtol=1e-8, atol=1e-8, method=method)
+    result = integrate(troubled_slider_module, [1.0, 0.0], t, [0.0, 1.0, 0.0], rtol=1e-8,
+                       atol=1e-8, method=method)
     assert result.status in (Status.STEP_TOO_SMALL, Status.NON_FINITE)
     assert 0.99 < result.t_reached < 1.0 + 1e-6
     assert f"{result.t_reached:.6g}" in result.message
-    assert 99 <= result.n_valid <= 100
-    np.testing.assert_allclose(result.y[:, 0], 1.0 / (1.0 - result.t), rtol=1e-5)
+    assert result.n_valid in (100, 101)  # the row at t = 1 only if the solver jumped past
+    before = result.t < 1.0
+    np.testing.assert_allclose(result.y[before, 0], 1.0 / (1.0 - result.t[before]), rtol=1e-5)
 
 
 def test_max_steps_gives_status_3_and_advice(pendulum_module):

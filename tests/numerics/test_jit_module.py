@@ -9,9 +9,11 @@ import sys
 import textwrap
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from flexkane.numerics import build_module, generate_rhs_source, structure_key
+from flexkane.numerics.jit_module import compose_module_source
 
 
 def test_structure_key_is_deterministic_and_depends_on_every_part():
@@ -62,18 +64,50 @@ def _run_child(script, source_file, key, cache):
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
-def test_second_process_loads_numba_cache(tmp_path, models):
+def test_second_process_loads_numba_cache(tmp_path, models, pendulum_module):
+    """A child process building the session's pendulum key loads the compiled code from disk."""
+    pendulum_module.dop853_chunk(0.0, np.array([1.0, 0.0]), 0.0, np.linspace(0.0, 1.0, 11),
+                                 np.array([1.0, 1.0, 9.81]), 1e-8, np.full(2, 1e-8), 10000,
+                                 np.empty((11, 2)))  # compiled (and cached) in this process
+    path = Path(pendulum_module.__file__)
+    key = path.parent.name
     source = generate_rhs_source(models.pendulum())
-    key = structure_key(source, "two-processes")
+    assert structure_key(source) == key
     source_file = tmp_path / "source.py"
     source_file.write_text(source)
     script = tmp_path / "child.py"
     script.write_text(_CHILD)
-    cache = tmp_path / "cache"
-    cold = _run_child(script, source_file, key, cache)
-    warm = _run_child(script, source_file, key, cache)
-    print(f"\ncold: import {cold['import']:.2f} s + first call {cold['first_call']:.2f} s; "
-          f"cached: import {warm['import']:.2f} s + first call {warm['first_call']:.2f} s")
-    assert cold["status"] == warm["status"] == 0
-    assert cold["y_end"] == warm["y_end"]
-    assert list((cache / key / "__pycache__").glob("*.nbi"))
+    warm = _run_child(script, source_file, key, path.parents[1])
+    print(f"\ncached load in a new process: import {warm['import']:.2f} s, "
+          f"first call {warm['first_call']:.2f} s")
+    assert warm["status"] == 0
+    assert list((path.parent / "__pycache__").glob("*.nbi"))
+
+
+_BUILDER = textwrap.dedent("""
+    import sys
+    from flexkane.numerics import build_module
+    source, key, cache = sys.argv[1:4]
+    module = build_module(open(source).read(), key, cache)
+    print(module.NQ + module.NU)
+""")
+
+
+def test_processes_building_the_same_key_at_once_leave_one_intact_file(tmp_path, models):
+    source = generate_rhs_source(models.pendulum())
+    key = structure_key(source, "race")
+    (tmp_path / "source.py").write_text(source)
+    (tmp_path / "builder.py").write_text(_BUILDER)
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([str(Path(__file__).parents[2] / "src"),
+                                         env.get("PYTHONPATH", "")])
+    children = [subprocess.Popen([sys.executable, str(tmp_path / "builder.py"),
+                                  str(tmp_path / "source.py"), key, str(tmp_path / "cache")],
+                                 stdout=subprocess.PIPE, text=True, env=env)
+                for _ in range(2)]
+    outputs = [child.communicate(timeout=300)[0] for child in children]
+    assert [child.returncode for child in children] == [0, 0]
+    assert [out.strip() for out in outputs] == ["2", "2"]
+    written = (tmp_path / "cache" / key / f"flexkane_generated_{key}.py").read_text()
+    assert written == compose_module_source(source, key)
+    assert not list((tmp_path / "cache" / key).glob("*.tmp"))

@@ -1,0 +1,35 @@
+"""Numerics: generated right-hand sides compiled by Numba, and their integrators.
+
+Pipeline: :func:`generate_rhs_source` (SymPy equations -> source text),
+:func:`build_module` (source -> compiled, disk-cached module), :func:`integrate`
+(module -> :class:`IntegrationResult` on a grid of output times).
+"""
+
+from flexkane.numerics.codegen import generate_outputs_source, generate_rhs_source
+from flexkane.numerics.integrate import (
+    METHODS,
+    IntegrationResult,
+    Status,
+    StiffnessEstimate,
+    choose_method,
+    estimate_stiffness,
+    evaluate_outputs,
+    integrate,
+)
+from flexkane.numerics.jit_module import build_module, default_cache_dir, structure_key
+
+__all__ = [
+    "METHODS",
+    "IntegrationResult",
+    "Status",
+    "StiffnessEstimate",
+    "build_module",
+    "choose_method",
+    "default_cache_dir",
+    "estimate_stiffness",
+    "evaluate_outputs",
+    "generate_outputs_source",
+    "generate_rhs_source",
+    "integrate",
+    "structure_key",
+]

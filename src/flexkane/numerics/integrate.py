@@ -1,0 +1,321 @@
+"""Integrate a generated module over a grid of output times, chunk by chunk.
+
+:func:`integrate` calls the compiled loop (``dop853_chunk`` or ``radau5_chunk``) on successive
+chunks of the output grid; between chunks it reports progress, and a ``KeyboardInterrupt`` or a
+failure ends the run with the rows computed so far. The stiff/non-stiff choice of
+``method="auto"`` is :func:`choose_method`.
+"""
+
+from __future__ import annotations
+
+import enum
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from flexkane.errors import ModelError
+
+__all__ = ["METHODS", "IntegrationResult", "Status", "StiffnessEstimate", "choose_method",
+           "estimate_stiffness", "evaluate_outputs", "integrate"]
+
+# Method name -> name of the compiled chunk function in a generated module.
+METHODS = {"dop853": "dop853_chunk", "radau": "radau5_chunk"}
+
+# Work per call of a chunk function: at most this fraction of the span, and this wall time [s].
+CHUNK_SPAN_FRACTION = 0.01
+CHUNK_TARGET_SECONDS = 0.1
+
+
+class Status(enum.IntEnum):
+    """Outcome of an integration; values 0-4 are the chunk functions' status codes."""
+
+    OK = 0
+    STEP_TOO_SMALL = 1
+    NON_FINITE = 2
+    MAX_STEPS = 3
+    SINGULAR_MASS_MATRIX = 4
+    INTERRUPTED = 5
+
+
+_MESSAGES = {
+    Status.OK: "integration reached t = {t:.6g} s",
+    Status.STEP_TOO_SMALL: (
+        "step size too small at t = {t:.6g} s: the solution probably becomes singular there "
+        "(a blow-up, an impact or a discontinuous input); check the model near that time, or "
+        "loosen rtol/atol if they are below about 1e-13"),
+    Status.NON_FINITE: (
+        "non-finite state or derivative (inf or NaN) at t = {t:.6g} s: the motion diverges or "
+        "leaves the domain of an expression (sqrt or log of a negative number, a division by "
+        "zero); check the parameters, the initial state and the time laws"),
+    Status.MAX_STEPS: (
+        "maximum number of steps ({max_steps}) reached at t = {t:.6g} s: try increasing "
+        "`max_steps`, loosening rtol, or method='radau' if the model is stiff"),
+    Status.SINGULAR_MASS_MATRIX: (
+        "singular mass matrix at t = {t:.6g} s: the configuration is degenerate (a zero or "
+        "negative mass or inertia, a beam of zero density, or coordinates that do not move "
+        "anything); check the parameters"),
+    Status.INTERRUPTED: "interrupted by the user at t = {t:.6g} s",
+}
+
+
+@dataclass
+class IntegrationResult:
+    """Output of :func:`integrate`; rows beyond ``n_valid`` were not reached.
+
+    Attributes
+    ----------
+    t : ndarray (n_valid,)
+        Output times reached [s].
+    y : ndarray (n_valid, n)
+        States ``[q, u]`` at ``t`` (dense output).
+    status : Status
+        ``Status.OK`` when the whole grid was computed.
+    message : str
+        Human-readable outcome, with the time reached and the likely cause of a failure.
+    nfev, nsteps, naccept, nreject : int
+        Right-hand-side evaluations (Jacobians included), attempted, accepted, rejected steps.
+    wall_time : float
+        Elapsed time [s], compilation on first use included.
+    method : str
+        ``"dop853"`` or ``"radau"`` (the one chosen when ``"auto"`` was asked).
+    t_reached : float
+        Last time at which the state is known [s] (may exceed ``t[-1]`` on failure).
+    n_valid : int
+        Number of rows computed.
+    """
+
+    t: np.ndarray
+    y: np.ndarray
+    status: Status
+    message: str
+    nfev: int
+    nsteps: int
+    naccept: int
+    nreject: int
+    wall_time: float
+    method: str
+    t_reached: float
+    n_valid: int
+
+    @property
+    def success(self) -> bool:
+        """Whether every requested row was computed."""
+        return self.status == Status.OK
+
+
+@dataclass
+class StiffnessEstimate:
+    """Eigenvalue summary of the Jacobian at the initial state (see :func:`estimate_stiffness`).
+
+    Attributes
+    ----------
+    spectral_radius : float
+        Largest ``|lambda|`` [1/s].
+    resolved_rate : float
+        Largest ``|lambda|`` among eigenvalues that any method must follow [1/s]: oscillatory
+        or growing ones (``-Re lambda < |Im lambda|``); at least ``1/span``.
+    explicit_evaluations, implicit_evaluations : float
+        Estimated right-hand-side evaluations of DOP853 and Radau IIA over the span.
+    """
+
+    spectral_radius: float
+    resolved_rate: float
+    explicit_evaluations: float
+    implicit_evaluations: float
+
+    @property
+    def stiff(self) -> bool:
+        """Whether the implicit method is expected to be at least 4 times cheaper."""
+        return self.explicit_evaluations > 4.0 * self.implicit_evaluations
+
+
+def estimate_stiffness(module, t0: float, y0: np.ndarray, p: np.ndarray, span: float,
+                       rtol: float) -> StiffnessEstimate:
+    """Estimate the cost of explicit and implicit integration from the Jacobian at ``t0``.
+
+    Parameters
+    ----------
+    module : module
+        Generated module (:func:`~flexkane.numerics.jit_module.build_module`).
+    t0 : float
+        Initial time [s].
+    y0 : ndarray (n,)
+        Initial state.
+    p : ndarray (n_p,)
+        Constants.
+    span : float
+        Length of the time span [s].
+    rtol : float
+        Relative tolerance.
+
+    Returns
+    -------
+    StiffnessEstimate
+        With the rule, for eigenvalues ``lambda`` of the finite-difference Jacobian (all of
+        them, ``numpy.linalg.eigvals``, cheap for the n <= a few hundred of planar chains):
+
+        * DOP853 is stable for ``|h lambda| <= 6`` (its stability region reaches -6.4 on the
+          real axis and 6.0 on the imaginary axis) and needs ``h omega ~ rtol^(1/9)`` for the
+          accuracy of a mode of rate ``omega``: ``12 * span * max(rho / 6, omega / rtol^(1/9))``
+          evaluations, ``rho`` the spectral radius, ``omega`` the resolved rate;
+        * Radau IIA has no stability limit (L-stable) and needs ``h omega ~ rtol^(1/6)``: about
+          ``10 * span * omega / rtol^(1/6)`` evaluations (3 stages, 2-4 Newton iterations).
+
+        Fast *decaying* modes (large ``-Re lambda``) make a model stiff; fast lightly damped
+        oscillations do not, since both methods must resolve them.
+    """
+    n = y0.shape[0]
+    f0 = np.empty(n)
+    code = module.rhs(t0, y0, p, f0)
+    J = np.zeros((n, n))
+    if code == 0 and np.all(np.isfinite(f0)):
+        module.fd_jacobian(t0, y0, f0, p, J, np.empty(n), np.empty(n))
+    J[~np.isfinite(J)] = 0.0
+    lam = np.linalg.eigvals(J) if n else np.zeros(0)
+    rho = float(np.max(np.abs(lam))) if n else 0.0
+    resolved = np.abs(lam[-lam.real < np.abs(lam.imag)]) if n else np.zeros(0)
+    omega = max(1.0 / span, float(resolved.max()) if resolved.size else 0.0)
+    explicit = 12.0 * span * max(rho / 6.0, omega / rtol ** (1.0 / 9.0))
+    implicit = 10.0 * span * omega / rtol ** (1.0 / 6.0) + (n + 1)
+    return StiffnessEstimate(rho, omega, explicit, implicit)
+
+
+def choose_method(module, t0: float, y0: np.ndarray, p: np.ndarray, span: float,
+                  rtol: float) -> str:
+    """Return ``"radau"`` if :func:`estimate_stiffness` finds the model stiff, else ``"dop853"``."""
+    return "radau" if estimate_stiffness(module, t0, y0, p, span, rtol).stiff else "dop853"
+
+
+def _as_vector(value, name: str, size: int | None, expected: str) -> np.ndarray:
+    array = np.ascontiguousarray(np.asarray(value, dtype=np.float64))
+    if array.ndim != 1 or (size is not None and array.shape[0] != size):
+        raise ModelError(name, expected, f"array of shape {array.shape}", show_given=True)
+    return array
+
+
+def _message(status: Status, t: float, max_steps: int) -> str:
+    return _MESSAGES[status].format(t=t, max_steps=max_steps)
+
+
+def integrate(module, y0, t_out, p, *, rtol: float, atol, method: str = "auto",
+              progress: Callable[[float, float], None] | None = None,
+              max_steps: int = 1_000_000) -> IntegrationResult:
+    """Integrate the generated model from ``t_out[0]`` over the output grid ``t_out``.
+
+    Parameters
+    ----------
+    module : module
+        Generated module from :func:`~flexkane.numerics.jit_module.build_module`.
+    y0 : array_like (n,)
+        State ``[q, u]`` at ``t_out[0]``, in the order of ``module.STATE_NAMES``.
+    t_out : array_like (N,)
+        Strictly increasing output times [s]; the integration starts at ``t_out[0]``.
+    p : array_like (n_p,)
+        Constants, in the order of ``module.CONSTANT_NAMES`` (units of the model).
+    rtol : float
+        Relative tolerance (1e-13 < rtol < 1).
+    atol : float or array_like (n,)
+        Absolute tolerance, in the units of each state.
+    method : {"auto", "dop853", "radau"}
+        ``"auto"`` applies :func:`choose_method` at ``t_out[0]``.
+    progress : callable, optional
+        ``progress(t_reached, t_end)`` called between chunks.
+    max_steps : int
+        Maximum number of attempted steps.
+
+    Returns
+    -------
+    IntegrationResult
+        Partial (``n_valid < N``) when the status is not ``Status.OK``. A ``KeyboardInterrupt``
+        between chunks gives ``Status.INTERRUPTED`` and the rows computed so far.
+    """
+    start = time.perf_counter()
+    t_out = _as_vector(t_out, "t_out", None, "a 1-D array of output times [s]")
+    if t_out.shape[0] < 1 or not np.all(np.isfinite(t_out)) or np.any(np.diff(t_out) <= 0):
+        raise ModelError("t_out", "strictly increasing finite output times [s]", "not so",
+                         show_given=False)
+    n = module.NQ + module.NU
+    y0 = _as_vector(y0, "y0", n, f"{n} initial values {module.STATE_NAMES}")
+    p = _as_vector(p, "p", len(module.CONSTANT_NAMES),
+                   f"{len(module.CONSTANT_NAMES)} constants {module.CONSTANT_NAMES}")
+    if not 1e-13 <= rtol < 1.0:
+        raise ModelError("rtol", "a relative tolerance between 1e-13 and 1", rtol)
+    atol = np.ascontiguousarray(np.broadcast_to(np.asarray(atol, dtype=np.float64), (n,)))
+    if np.any(atol <= 0) or not np.all(np.isfinite(atol)):
+        raise ModelError("atol", "positive absolute tolerances", atol)
+    if not (isinstance(max_steps, (int, np.integer)) and max_steps > 0):
+        raise ModelError("max_steps", "a positive integer", max_steps)
+    t0, t_end = float(t_out[0]), float(t_out[-1])
+    if method == "auto":
+        method = choose_method(module, t0, y0, p, max(t_end - t0, 1e-300), rtol)
+    if method not in METHODS:
+        raise ModelError("method", f"one of 'auto', {', '.join(map(repr, METHODS))}", method)
+    chunk = getattr(module, METHODS[method])
+    Y = np.full((t_out.shape[0], n), np.nan)
+    t, y, h = t0, y0.copy(), 0.0
+    started = False  # whether row 0 (y0 at t0) has been written by a chunk call
+    nfev = naccept = nreject = 0
+    status = Status.OK
+    span_step = CHUNK_SPAN_FRACTION * (t_end - t0)
+    budget = 200  # steps per call, adapted to take about CHUNK_TARGET_SECONDS
+    try:
+        while not started or t < t_end:
+            i_row = int(np.searchsorted(t_out, t, side="right")) if started else 0
+            j = int(np.searchsorted(t_out, t + span_step, side="right"))
+            j = min(max(j, i_row + 1), t_out.shape[0])
+            tic = time.perf_counter()
+            result = chunk(t, y, h, t_out[i_row:j], p, rtol, atol,
+                           min(budget, max_steps - naccept - nreject), Y[i_row:j])
+            elapsed = time.perf_counter() - tic
+            t_new, y, h, code, fe, na, nr = result
+            t, started = float(t_new), True
+            nfev, naccept, nreject = nfev + fe, naccept + na, nreject + nr
+            if na + nr > 0 and elapsed > 0:
+                budget = int(min(max((na + nr) / elapsed * CHUNK_TARGET_SECONDS, 50), 1e7))
+            if code == Status.MAX_STEPS and naccept + nreject < max_steps:
+                code = Status.OK  # only this call's share of the steps is used up
+            if code != Status.OK:
+                status = Status(code)
+                break
+            if progress is not None:
+                progress(t, t_end)
+    except KeyboardInterrupt:
+        status = Status.INTERRUPTED
+    i_row = int(np.searchsorted(t_out, t, side="right")) if started else 0
+    return IntegrationResult(
+        t=t_out[:i_row].copy(), y=Y if i_row == Y.shape[0] else Y[:i_row].copy(), status=status,
+        message=_message(status, t, max_steps), nfev=nfev, nsteps=naccept + nreject,
+        naccept=naccept, nreject=nreject, wall_time=time.perf_counter() - start, method=method,
+        t_reached=t, n_valid=i_row)
+
+
+def evaluate_outputs(module, t: np.ndarray, y: np.ndarray, p: np.ndarray,
+                     name: str = "outputs") -> dict[str, np.ndarray]:
+    """Evaluate the generated outputs function over samples.
+
+    Parameters
+    ----------
+    module : module
+        Generated module containing ``generate_outputs_source(..., name=name)``.
+    t : ndarray (N,)
+        Times [s].
+    y : ndarray (N, n)
+        States.
+    p : ndarray (n_p,)
+        Constants.
+    name : str
+        Name given to the generated function.
+
+    Returns
+    -------
+    dict of str to ndarray (N,)
+        One array per output name.
+    """
+    prefix = "" if name == "outputs" else name.upper() + "_"
+    names = getattr(module, prefix + "OUTPUT_NAMES")
+    values = getattr(module, name)(np.ascontiguousarray(t, dtype=np.float64),
+                                   np.ascontiguousarray(y, dtype=np.float64),
+                                   np.ascontiguousarray(p, dtype=np.float64))
+    return {key: values[:, k] for k, key in enumerate(names)}

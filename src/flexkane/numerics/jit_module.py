@@ -1,0 +1,160 @@
+"""Write a generated module to the cache directory and import it (Numba on-disk cache).
+
+A generated module is one Python file: imports, the linear-algebra template, the generated
+fragments (``rhs``, ``outputs``), the DOP853 and Radau templates. Every Numba function in it is
+``@njit(cache=True)``, so Numba stores the machine code beside the file
+(``<cache_dir>/<key>/__pycache__``) and a later process importing the same key loads it instead
+of compiling. Numba checks the file's modification time and size, so the file is written only
+when it is missing or different, through a temporary file and ``os.replace`` (atomic): two
+processes building the same key at once both end up with a complete, identical file.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import os
+import sys
+import tempfile
+from pathlib import Path
+from types import ModuleType
+
+import numba
+
+import flexkane
+from flexkane.numerics import dop853, linear_algebra, radau
+
+__all__ = ["TEMPLATE_BEGIN", "TEMPLATE_END", "build_module", "compose_module_source",
+           "default_cache_dir", "structure_key", "template_text"]
+
+TEMPLATE_BEGIN = "# >>> flexkane template >>>"
+TEMPLATE_END = "# <<< flexkane template <<<"
+_KEY_LENGTH = 32  # hex digits of sha256 kept in keys (128 bits)
+
+
+def template_text(module: ModuleType) -> str:
+    """Return the text between the template markers of a template module's file.
+
+    Parameters
+    ----------
+    module : module
+        One of :mod:`~flexkane.numerics.linear_algebra`, :mod:`~flexkane.numerics.dop853`,
+        :mod:`~flexkane.numerics.radau`.
+
+    Returns
+    -------
+    str
+        The template source, markers excluded.
+    """
+    text = Path(module.__file__).read_text(encoding="utf-8")
+    start = text.index(TEMPLATE_BEGIN) + len(TEMPLATE_BEGIN)
+    return text[start:text.index(TEMPLATE_END, start)].strip("\n") + "\n"
+
+
+def _templates() -> list[tuple[str, str]]:
+    return [(m.__name__, template_text(m)) for m in (linear_algebra, dop853, radau)]
+
+
+def default_cache_dir() -> Path:
+    """Return ``$FLEXKANE_CACHE_DIR`` if set, else ``~/.cache/flexkane``."""
+    env = os.environ.get("FLEXKANE_CACHE_DIR")
+    return Path(env) if env else Path.home() / ".cache" / "flexkane"
+
+
+def structure_key(*parts: str) -> str:
+    """Return a key (32 hex digits of a SHA-256) for a generated module.
+
+    Parameters
+    ----------
+    *parts : str
+        What determines the module, typically the generated source fragments.
+
+    Returns
+    -------
+    str
+        Digest of the flexkane and Numba versions, the integrator templates and ``parts``: a
+        change in any of them gives a new key, hence a new file and a fresh compilation.
+    """
+    digest = hashlib.sha256()
+    for text in (flexkane.__version__, numba.__version__, *(t for _, t in _templates()), *parts):
+        digest.update(text.encode("utf-8"))
+        digest.update(b"\0")
+    return digest.hexdigest()[:_KEY_LENGTH]
+
+
+def compose_module_source(source: str, key: str) -> str:
+    """Return the complete text of the generated module for ``source`` (see module docstring)."""
+    blocks = [f'"""flexkane generated module {key}: do not edit, it is regenerated from the model.'
+              '"""',
+              "import math\n\nimport numpy as np\nfrom numba import njit"]
+    templates = dict(_templates())
+    blocks.append(f"# ==== template {linear_algebra.__name__} ====\n"
+                  + templates[linear_algebra.__name__])
+    blocks.append("# ==== generated ====\n" + source)
+    for module in (dop853, radau):
+        blocks.append(f"# ==== template {module.__name__} ====\n" + templates[module.__name__])
+    return "\n\n".join(block.rstrip("\n") for block in blocks) + "\n"
+
+
+def _write_atomically(path: Path, text: str) -> None:
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix="." + path.name, suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as handle:
+            handle.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def build_module(source: str, key: str, cache_dir: Path | None = None) -> ModuleType:
+    """Write the generated module for ``key`` (if needed) and import it.
+
+    Parameters
+    ----------
+    source : str
+        Generated fragments (:func:`~flexkane.numerics.codegen.generate_rhs_source`, optionally
+        followed by :func:`~flexkane.numerics.codegen.generate_outputs_source`).
+    key : str
+        Identifier of the model structure, e.g. ``structure_key(source)``; letters, digits,
+        ``_`` and ``-`` only.
+    cache_dir : pathlib.Path, optional
+        Root of the cache; default :func:`default_cache_dir`.
+
+    Returns
+    -------
+    module
+        The imported module ``flexkane_generated_<key>`` with ``rhs``, ``dop853_chunk``,
+        ``radau5_chunk``, ``fd_jacobian`` (and ``outputs`` when generated). Importing twice in
+        one process returns the same module object.
+    """
+    if not key or not all(ch.isalnum() or ch in "_-" for ch in key):
+        raise ValueError(f"key must be letters, digits, '_' or '-', got {key!r}")
+    key = key.replace("-", "_")
+    root = Path(cache_dir) if cache_dir is not None else default_cache_dir()
+    directory = root / key
+    directory.mkdir(parents=True, exist_ok=True)
+    module_name = f"flexkane_generated_{key}"
+    path = directory / f"{module_name}.py"
+    text = compose_module_source(source, key)
+    loaded = sys.modules.get(module_name)
+    if loaded is not None and getattr(loaded, "__file__", None) == str(path) \
+            and getattr(loaded, "__flexkane_source__", None) == text:
+        return loaded
+    try:
+        current = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        current = None
+    if current != text:
+        _write_atomically(path, text)
+    spec = importlib.util.spec_from_file_location(module_name, path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[module_name] = module
+    try:
+        spec.loader.exec_module(module)
+    except BaseException:
+        del sys.modules[module_name]
+        raise
+    module.__flexkane_source__ = text
+    return module
