@@ -1,0 +1,192 @@
+"""Atomic output files and the output directory.
+
+A file flexkane writes appears complete or not at all: the data go to a temporary file in the
+same directory, which is flushed, synced to disk and then renamed over the target with
+:func:`os.replace` (atomic on POSIX and Windows within one file system). If anything fails
+before the rename, the temporary file is removed and a previous version of the target is left
+untouched. A symbolic link at the target is replaced by a regular file.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import pathlib
+import tempfile
+import threading
+from collections.abc import Iterator
+from typing import IO
+
+from .errors import ModelError
+
+__all__ = ["OutputExistsError", "atomic_write_bytes", "atomic_write_text", "atomic_writer",
+           "prepare_output_dir"]
+
+_MODES = ("wb", "w", "path")
+_UMASK_LOCK = threading.Lock()
+
+
+class OutputExistsError(ModelError):
+    """The output directory already holds files and overwriting was not asked for.
+
+    Parameters
+    ----------
+    directory : str or os.PathLike
+        The directory given with ``--out``.
+    """
+
+    def __init__(self, directory: str | os.PathLike):
+        super().__init__("--out", "a new or empty directory (or --force to overwrite)",
+                         str(directory))
+
+
+def _default_file_mode() -> int:
+    """Permissions of a newly created file under the current umask (0o666 & ~umask)."""
+    with _UMASK_LOCK:
+        umask = os.umask(0o022)
+        os.umask(umask)
+    return 0o666 & ~umask
+
+
+def _sync_directory(directory: pathlib.Path) -> None:
+    """Make a rename in ``directory`` durable, where the platform allows it."""
+    with contextlib.suppress(OSError, AttributeError):
+        handle = os.open(directory, os.O_RDONLY)
+        try:
+            os.fsync(handle)
+        finally:
+            os.close(handle)
+
+
+@contextlib.contextmanager
+def atomic_writer(path: str | os.PathLike, mode: str = "wb", *,
+                  encoding: str = "utf-8") -> Iterator[IO | pathlib.Path]:
+    """Write a file through a temporary file renamed over ``path`` on success only.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write; its directory must exist.
+    mode : {"wb", "w", "path"}
+        ``"wb"`` yields a binary file object, ``"w"`` a text file object (``encoding``),
+        ``"path"`` the :class:`pathlib.Path` of the temporary file for libraries that open the
+        file themselves; its name ends with the suffix of ``path`` (so ``np.savez`` and
+        ``savefig`` keep it and infer the format from it).
+    encoding : str
+        Encoding of text mode.
+
+    Yields
+    ------
+    file object or pathlib.Path
+        Where to write.
+
+    Examples
+    --------
+    >>> with atomic_writer(directory / "figure.png") as handle:   # doctest: +SKIP
+    ...     figure.savefig(handle, format="png")
+    """
+    if mode not in _MODES:
+        raise ValueError(f"mode must be one of {_MODES}, not {mode!r}")
+    target = pathlib.Path(path)
+    handle = tempfile.NamedTemporaryFile(
+        mode="w" if mode == "w" else "wb", encoding=encoding if mode == "w" else None,
+        dir=target.parent, prefix=f".{target.name}.", suffix=f".tmp{target.suffix}",
+        delete=False)
+    temporary = pathlib.Path(handle.name)
+    try:
+        if mode == "path":
+            handle.close()
+            yield temporary
+            with open(temporary, "rb") as written:
+                os.fsync(written.fileno())
+        else:
+            with handle:
+                yield handle
+                handle.flush()
+                os.fsync(handle.fileno())
+        os.chmod(temporary, _default_file_mode())
+        os.replace(temporary, target)
+    except BaseException:
+        handle.close()
+        with contextlib.suppress(OSError):
+            temporary.unlink()
+        raise
+    _sync_directory(target.parent)
+
+
+def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> pathlib.Path:
+    """Write ``data`` to ``path`` atomically; return the path.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write; its directory must exist.
+    data : bytes
+        The content.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
+    with atomic_writer(path, "wb") as handle:
+        handle.write(data)
+    return pathlib.Path(path)
+
+
+def atomic_write_text(path: str | os.PathLike, text: str, *, encoding: str = "utf-8") -> pathlib.Path:
+    """Write ``text`` to ``path`` atomically (``encoding``, newlines as given); return the path.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write; its directory must exist.
+    text : str
+        The content.
+    encoding : str
+        Text encoding.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
+    return atomic_write_bytes(path, text.encode(encoding))
+
+
+def prepare_output_dir(path: str | os.PathLike, *, force: bool) -> pathlib.Path:
+    """Create the output directory, or accept an existing one that is empty.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The directory given with ``--out``; missing parents are created.
+    force : bool
+        Accept a non-empty directory. Its other files are kept; the files flexkane writes
+        replace those of the same name.
+
+    Returns
+    -------
+    pathlib.Path
+        The directory.
+
+    Raises
+    ------
+    OutputExistsError
+        If the directory holds files and ``force`` is false.
+    ModelError
+        If ``path`` is an existing file or the directory cannot be created.
+    """
+    directory = pathlib.Path(path)
+    if directory.is_dir():
+        if not force and any(directory.iterdir()):
+            raise OutputExistsError(directory)
+        return directory
+    if directory.exists():
+        raise ModelError("--out", "a directory", str(directory), "a file of that name exists")
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ModelError("--out", "a directory that can be created", str(directory),
+                         exc.strerror or str(exc)) from None
+    return directory

@@ -1,0 +1,782 @@
+"""Safe expression language of model files.
+
+A model file may write any physical value as a short formula, e.g. ``"sin(2*pi*t/T)"`` or
+``"mR*(c**2 + d**2)/12"``. Model files are untrusted, so the text is never handed to ``eval``,
+``sympify`` or ``parse_expr``: :func:`parse_expression` parses it with :func:`ast.parse` and
+converts a strict whitelist of syntax into SymPy objects built directly.
+
+The language
+------------
+* numbers (``2``, ``0.5``, ``1e-3``), the constant ``pi`` and the names the caller allows;
+* ``+ - * / **`` and unary ``+ -``;
+* ``sin cos tan exp log sqrt sinh cosh tanh abs`` (one argument), ``min max`` (two or more);
+* ``where(cond, a, b)``: ``a`` where ``cond`` holds, else ``b``;
+* ``piecewise(a1, cond1, a2, cond2, ..., default)``: the first ``a_k`` whose ``cond_k`` holds,
+  else ``default`` (an odd number of arguments, at least three);
+* conditions, only as the condition arguments above: ``< <= > >=`` (chains such as
+  ``0 < t < 1`` too) combined with ``and``, ``or``, ``not``.
+
+Limits keep every parse fast whatever the input: at most :data:`MAX_LENGTH` characters,
+:data:`MAX_NODES` syntax elements, :data:`MAX_DEPTH` levels of nesting, integer literals up to
+:data:`MAX_INTEGER`, and numeric exponents up to :data:`MAX_EXPONENT` in absolute value. Every
+constant part of an expression is also evaluated in floating point while it is built, so that
+overflows, divisions by zero and roots of negative numbers are reported at their column, before
+SymPy is asked to compute anything large.
+"""
+
+from __future__ import annotations
+
+import ast
+import bisect
+import difflib
+import keyword
+import math
+import numbers
+import operator
+import re
+import warnings
+from collections.abc import Mapping
+from typing import NamedTuple
+
+import sympy
+
+from .errors import ModelError
+
+__all__ = ["FUNCTIONS", "MAX_DEPTH", "MAX_EXPONENT", "MAX_INTEGER", "MAX_LENGTH", "MAX_NODES",
+           "RESERVED_NAMES", "free_names", "parse_condition", "parse_expression",
+           "resolve_parameters", "to_float"]
+
+MAX_LENGTH = 2000  #: Maximum number of characters of an expression.
+MAX_NODES = 500  #: Maximum number of syntax elements (numbers, names, operations, calls).
+MAX_DEPTH = 50  #: Maximum nesting depth; a chain ``a + b - c + ...`` counts as one level.
+MAX_INTEGER = 10**15  #: Largest absolute value of an integer literal.
+MAX_EXPONENT = 100  #: Largest absolute value of a numeric exponent.
+_MAX_COEFFICIENT_BITS = 4096  # largest numeric coefficient SymPy may compute in a power
+
+#: One-argument functions: name -> (SymPy function, float function).
+_UNARY = {
+    "sin": (sympy.sin, math.sin), "cos": (sympy.cos, math.cos), "tan": (sympy.tan, math.tan),
+    "exp": (sympy.exp, math.exp), "log": (sympy.log, math.log), "sqrt": (sympy.sqrt, math.sqrt),
+    "sinh": (sympy.sinh, math.sinh), "cosh": (sympy.cosh, math.cosh),
+    "tanh": (sympy.tanh, math.tanh), "abs": (sympy.Abs, abs),
+}
+_VARIADIC = {"min": (sympy.Min, min), "max": (sympy.Max, max)}
+#: Names of the functions an expression may call.
+FUNCTIONS = tuple(sorted([*_UNARY, *_VARIADIC, "where", "piecewise"]))
+_CONSTANTS = {"pi": (sympy.pi, math.pi)}
+#: Names that an expression always reads as functions or constants.
+RESERVED_NAMES = frozenset([*FUNCTIONS, *_CONSTANTS])
+
+_EXPECTED = ("an expression of numbers, names, + - * / ** and the functions "
+             + " ".join(FUNCTIONS))
+_BINARY = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/", ast.Pow: "**",
+           ast.Mod: "%", ast.FloorDiv: "//", ast.MatMult: "@", ast.LShift: "<<",
+           ast.RShift: ">>", ast.BitOr: "|", ast.BitXor: "^", ast.BitAnd: "&"}
+_ADDITIVE = (ast.Add, ast.Sub)
+_MULTIPLICATIVE = (ast.Mult, ast.Div)
+_COMPARISONS = {ast.Lt: ("<", sympy.Lt, operator.lt), ast.LtE: ("<=", sympy.Le, operator.le),
+                ast.Gt: (">", sympy.Gt, operator.gt), ast.GtE: (">=", sympy.Ge, operator.ge)}
+_REFUSED_COMPARISONS = {ast.Eq: "==", ast.NotEq: "!=", ast.Is: "is", ast.IsNot: "is not",
+                        ast.In: "in", ast.NotIn: "not in"}
+_OPERATOR_NODES = (ast.expr_context, ast.operator, ast.unaryop, ast.cmpop, ast.boolop)
+_NEWLINE = re.compile(r"\r\n|\r|\n")
+
+
+def _describe_node(node: ast.AST) -> str:
+    """Name a refused piece of syntax the way a user would."""
+    names = {
+        ast.Subscript: "subscript '[...]'", ast.Lambda: "lambda", ast.ListComp:
+        "list comprehension", ast.SetComp: "set comprehension", ast.DictComp:
+        "dict comprehension", ast.GeneratorExp: "generator expression", ast.Dict: "dict literal",
+        ast.Set: "set literal", ast.List: "list literal", ast.Tuple: "tuple",
+        ast.JoinedStr: "f-string", ast.NamedExpr: "assignment expression ':='",
+        ast.IfExp: "conditional expression 'if ... else'", ast.Starred: "starred argument '*'",
+        ast.Await: "'await'", ast.Yield: "'yield'", ast.YieldFrom: "'yield from'",
+        ast.Slice: "slice",
+    }
+    if isinstance(node, ast.Attribute):
+        return f"attribute access '.{node.attr}'"
+    if isinstance(node, ast.Constant):
+        kind = {str: "string literal", bytes: "bytes literal", complex: "complex number"}
+        return f"{kind.get(type(node.value), 'constant')} {_shorten(repr(node.value), 30)}"
+    return names.get(type(node), f"'{type(node).__name__}' syntax")
+
+
+def _shorten(text: str, limit: int = 80) -> str:
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def _as_float(number: sympy.Expr) -> float:
+    """Float value of a SymPy number, infinite when out of range."""
+    try:
+        return float(number)
+    except OverflowError:
+        return math.inf
+
+
+def _magnitude_bits(number: sympy.Expr) -> int:
+    """Number of bits of the larger of numerator and denominator (binary exponent of a Float)."""
+    if isinstance(number, sympy.Rational):
+        return max(int(number.p).bit_length(), int(number.q).bit_length())
+    if isinstance(number, sympy.Float):
+        _, mantissa, exponent, bits = number._mpf_
+        return abs(exponent + bits) if mantissa else 0
+    return 0
+
+
+def _bound(expr: sympy.Expr) -> float | None:
+    """Largest absolute value a piecewise, min or max of numbers can take (else None)."""
+    if expr.is_Number:
+        return abs(_as_float(expr))
+    if isinstance(expr, (sympy.Piecewise, sympy.Min, sympy.Max)):
+        pieces = [arg.args[0] if isinstance(expr, sympy.Piecewise) else arg for arg in expr.args]
+        bounds = [_bound(piece) for piece in pieces]
+        return None if None in bounds else max(bounds)
+    return None
+
+
+class _Value(NamedTuple):
+    """A converted value: its SymPy expression, and its float value when it is a constant."""
+
+    expr: sympy.Expr
+    estimate: float | None
+
+
+class _Condition(NamedTuple):
+    expr: sympy.Basic
+    estimate: bool | None
+
+
+class _Source:
+    """The text of an expression, with the bookkeeping needed to report columns."""
+
+    def __init__(self, text: str):
+        self.body = text.lstrip(" \t\f\r\n")
+        prefix_lines = _NEWLINE.split(text[: len(text) - len(self.body)])
+        self.line_shift = len(prefix_lines) - 1
+        self.column_shift = len(prefix_lines[-1])
+        self.multiline = _NEWLINE.search(text) is not None
+        self.lines = _NEWLINE.split(self.body)
+        self.starts = [0] + [match.end() for match in _NEWLINE.finditer(self.body)]
+
+    def index(self, lineno: int | None, byte_column: int | None) -> int:
+        """Character index in the body of an AST position (line from 1, column in UTF-8 bytes)."""
+        if not lineno or not 0 < lineno <= len(self.lines):
+            return 0
+        line = self.lines[lineno - 1].encode("utf-8")[: byte_column or 0]
+        return self.starts[lineno - 1] + len(line.decode("utf-8", "replace"))
+
+    def start(self, node: ast.AST) -> int:
+        return self.index(getattr(node, "lineno", None), getattr(node, "col_offset", None))
+
+    def end(self, node: ast.AST) -> int:
+        return self.index(getattr(node, "end_lineno", None), getattr(node, "end_col_offset", None))
+
+    def segment(self, node: ast.AST) -> str:
+        return _shorten(self.body[self.start(node): self.end(node)], 40)
+
+    def find(self, symbol: str, start: int, end: int) -> int:
+        """Index of ``symbol`` between two indices (``start`` when absent)."""
+        found = self.body.find(symbol, start, end)
+        return start if found < 0 else found
+
+    def where(self, index: int) -> str:
+        """``"column C"`` (``"line L, column C"`` for text of several lines), counted from 1."""
+        line = bisect.bisect_right(self.starts, index) - 1
+        column = index - self.starts[line] + (self.column_shift if line == 0 else 0)
+        if self.multiline:
+            return f"line {line + self.line_shift + 1}, column {column + 1}"
+        return f"column {column + 1}"
+
+
+class _Converter:
+    """Convert a checked syntax tree into SymPy objects (see the module docstring)."""
+
+    def __init__(self, text: str, source: _Source, names: Mapping[str, sympy.Expr], path: str):
+        self.text, self.source, self.names, self.path = text, source, names, path
+
+    # -- errors -------------------------------------------------------------------------
+    def refuse(self, at: ast.AST | int, what: str, hint: str | None = None):
+        """Raise a ModelError for ``what``, found at a node or character index."""
+        index = at if isinstance(at, int) else self.source.start(at)
+        message = f"{what} at {self.source.where(index)}"
+        raise ModelError(self.path, _EXPECTED, _shorten(self.text),
+                         f"{message}; {hint}" if hint else message)
+
+    def refuse_syntax(self, node: ast.AST):
+        if isinstance(node, ast.Attribute):
+            attribute = self.source.find("." + node.attr, self.source.end(node.value),
+                                         self.source.end(node))
+            self.refuse(attribute, _describe_node(node) + " is not allowed")
+        if isinstance(node, ast.IfExp):
+            self.refuse(node, _describe_node(node) + " is not allowed",
+                        "write where(condition, a, b)")
+        self.refuse(node, _describe_node(node) + " is not allowed")
+
+    def checked(self, value: _Value, at: ast.AST | int) -> _Value:
+        """Fill in the float value of a numeric result and refuse one out of range."""
+        estimate = value.estimate
+        if estimate is None and value.expr.is_Number:
+            estimate = _as_float(value.expr)
+        if estimate is not None and not math.isfinite(estimate):
+            self.refuse(at, "a number beyond the floating-point range")
+        if value.expr.is_Number and _magnitude_bits(value.expr) > _MAX_COEFFICIENT_BITS:
+            self.refuse(at, "an exact number with too many digits")
+        return _Value(value.expr, estimate)
+
+    def compute(self, function, *arguments, at: ast.AST | int, name: str) -> float | None:
+        """Apply a float function to known constants, refusing overflow and domain errors."""
+        if any(argument is None for argument in arguments):
+            return None
+        try:
+            result = function(*arguments)
+        except OverflowError:
+            self.refuse(at, f"{name} overflows the floating-point range")
+        except ZeroDivisionError:
+            self.refuse(at, f"{name} divides by zero")
+        except ValueError:
+            self.refuse(at, f"{name} is not defined for these constant arguments")
+        if isinstance(result, complex):
+            self.refuse(at, f"{name} is not a real number")
+        return float(result)
+
+    # -- values -------------------------------------------------------------------------
+    def value(self, node: ast.AST) -> _Value:
+        """Convert an expression that stands for a number."""
+        if isinstance(node, ast.BinOp) and type(node.op) in _BINARY:
+            if isinstance(node.op, _ADDITIVE + _MULTIPLICATIVE):
+                return self.chain(node)
+            if isinstance(node.op, ast.Pow):
+                return self.power(node)
+            symbol = _BINARY[type(node.op)]
+            at = self.source.find(symbol, self.source.end(node.left), self.source.start(node.right))
+            self.refuse(at, f"operator '{symbol}' is not allowed",
+                        "write ** for a power" if symbol == "^" else None)
+        if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+            operand = self.value(node.operand)
+            if isinstance(node.op, ast.UAdd):
+                return operand
+            estimate = None if operand.estimate is None else -operand.estimate
+            return self.checked(_Value(sympy.Mul(sympy.S.NegativeOne, operand.expr), estimate),
+                                node)
+        if isinstance(node, ast.Constant):
+            return self.constant(node)
+        if isinstance(node, ast.Name):
+            return self.name(node)
+        if isinstance(node, ast.Call):
+            return self.call(node)
+        if isinstance(node, (ast.Compare, ast.BoolOp)) or (
+                isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.Not)):
+            self.refuse(node, f"condition '{self.source.segment(node)}' where a value is expected",
+                        "comparisons, and, or, not are allowed only in the conditions of "
+                        "where() and piecewise()")
+        if isinstance(node, ast.UnaryOp):
+            self.refuse(node, "operator '~' is not allowed")
+        self.refuse_syntax(node)
+
+    def constant(self, node: ast.Constant) -> _Value:
+        number = node.value
+        if isinstance(number, bool) or not isinstance(number, (int, float)):
+            self.refuse_syntax(node)
+        if isinstance(number, int):
+            if abs(number) > MAX_INTEGER:
+                self.refuse(node, f"integer {self.source.segment(node)} above {MAX_INTEGER:.0e}",
+                            "write large numbers in floating point, e.g. 1e20")
+            return _Value(sympy.Integer(number), float(number))
+        if not math.isfinite(number):
+            self.refuse(node, f"number {self.source.segment(node)} beyond the floating-point range")
+        return _Value(sympy.Float(number), number)
+
+    def name(self, node: ast.Name) -> _Value:
+        if node.id in self.names:
+            return self.checked(_Value(self.names[node.id], None), node)
+        if node.id in _CONSTANTS:
+            return _Value(*_CONSTANTS[node.id])
+        if node.id in FUNCTIONS:
+            self.refuse(node, f"function '{node.id}' without arguments",
+                        f"write {node.id}(...)")
+        known = [*self.names, *_CONSTANTS]
+        self.refuse(node, f"unknown name '{node.id}'", _suggest(node.id, known, "allowed names"))
+
+    def chain(self, node: ast.BinOp) -> _Value:
+        """Convert ``a + b - c ...`` or ``a * b / c ...`` as one sum or product."""
+        kinds = _ADDITIVE if isinstance(node.op, _ADDITIVE) else _MULTIPLICATIVE
+        links = []
+        while isinstance(node, ast.BinOp) and isinstance(node.op, kinds):
+            links.append(node)
+            node = node.left
+        first = self.value(node)
+        parts, estimate = [first.expr], first.estimate
+        for link in reversed(links):
+            right = self.value(link.right)
+            symbol = _BINARY[type(link.op)]
+            at = self.source.find(symbol, self.source.end(link.left), self.source.start(link.right))
+            if isinstance(link.op, ast.Sub):
+                parts.append(sympy.Mul(sympy.S.NegativeOne, right.expr))
+                estimate = self.compute(operator.sub, estimate, right.estimate, at=at, name="'-'")
+            elif isinstance(link.op, ast.Add):
+                parts.append(right.expr)
+                estimate = self.compute(operator.add, estimate, right.estimate, at=at, name="'+'")
+            elif isinstance(link.op, ast.Mult):
+                parts.append(right.expr)
+                estimate = self.compute(operator.mul, estimate, right.estimate, at=at, name="'*'")
+            else:
+                if right.expr.is_zero or right.estimate == 0:
+                    self.refuse(at, "division by zero (or by a number too close to zero)")
+                parts.append(sympy.Pow(right.expr, sympy.S.NegativeOne))
+                estimate = self.compute(operator.truediv, estimate, right.estimate, at=at,
+                                        name="'/'")
+            if estimate is not None and not math.isfinite(estimate):
+                self.refuse(at, "a number beyond the floating-point range")
+        combine = sympy.Add if kinds is _ADDITIVE else sympy.Mul
+        return self.checked(_Value(combine(*parts), estimate), links[0])
+
+    def power(self, node: ast.BinOp) -> _Value:
+        base, exponent = self.value(node.left), self.value(node.right)
+        at = self.source.find("**", self.source.end(node.left), self.source.start(node.right))
+        bound = exponent.estimate if exponent.estimate is not None else _bound(exponent.expr)
+        if bound is not None:
+            if abs(bound) > MAX_EXPONENT:
+                self.refuse(node.right, f"exponent {self.source.segment(node.right)} above "
+                            f"{MAX_EXPONENT} in absolute value")
+            coefficient = base.expr.as_coeff_Mul()[0]
+            if _magnitude_bits(coefficient) * abs(bound) > _MAX_COEFFICIENT_BITS:
+                self.refuse(at, "a power of a number with too many digits")
+        estimate = self.compute(operator.pow, base.estimate, exponent.estimate, at=at,
+                                name="'**'")
+        return self.checked(_Value(sympy.Pow(base.expr, exponent.expr), estimate), node)
+
+    def call(self, node: ast.Call) -> _Value:
+        if not isinstance(node.func, ast.Name):
+            if isinstance(node.func, ast.Attribute):
+                self.refuse_syntax(node.func)
+            self.refuse(node, "call of an expression", "only the functions "
+                        + " ".join(FUNCTIONS) + " can be called")
+        name = node.func.id
+        if name not in FUNCTIONS:
+            if name in self.names or name in _CONSTANTS:
+                self.refuse(node.func, f"call of '{name}', which is not a function",
+                            f"write {name}*(...) for a product")
+            self.refuse(node.func, f"unknown function '{name}'",
+                        _suggest(name, FUNCTIONS, "allowed functions"))
+        for argument in node.keywords:
+            what = (f"keyword argument '{argument.arg}='" if argument.arg
+                    else "keyword argument unpacking '**'")
+            self.refuse(argument, what + " is not allowed")
+        for argument in node.args:
+            if isinstance(argument, ast.Starred):
+                self.refuse_syntax(argument)
+        count = len(node.args)
+        if name in _UNARY and count != 1:
+            self.refuse(node.func, f"{name}() with {count} arguments", "it takes 1 argument")
+        if name in _VARIADIC and count < 2:
+            self.refuse(node.func, f"{name}() with {count} argument(s)", "it takes 2 or more")
+        if name == "where" and count != 3:
+            self.refuse(node.func, f"where() with {count} arguments",
+                        "write where(condition, value_if_true, value_otherwise)")
+        if name == "piecewise" and (count < 3 or count % 2 == 0):
+            self.refuse(node.func, f"piecewise() with {count} arguments",
+                        "write piecewise(a1, condition1, a2, condition2, ..., default)")
+        if name in ("where", "piecewise"):
+            return self.checked(self.branches(node.args, swap=name == "where"), node)
+        values = [self.value(argument) for argument in node.args]
+        exprs = [value.expr for value in values]
+        estimates = [value.estimate for value in values]
+        if name in _VARIADIC:
+            build, compute = _VARIADIC[name]
+            if None in estimates:  # SymPy compares symbolic arguments pairwise: keep them as given
+                return _Value(build(*exprs, evaluate=False), None)
+            return self.checked(_Value(build(*exprs), compute(estimates)), node)
+        build, compute = _UNARY[name]
+        estimate = self.compute(compute, *estimates, at=node, name=f"{name}()")
+        if name == "exp":
+            self.check_exp_argument(exprs[0], node)
+        return self.checked(_Value(build(exprs[0]), estimate), node)
+
+    def check_exp_argument(self, argument: sympy.Expr, node: ast.AST):
+        """Refuse ``exp(c*log(x))`` with a large ``c``: SymPy rewrites it as ``x**c``."""
+        if not argument.has(sympy.log):
+            return
+        for term in sympy.Add.make_args(argument):
+            if term.has(sympy.log) and abs(_as_float(term.as_coeff_Mul()[0])) > MAX_EXPONENT:
+                self.refuse(node, f"exp() of a logarithm times a number above {MAX_EXPONENT}",
+                            "it is a power with too large an exponent")
+
+    def branches(self, arguments: list[ast.expr], swap: bool) -> _Value:
+        """Build a Piecewise from ``where(c, a, b)`` or ``piecewise(a1, c1, ..., default)``."""
+        if swap:
+            arguments = [arguments[1], arguments[0], arguments[2]]
+        pieces, estimate, decided = [], None, False
+        for value_node, condition_node in zip(arguments[:-1:2], arguments[1::2]):
+            value, condition = self.value(value_node), self.condition(condition_node)
+            pieces.append((value.expr, condition.expr))
+            if not decided and condition.estimate is not False:
+                decided = True
+                estimate = value.estimate if condition.estimate else None
+        default = self.value(arguments[-1])
+        pieces.append((default.expr, sympy.true))
+        if not decided:
+            estimate = default.estimate
+        return _Value(sympy.Piecewise(*pieces), estimate)
+
+    # -- conditions ---------------------------------------------------------------------
+    def condition(self, node: ast.AST) -> _Condition:
+        """Convert a comparison, or ``and``/``or``/``not`` of comparisons."""
+        if isinstance(node, ast.Compare):
+            return self.compare(node)
+        if isinstance(node, ast.BoolOp):
+            parts = [self.condition(value) for value in node.values]
+            estimates = [part.estimate for part in parts]
+            if isinstance(node.op, ast.And):
+                build = sympy.And
+                estimate = False if False in estimates else (None if None in estimates else True)
+            else:
+                build = sympy.Or
+                estimate = True if True in estimates else (None if None in estimates else False)
+            return _Condition(build(*[part.expr for part in parts]), estimate)
+        if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.Not):
+            inner = self.condition(node.operand)
+            estimate = None if inner.estimate is None else not inner.estimate
+            return _Condition(sympy.Not(inner.expr), estimate)
+        if isinstance(node, (ast.BinOp, ast.UnaryOp, ast.Constant, ast.Name, ast.Call)):
+            self.value(node)  # report what is wrong inside first, if anything
+            self.refuse(node, f"value '{self.source.segment(node)}' where a condition is "
+                        "expected", "write a comparison such as t < 1")
+        self.refuse_syntax(node)
+
+    def compare(self, node: ast.Compare) -> _Condition:
+        left = self.value(node.left)
+        parts, estimate = [], True
+        for left_node, op, right_node in zip([node.left, *node.comparators], node.ops,
+                                             node.comparators):
+            start, stop = self.source.end(left_node), self.source.start(right_node)
+            if type(op) in _REFUSED_COMPARISONS:
+                symbol = _REFUSED_COMPARISONS[type(op)]
+                self.refuse(self.source.find(symbol, start, stop),
+                            f"comparison '{symbol}' is not allowed", "use <, <=, > or >=")
+            _, build, compute = _COMPARISONS[type(op)]
+            right = self.value(right_node)
+            parts.append(build(left.expr, right.expr))
+            if estimate is not None and None not in (left.estimate, right.estimate):
+                estimate = estimate and compute(left.estimate, right.estimate)
+            else:
+                estimate = None
+            left = right
+        return _Condition(sympy.And(*parts), estimate)
+
+
+def _suggest(name: str, known, label: str) -> str:
+    """``"did you mean 'EI'?"``, or the list of allowed names when nothing is close."""
+    known = sorted(set(known))
+    by_case = [candidate for candidate in known if candidate.lower() == name.lower()]
+    close = by_case or difflib.get_close_matches(name, known, n=1, cutoff=0.6)
+    if close:
+        return f"did you mean '{close[0]}'?"
+    shown = ", ".join(known[:15]) + (", ..." if len(known) > 15 else "")
+    return f"{label}: {shown}" if known else f"no {label} here"
+
+
+def _syntax_tree(text: str, source: _Source, path: str) -> ast.Expression:
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return ast.parse(source.body, mode="eval")
+    except SyntaxError as exc:
+        lineno = exc.lineno if exc.lineno and exc.lineno <= len(source.lines) else None
+        index = source.starts[lineno - 1] + max((exc.offset or 1) - 1, 0) if lineno else 0
+        where = source.where(min(index, len(source.body)))
+        hint = f"syntax error at {where}: {exc.msg}"
+    except (ValueError, RecursionError, MemoryError) as exc:
+        hint = f"syntax error: {exc}"
+    raise ModelError(path, _EXPECTED, _shorten(text), hint)
+
+
+def _check_size(tree: ast.Expression, converter: _Converter):
+    """Refuse a tree with too many elements or nested too deeply (before converting it)."""
+    count, stack = 0, [(tree.body, 1)]
+    while stack:
+        node, depth = stack.pop()
+        count += 1
+        if count > MAX_NODES:
+            converter.refuse(node, f"more than {MAX_NODES} elements",
+                             "define parts of the expression as parameters")
+        if depth > MAX_DEPTH:
+            converter.refuse(node, f"nesting deeper than {MAX_DEPTH} levels")
+        for child in ast.iter_child_nodes(node):
+            if not isinstance(child, _OPERATOR_NODES):
+                same_chain = (isinstance(node, ast.BinOp) and child is node.left
+                              and isinstance(child, ast.BinOp)
+                              and any(isinstance(node.op, kinds) and isinstance(child.op, kinds)
+                                      for kinds in (_ADDITIVE, _MULTIPLICATIVE)))
+                stack.append((child, depth if same_chain else depth + 1))
+
+
+def _convert(text: object, names: Mapping[str, sympy.Expr], path: str, as_condition: bool):
+    if not isinstance(names, Mapping):
+        raise TypeError(f"names must be a mapping of names to SymPy symbols, not {type(names)}")
+    if not isinstance(text, str):
+        raise ModelError(path, "a condition written as text, e.g. 't < 1'" if as_condition
+                         else "a number or an expression written as text", text)
+    if len(text) > MAX_LENGTH:
+        raise ModelError(path, f"an expression of at most {MAX_LENGTH} characters",
+                         _shorten(text), f"it has {len(text)}; define parts of it as parameters")
+    source = _Source(text)
+    if not source.body.strip():
+        raise ModelError(path, "an expression", text, "the text is empty")
+    tree = _syntax_tree(text, source, path)
+    converter = _Converter(text, source, names, path)
+    _check_size(tree, converter)
+    try:
+        if as_condition:
+            return converter.condition(tree.body).expr
+        return converter.value(tree.body).expr
+    except ModelError:
+        raise
+    except (TypeError, ValueError, ArithmeticError, RecursionError) as exc:
+        raise ModelError(path, _EXPECTED, _shorten(text),
+                         f"it could not be evaluated: {_shorten(str(exc), 120)}") from None
+
+
+def parse_expression(text: object, names: Mapping[str, sympy.Expr], *, path: str) -> sympy.Expr:
+    """Convert a number or the text of an expression into a SymPy expression.
+
+    Parameters
+    ----------
+    text : int, float or str
+        A finite number, or an expression in the language of this module.
+    names : Mapping[str, sympy.Symbol]
+        The names the expression may use, e.g. ``{"t": t}`` and the model's parameters.
+    path : str
+        Key path of the field, for error messages, e.g. ``"loads.push.force[0]"``.
+
+    Returns
+    -------
+    sympy.Expr
+        The expression; numbers give ``sympy.Integer`` or ``sympy.Float``.
+
+    Raises
+    ------
+    ModelError
+        For anything outside the language or its limits, naming the offending token and its
+        column, and for an expression that is undefined (e.g. a division by zero).
+    """
+    if isinstance(text, bool) or not isinstance(text, (numbers.Real, str)):
+        raise ModelError(path, "a number or an expression written as text", text,
+                         "true and false are not numbers" if isinstance(text, bool) else None)
+    if isinstance(text, numbers.Integral):
+        if abs(int(text)) > MAX_INTEGER:
+            raise ModelError(path, f"an integer of absolute value at most {MAX_INTEGER:.0e}",
+                             text, "write large numbers in floating point, e.g. 1e20")
+        return sympy.Integer(int(text))
+    if isinstance(text, numbers.Real):
+        if not math.isfinite(float(text)):
+            raise ModelError(path, "a finite number", text)
+        return sympy.Float(float(text))
+    expr = _convert(text, names, path, as_condition=False)
+    if expr.has(sympy.nan, sympy.zoo, sympy.oo, -sympy.oo):
+        raise ModelError(path, _EXPECTED, _shorten(text),
+                         "its value is undefined or infinite, e.g. a division by zero")
+    return expr
+
+
+def parse_condition(text: object, names: Mapping[str, sympy.Expr], *, path: str) -> sympy.Basic:
+    """Convert the text of a condition (e.g. ``"0 < t < 1 and not x > 2"``) into SymPy.
+
+    Parameters
+    ----------
+    text : str
+        Comparisons ``< <= > >=`` of expressions, combined with ``and``, ``or``, ``not``.
+    names : Mapping[str, sympy.Symbol]
+        The names the condition may use.
+    path : str
+        Key path of the field, for error messages.
+
+    Returns
+    -------
+    sympy.logic.boolalg.Boolean
+        The condition (``sympy.true`` or ``sympy.false`` when it is decided by constants).
+    """
+    return _convert(text, names, path, as_condition=True)
+
+
+def free_names(expr: sympy.Basic) -> set[str]:
+    """Return the names of the symbols an expression depends on."""
+    return {symbol.name for symbol in expr.free_symbols if isinstance(symbol, sympy.Symbol)}
+
+
+_FLOAT_FUNCTIONS = {sympy_function: float_function
+                    for sympy_function, float_function in (*_UNARY.values(), *_VARIADIC.values())}
+_RELATIONS = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge,
+              "==": operator.eq, "!=": operator.ne}
+
+
+def _evaluate(expr: sympy.Basic, values: Mapping[sympy.Symbol, float]):
+    """Evaluate an expression or a condition in floating point (raises on domain errors)."""
+    if expr.is_Symbol:
+        return float(values[expr])
+    if expr.is_Number or isinstance(expr, sympy.NumberSymbol):
+        return float(expr)
+    if expr is sympy.true or expr is sympy.false:
+        return bool(expr)
+    args = expr.args
+    if expr.is_Add:
+        return math.fsum(_evaluate(arg, values) for arg in args)
+    if expr.is_Mul:
+        return math.prod(_evaluate(arg, values) for arg in args)
+    if expr.is_Pow:
+        result = _evaluate(args[0], values) ** _evaluate(args[1], values)
+        if isinstance(result, complex):
+            raise ValueError("a negative number to a fractional power")
+        return result
+    if isinstance(expr, sympy.Piecewise):
+        for piece, condition in args:
+            if _evaluate(condition, values):
+                return _evaluate(piece, values)
+        raise ValueError("no branch of a piecewise expression applies")
+    if isinstance(expr, sympy.core.relational.Relational):
+        return _RELATIONS[expr.rel_op](_evaluate(args[0], values), _evaluate(args[1], values))
+    if isinstance(expr, (sympy.And, sympy.Or)):
+        combine = all if isinstance(expr, sympy.And) else any
+        return combine(_evaluate(arg, values) for arg in args)
+    if isinstance(expr, sympy.Not):
+        return not _evaluate(args[0], values)
+    if isinstance(expr, sympy.ITE):  # SymPy may rewrite the conditions of a Piecewise with it
+        return _evaluate(args[1] if _evaluate(args[0], values) else args[2], values)
+    if isinstance(expr, sympy.logic.boolalg.BooleanFunction):
+        return bool(expr.func(*[sympy.true if _evaluate(arg, values) else sympy.false
+                                for arg in args]))
+    if expr.func in _FLOAT_FUNCTIONS:
+        arguments = [_evaluate(arg, values) for arg in args]
+        if expr.func in (sympy.Min, sympy.Max):
+            return _FLOAT_FUNCTIONS[expr.func](arguments)
+        return _FLOAT_FUNCTIONS[expr.func](*arguments)
+    number = complex(expr.func(*[sympy.Float(_evaluate(arg, values)) for arg in args]).evalf())
+    if number.imag:
+        raise ValueError(f"{expr.func.__name__}() is not real here")
+    return number.real
+
+
+def to_float(expr: object, values: Mapping[sympy.Symbol, float], *, path: str) -> float:
+    """Evaluate an expression numerically, in floating point.
+
+    Parameters
+    ----------
+    expr : sympy.Expr or float
+        An expression from :func:`parse_expression`.
+    values : Mapping[sympy.Symbol, float]
+        Values of its symbols.
+    path : str
+        Key path of the field the expression comes from, for error messages.
+
+    Returns
+    -------
+    float
+        The value, finite.
+
+    Raises
+    ------
+    ModelError
+        If a symbol has no value, or the value is undefined, not real or not finite.
+    """
+    if isinstance(expr, bool) or not isinstance(expr, (numbers.Real, sympy.Basic)):
+        raise ModelError(path, "a number or an expression", expr)
+    if isinstance(expr, numbers.Real):
+        result = float(expr)
+    else:
+        missing = sorted(symbol.name for symbol in expr.free_symbols if symbol not in values)
+        if missing:
+            raise ModelError(path, "an expression of names with known values",
+                             _shorten(str(expr)),
+                             "no value for " + ", ".join(repr(name) for name in missing))
+        try:
+            result = _evaluate(expr, values)
+        except (ArithmeticError, ValueError, TypeError, KeyError) as exc:
+            raise ModelError(path, "an expression with a finite real value", _shorten(str(expr)),
+                             f"evaluating it failed: {exc or type(exc).__name__}") from None
+    if not math.isfinite(result):
+        raise ModelError(path, "an expression with a finite value", _shorten(str(expr)),
+                         f"its value is {result}")
+    return float(result)
+
+
+def resolve_parameters(definitions: Mapping[str, object], *,
+                       path_prefix: str = "parameters") -> dict[str, float]:
+    """Evaluate parameter definitions that may refer to each other.
+
+    Parameters
+    ----------
+    definitions : Mapping[str, int | float | str]
+        Parameter name -> number or expression of other parameters and ``pi``
+        (e.g. ``{"c": 0.1, "d": 0.2, "mR": 3, "Iz": "mR*(c**2 + d**2)/12"}``). Names are
+        ASCII identifiers, neither Python keywords nor :data:`RESERVED_NAMES` nor ``t``.
+    path_prefix : str
+        Key path of the table, for error messages.
+
+    Returns
+    -------
+    dict[str, float]
+        The value of every parameter, in the order of ``definitions``.
+
+    Raises
+    ------
+    ModelError
+        For an invalid name or expression, an unknown name (``t`` included: parameters do
+        not depend on time), or a circular definition (the message names the cycle).
+    """
+    if not isinstance(definitions, Mapping):
+        raise ModelError(path_prefix, "a table of parameter definitions", definitions)
+
+    def path_of(name: str) -> str:
+        return f"{path_prefix}.{name}" if path_prefix else name
+
+    symbols = {}
+    for name in definitions:
+        if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name) \
+                or keyword.iskeyword(name):
+            raise ModelError(path_of(str(name)), "a parameter name made of ASCII letters, digits "
+                             "and underscores, not starting with a digit", name)
+        if name in RESERVED_NAMES or name == "t":
+            raise ModelError(path_of(name), "a parameter name that is not reserved", name,
+                             f"'{name}' is " + ("time" if name == "t" else "a built-in name"))
+        symbols[name] = sympy.Symbol(name)
+    exprs = {}
+    for name, value in definitions.items():
+        try:
+            exprs[name] = parse_expression(value, symbols, path=path_of(name))
+        except ModelError as exc:
+            if not (exc.hint or "").startswith("unknown name 't'"):
+                raise
+            raise ModelError(exc.path, exc.expected, exc.given,
+                             "parameters are constants: they cannot depend on time 't'") from None
+    dependencies = {name: [other for other in definitions if other in free_names(expr)]
+                    for name, expr in exprs.items()}
+    values: dict[sympy.Symbol, float] = {}
+    for name in _dependency_order(dependencies, definitions, path_of):
+        values[symbols[name]] = to_float(exprs[name], values, path=path_of(name))
+    return {name: values[symbols[name]] for name in definitions}
+
+
+def _dependency_order(dependencies: dict[str, list[str]], definitions, path_of) -> list[str]:
+    """Order names so that each comes after what it depends on; refuse a cycle."""
+    order, state = [], {}  # state: 1 while on the current path, 2 when done
+    for root in dependencies:
+        if state.get(root):
+            continue
+        path, stack = [root], [iter(dependencies[root])]
+        state[root] = 1
+        while stack:
+            child = next(stack[-1], None)
+            if child is None:
+                stack.pop()
+                done = path.pop()
+                state[done] = 2
+                order.append(done)
+            elif state.get(child) == 1:
+                cycle = path[path.index(child):] + [child]
+                raise ModelError(path_of(child), "parameter definitions without a cycle",
+                                 definitions[child], "cycle: " + " -> ".join(cycle))
+            elif not state.get(child):
+                state[child] = 1
+                path.append(child)
+                stack.append(iter(dependencies[child]))
+    return order

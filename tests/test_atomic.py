@@ -1,0 +1,123 @@
+"""Atomic output files and the output directory."""
+
+import io
+import os
+
+import numpy as np
+import pytest
+
+from flexkane import atomic
+from flexkane.atomic import (OutputExistsError, atomic_write_bytes, atomic_write_text,
+                             atomic_writer, prepare_output_dir)
+from flexkane.errors import ModelError
+
+
+def test_text_and_bytes_are_written_and_replace_the_previous_file(tmp_path):
+    target = tmp_path / "results.csv"
+    atomic_write_text(target, "old\n")
+    atomic_write_text(target, "t,q1\n0,1\n")
+    assert target.read_text() == "t,q1\n0,1\n"
+    atomic_write_bytes(target, b"\x00\x01")
+    assert target.read_bytes() == b"\x00\x01"
+    assert os.listdir(tmp_path) == ["results.csv"]
+
+
+def test_written_file_gets_the_usual_permissions(tmp_path):
+    target = tmp_path / "model.toml"
+    atomic_write_text(target, "x = 1\n")
+    umask = os.umask(0o022)
+    os.umask(umask)
+    assert target.stat().st_mode & 0o777 == 0o666 & ~umask
+
+
+def test_a_failure_while_writing_keeps_the_previous_file_and_leaves_no_temporary(tmp_path):
+    target = tmp_path / "results.npz"
+    target.write_bytes(b"previous")
+    with pytest.raises(RuntimeError, match="disk on fire"):
+        with atomic_writer(target) as handle:
+            handle.write(b"half of the new")
+            raise RuntimeError("disk on fire")
+    assert target.read_bytes() == b"previous"
+    assert os.listdir(tmp_path) == ["results.npz"]
+
+
+def test_a_failure_of_the_rename_keeps_the_previous_file_and_leaves_no_temporary(
+        tmp_path, monkeypatch):
+    target = tmp_path / "equations.md"
+    target.write_text("previous")
+
+    def failing_replace(source, destination):
+        raise OSError("rename refused")
+
+    monkeypatch.setattr(atomic.os, "replace", failing_replace)
+    with pytest.raises(OSError, match="rename refused"):
+        atomic_write_text(target, "new")
+    assert target.read_text() == "previous"
+    assert os.listdir(tmp_path) == ["equations.md"]
+
+
+def test_an_interrupted_write_leaves_no_temporary(tmp_path):
+    target = tmp_path / "results.csv"
+    with pytest.raises(KeyboardInterrupt):
+        with atomic_writer(target, "w") as handle:
+            handle.write("t,q1\n")
+            raise KeyboardInterrupt
+    assert os.listdir(tmp_path) == []
+
+
+def test_path_mode_serves_libraries_that_open_the_file_themselves(tmp_path):
+    target = tmp_path / "results.npz"
+    with atomic_writer(target, "path") as temporary:
+        assert temporary.parent == tmp_path and temporary.suffix == ".npz"
+        np.savez(temporary, t=np.arange(3.0))
+    with np.load(target) as data:
+        np.testing.assert_array_equal(data["t"], [0.0, 1.0, 2.0])
+    assert os.listdir(tmp_path) == ["results.npz"]
+
+
+def test_file_object_mode_serves_writers_of_file_objects(tmp_path):
+    target = tmp_path / "results.npz"
+    with atomic_writer(target) as handle:
+        np.savez(handle, q=np.ones(2))
+    with np.load(io.BytesIO(target.read_bytes())) as data:
+        np.testing.assert_array_equal(data["q"], [1.0, 1.0])
+
+
+def test_an_unknown_mode_is_a_programming_error(tmp_path):
+    with pytest.raises(ValueError, match="mode"):
+        with atomic_writer(tmp_path / "x", "a"):
+            pass
+
+
+def test_output_dir_is_created_with_its_parents(tmp_path):
+    out = prepare_output_dir(tmp_path / "runs" / "arm", force=False)
+    assert out.is_dir() and out == tmp_path / "runs" / "arm"
+
+
+def test_an_existing_empty_output_dir_is_accepted(tmp_path):
+    assert prepare_output_dir(tmp_path, force=False) == tmp_path
+
+
+def test_a_non_empty_output_dir_is_refused_without_force(tmp_path):
+    (tmp_path / "results.csv").write_text("old")
+    with pytest.raises(OutputExistsError) as info:
+        prepare_output_dir(tmp_path, force=False)
+    error = info.value
+    assert isinstance(error, ModelError)
+    assert error.path == "--out"
+    assert error.expected == "a new or empty directory (or --force to overwrite)"
+    assert error.given == str(tmp_path)
+    assert "--force" in str(error)
+
+
+def test_force_keeps_the_directory_and_its_other_files(tmp_path):
+    (tmp_path / "notes.txt").write_text("keep me")
+    assert prepare_output_dir(tmp_path, force=True) == tmp_path
+    assert (tmp_path / "notes.txt").read_text() == "keep me"
+
+
+def test_an_existing_file_is_not_an_output_dir(tmp_path):
+    path = tmp_path / "out"
+    path.write_text("")
+    with pytest.raises(ModelError, match="a file of that name exists"):
+        prepare_output_dir(path, force=True)
