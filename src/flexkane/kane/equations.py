@@ -99,12 +99,157 @@ class EquationsOfMotion:
                     + sum((Mfull[d, e] * a for e, a in zip(driven, ud_driven) if e != d), sp.Integer(0))
                     + inertia.remainder[d] - F_total[d])
             self.driver_efforts[coords[d].owner] = sub(expr)
+        #: dependent speeds and their expressions in the state (loop constraints)
+        self.dependent_speeds: dict = {}
+        self.constraint_set = None
         self.outputs = {k: sub(v) for k, v in output_expressions(self).items()}
+        if chain.model.constraints:
+            self._reduce_by_constraints(sub)
         known = set(self.q) | set(self.u) | set(self.ud) | {self.t}
         symbols = set()
         for expr in list(self.mass_matrix) + list(self.forcing) + list(self.qdot) + list(self.outputs.values()):
             symbols |= expr.free_symbols
         self.constants = sorted(symbols - known, key=lambda s: s.name)
+
+    # ------------------------------------------------------------------ loop constraints
+    def _reduce_by_constraints(self, sub) -> None:
+        """Kane's equations with dependent speeds (see :mod:`flexkane.kane.constraints`)."""
+        from .constraints import choose_dependent, loop_constraints
+
+        chain = self.chain
+        cons = loop_constraints(self.kinematics)
+        self.constraint_set = cons
+        u_free = list(self.u)
+        ud_free = [chain.ud[u] for u in u_free]
+        phi = [sub(e) for e in cons.phi]
+        g_raw = [chain.dt(e) for e in cons.phi]
+        g = [sp.expand(sub(e)) for e in g_raw]
+        A = sp.Matrix([[sp.diff(gi, u) for u in u_free] for gi in g])
+        zero_u = {u: 0 for u in u_free}
+        a = sp.Matrix([gi.xreplace(zero_u) + rate * ph for gi, ph, rate in zip(g, phi, cons.rates)])
+        gd = [sub(chain.dt(e, with_ud=True)) for e in g_raw]
+        c = sp.Matrix([e.xreplace({ud: 0 for ud in ud_free}) for e in gd])
+        # choose the dependent speeds at the initial configuration
+        values = self.constant_values()
+        guess = self._initial_guess(self.model, values)
+        numeric = {**values, **guess, self.t: 0.0}
+        A0 = np.array(A.xreplace({k: sp.Float(v) for k, v in numeric.items()}).evalf(), dtype=float)
+        roles = {c_.u: c_.role for c_ in chain.coordinates}
+        preferred = [roles[u] not in ("mode", "axial") for u in u_free]
+        dep = choose_dependent(A0, u_free, preferred, cons.dependent)
+        ind = [j for j in range(len(u_free)) if j not in dep]
+        Ad = A[:, dep]
+        Ai = A[:, ind]
+        # A_d^-1 as adjugate / determinant: no symbolic pivot that could vanish at some configuration
+        det = sp.factor_terms(Ad.det(method="berkowitz"))
+        adj = Ad.adjugate(method="berkowitz")
+        solve = lambda rhs: (adj * rhs) / det  # noqa: E731
+        X = solve(Ai)
+        y = solve(a)
+        ui = sp.Matrix([u_free[j] for j in ind])
+        u_dep = -X * ui - y
+        dep_subs = {u_free[j]: u_dep[k] for k, j in enumerate(dep)}
+        e_dep = -solve(c.xreplace(dep_subs))
+        n, ni = len(u_free), len(ind)
+        P = sp.zeros(n, ni)
+        e = sp.zeros(n, 1)
+        for k, j in enumerate(ind):
+            P[j, k] = 1
+        for k, j in enumerate(dep):
+            P[j, :] = -X[k, :]
+            e[j] = e_dep[k]
+        M = self.mass_matrix
+        PT = P.T
+        # u' of the dependent speeds in terms of the independent ones (for outputs)
+        udi = sp.Matrix([ud_free[j] for j in ind])
+        ud_dep = -X * udi + e_dep
+        ud_subs = {ud_free[j]: ud_dep[k] for k, j in enumerate(dep)}
+        # constraint forces: the dependent rows of M u' - f are A_d^T lambda; drivers also work against
+        # them, through their own columns of the constraint matrix
+        residual = (M * sp.Matrix(ud_free) - self.forcing)
+        lam = (adj.T * sp.Matrix([residual[j] for j in dep])) / det
+        for owner, effort in list(self.driver_efforts.items()):
+            coord = chain.of(owner)[0]
+            column = sp.Matrix([sub(sp.diff(e, coord.u)) for e in g_raw])
+            self.driver_efforts[owner] = effort - (column.T * lam)[0]
+        self.mass_matrix = (PT * M * P).applyfunc(lambda x: x.xreplace(dep_subs))
+        self.forcing = (PT * (self.forcing - M * e)).applyfunc(lambda x: x.xreplace(dep_subs))
+        self.qdot = self.qdot.applyfunc(lambda x: x.xreplace(dep_subs))
+        self.dependent_speeds = dep_subs
+        self.u = [u_free[j] for j in ind]
+        self.ud = [chain.ud[u] for u in self.u]
+        for owner, effort in self.driver_efforts.items():
+            self.outputs[f"effort_{owner}"] = effort
+        self.outputs["power_nonconservative"] = self._power_with_efforts(sub)
+        self.driver_efforts = {k: v.xreplace(ud_subs).xreplace(dep_subs) for k, v in self.driver_efforts.items()}
+        self.outputs = {k: v.xreplace(ud_subs).xreplace(dep_subs) for k, v in self.outputs.items()}
+        for name, ph in zip(cons.names, phi):
+            self.outputs[f"constraint_{name}"] = ph
+        for u, expr in dep_subs.items():
+            self.outputs[u.name] = expr
+        # the constraints decide the dependent coordinates of the initial state
+        self.dependent_coordinates = [c_.q for c_ in chain.coordinates if c_.u in dep_subs]
+        self._phi = phi
+
+    def _power_with_efforts(self, sub) -> sp.Expr:
+        """Power of non-conservative forces with the drivers' efforts corrected for constraint forces."""
+        from .outputs import output_expressions
+
+        return sub(output_expressions(self)["power_nonconservative"])
+
+    def _initial_guess(self, model, values) -> dict:
+        """Coordinates and speeds from the model's [initial] table (others 0), as numbers."""
+        from ..expressions import parse_expression
+
+        psyms = self.chain.symbols.parameters
+        out = {}
+        for c in self.chain.coordinates:
+            for s in (c.q, c.u):
+                value = model.initial.get(s.name, 0)
+                expr = parse_expression(value, dict(psyms), path=f"initial.{s.name}")
+                out[s] = float(expr.subs(values)) if expr.free_symbols else float(expr)
+        return out
+
+    def project_coordinates(self, q: np.ndarray, p_values: dict, t: float = 0.0) -> np.ndarray:
+        """Solve the loop constraints for the dependent coordinates, the others fixed.
+
+        Parameters
+        ----------
+        q : ndarray, shape (len(self.q),)
+            Coordinates (dependent ones used as the starting guess).
+        p_values : dict
+            Numeric constants.
+        t : float
+            Time [s].
+        """
+        from scipy.optimize import root
+
+        from ..errors import ModelError
+
+        if not self.dependent_speeds:
+            return q
+        dep = [self.q.index(s) for s in self.dependent_coordinates]
+        subs_const = {k: sp.Float(v) for k, v in p_values.items()}
+        phi = [e.xreplace(subs_const) for e in self._phi]
+        f = sp.lambdify([self.t] + list(self.q), phi, "numpy")
+        jac = sp.lambdify([self.t] + list(self.q), sp.Matrix(phi).jacobian([self.q[i] for i in dep]), "numpy")
+        q = np.array(q, dtype=float)
+
+        def residual(x):
+            q[dep] = x
+            return np.array(f(t, *q), dtype=float)
+
+        def jacobian(x):
+            q[dep] = x
+            return np.array(jac(t, *q), dtype=float)
+
+        sol = root(residual, q[dep], jac=jacobian, method="hybr", tol=1e-14)
+        if np.abs(residual(sol.x)).max() > 1e-10:
+            raise ModelError("initial", "initial coordinates from which the loop constraints can be closed "
+                             f"(solving for {', '.join(s.name for s in self.dependent_coordinates)})",
+                             f"residual {np.abs(residual(sol.x)).max():.3g}")
+        q[dep] = sol.x
+        return q
 
     # ------------------------------------------------------------------ structure
     @property
@@ -180,7 +325,17 @@ class EquationsOfMotion:
             value = model.initial.get(s.name, 0)
             expr = parse_expression(value, dict(psyms), path=f"initial.{s.name}")
             state.append(float(expr.subs(values)) if expr.free_symbols else float(expr))
-        return np.array(state, dtype=float)
+        state = np.array(state, dtype=float)
+        if self.dependent_speeds:
+            from ..errors import ModelError
+
+            for u in self.dependent_speeds:
+                if u.name in model.initial:
+                    raise ModelError(f"initial.{u.name}", "no initial value for a dependent speed (it follows "
+                                     "from the independent ones through the loop constraints)", model.initial[u.name])
+            nq = len(self.q)
+            state[:nq] = self.project_coordinates(state[:nq], self.constant_values(model))
+        return state
 
 
 def shape_family(spec, path: str):

@@ -6,7 +6,7 @@ import copy
 from dataclasses import dataclass, field
 
 from ..errors import ModelError
-from .parts import Beam, Gravity, Joint, Load, PointSpring, RigidBody, Simulation, Value
+from .parts import Beam, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody, Simulation, Value
 
 __all__ = ["Model", "NAMING_STYLES"]
 
@@ -35,6 +35,8 @@ class Model:
     gravity : Gravity, optional
     loads : dict of str to Load
     springs : dict of str to PointSpring
+    constraints : dict of str to LoopConstraint
+        Joints that close kinematic loops.
     initial : dict of str to Value
         Initial values of generalized coordinates and speeds, by name; others start at 0.
     naming : str
@@ -53,6 +55,7 @@ class Model:
     gravity: Gravity | None = None
     loads: dict[str, Load] = field(default_factory=dict)
     springs: dict[str, PointSpring] = field(default_factory=dict)
+    constraints: dict[str, LoopConstraint] = field(default_factory=dict)
     initial: dict[str, Value] = field(default_factory=dict)
     naming: str = "joint"
     simulation: Simulation = field(default_factory=Simulation)

@@ -283,6 +283,56 @@ class PointSpring:
 
 
 @dataclass
+class LoopConstraint:
+    """A joint that closes a kinematic loop (its two sides already hang from the tree).
+
+    A ``revolute`` loop joint keeps point a and point b together (two scalar constraints); a
+    ``prismatic`` one keeps point b on the line through point a along ``axis`` (in frame a) and the
+    angle of frame b relative to frame a equal to ``angle`` (two scalar constraints).
+
+    Parameters
+    ----------
+    name : str
+        Unique name.
+    type : str
+        ``revolute`` or ``prismatic``.
+    body_a, body_b : str
+        ``ground``, a body or a beam.
+    point_a, point_b : str, optional
+        Points of bodies (the mass centre when omitted).
+    station_a, station_b : Value, optional
+        Stations on beams [m].
+    position_a, position_b : (Value, Value), optional
+        Positions on the ground [m].
+    axis : Value
+        Direction of the slide in frame a [rad] (prismatic).
+    angle : Value
+        Angle of frame b relative to frame a [rad] (prismatic).
+    dependent : list of str, optional
+        Names of the generalized speeds made dependent by this constraint (chosen automatically,
+        by pivoting on the constraint matrix at the initial configuration, when omitted).
+    stabilization : float
+        Rate [1/s] at which a drift of the constraint is driven back to zero (Baumgarte-type
+        velocity stabilization, ``Phi' = -rate * Phi``); 0 keeps the exact velocity constraint.
+    """
+
+    name: str
+    type: str
+    body_a: str
+    body_b: str
+    point_a: str | None = None
+    point_b: str | None = None
+    station_a: Value | None = None
+    station_b: Value | None = None
+    position_a: tuple[Value, Value] | None = None
+    position_b: tuple[Value, Value] | None = None
+    axis: Value = 0
+    angle: Value = 0
+    dependent: list[str] | None = None
+    stabilization: float = 0.0
+
+
+@dataclass
 class Simulation:
     """Default settings of a run.
 

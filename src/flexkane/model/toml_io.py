@@ -27,8 +27,8 @@ import tomli_w
 
 from ..errors import ModelError
 from .model import Model
-from .parts import (Beam, Driver, Gravity, Joint, Load, PointSpring, RigidBody, ShapeSpec,
-                    Simulation)
+from .parts import (Beam, Driver, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody,
+                    ShapeSpec, Simulation)
 
 __all__ = ["load_model", "loads_model", "dumps_model", "save_model", "MAX_FILE_BYTES"]
 
@@ -36,7 +36,7 @@ __all__ = ["load_model", "loads_model", "dumps_model", "save_model", "MAX_FILE_B
 MAX_FILE_BYTES = 1_000_000
 
 _TOP_KEYS = ("name", "description", "naming", "parameters", "bodies", "beams", "joints", "gravity",
-             "loads", "springs", "initial", "simulation", "sweep")
+             "loads", "springs", "constraints", "initial", "simulation", "sweep")
 
 
 def _unknown(path: str, key: str, valid) -> ModelError:
@@ -163,6 +163,8 @@ _LOAD_KEYS = ("body", "point", "station", "force", "torque", "frame")
 _SPRING_KEYS = ("body_a", "point_a", "position_a", "body_b", "point_b", "position_b", "stiffness",
                 "damping", "rest_length")
 _SIM_KEYS = ("t_end", "dt_out", "rtol", "atol", "method")
+_CONSTRAINT_KEYS = ("type", "body_a", "point_a", "station_a", "position_a", "body_b", "point_b", "station_b",
+                    "position_b", "axis", "angle", "dependent", "stabilization")
 
 
 def _model_from_dict(data: dict) -> Model:
@@ -273,6 +275,25 @@ def _model_from_dict(data: dict) -> Model:
             stiffness=_value(spring, "stiffness", path, required=False, default=0),
             damping=_value(spring, "damping", path, required=False, default=0),
             rest_length=_value(spring, "rest_length", path, required=False, default=0))
+    for name, con in _table(data, "constraints", "").items():
+        path = f"constraints.{name}"
+        if not isinstance(con, dict):
+            raise ModelError(path, "a table", con)
+        _check_keys(con, _CONSTRAINT_KEYS, path)
+        stab = _float(con, "stabilization", path, 0.0)
+        if stab < 0:
+            raise ModelError(f"{path}.stabilization", "a non-negative rate [1/s]", stab)
+        model.constraints[name] = LoopConstraint(
+            name, _str(con, "type", path, required=True, choices=("revolute", "prismatic")),
+            _str(con, "body_a", path, required=True), _str(con, "body_b", path, required=True),
+            point_a=_str(con, "point_a", path), point_b=_str(con, "point_b", path),
+            station_a=_value(con, "station_a", path, required=False),
+            station_b=_value(con, "station_b", path, required=False),
+            position_a=_pair(con, "position_a", path, required=False),
+            position_b=_pair(con, "position_b", path, required=False),
+            axis=_value(con, "axis", path, required=False, default=0),
+            angle=_value(con, "angle", path, required=False, default=0),
+            dependent=_names(con, "dependent", path), stabilization=stab)
     initial = _table(data, "initial", "")
     for key in initial:
         model.initial[key] = _value(initial, key, "initial")
@@ -405,6 +426,20 @@ def model_to_dict(model: Model) -> dict:
             "body_b": s.body_b, "point_b": s.point_b, "position_b": s.position_b,
             "stiffness": s.stiffness, "damping": s.damping, "rest_length": s.rest_length})
             for s in model.springs.values()}
+    if model.constraints:
+        cons = {}
+        for c in model.constraints.values():
+            t = _drop_none({"type": c.type, "body_a": c.body_a, "point_a": c.point_a, "station_a": c.station_a,
+                            "position_a": c.position_a, "body_b": c.body_b, "point_b": c.point_b,
+                            "station_b": c.station_b, "position_b": c.position_b, "dependent": c.dependent})
+            if c.axis != 0:
+                t["axis"] = c.axis
+            if c.angle != 0:
+                t["angle"] = c.angle
+            if c.stabilization:
+                t["stabilization"] = c.stabilization
+            cons[c.name] = t
+        out["constraints"] = cons
     if model.initial:
         out["initial"] = dict(model.initial)
     sim = _drop_none({"t_end": model.simulation.t_end, "dt_out": model.simulation.dt_out,

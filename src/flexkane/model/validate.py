@@ -100,6 +100,7 @@ def validate_model(model: Model) -> None:
         beam._length = length  # used by station checks below
     _validate_joints(model, params)
     _validate_loads(model, params)
+    _validate_constraints(model, params)
     if model.gravity is not None:
         _non_negative(model, "gravity.g", model.gravity.g, params, "m/s^2")
         dx = _numeric(model, "gravity.direction[0]", model.gravity.direction[0], params)
@@ -241,6 +242,38 @@ def _validate_loads(model: Model, params) -> None:
         _non_negative(model, f"{path}.stiffness", spring.stiffness, params, "N/m")
         _non_negative(model, f"{path}.damping", spring.damping, params, "N s/m")
         _non_negative(model, f"{path}.rest_length", spring.rest_length, params, "m")
+
+
+def _validate_constraints(model: Model, params) -> None:
+    names = set(model.joints)
+    for con in model.constraints.values():
+        path = f"constraints.{con.name}"
+        if con.name in names:
+            raise ModelError(path, "a name different from every joint's", con.name)
+        for end in ("a", "b"):
+            body = getattr(con, f"body_{end}")
+            point = getattr(con, f"point_{end}")
+            station = getattr(con, f"station_{end}")
+            position = getattr(con, f"position_{end}")
+            if body == "ground":
+                if point is not None or station is not None:
+                    raise ModelError(f"{path}.body_{end}", f"position_{end} (not a point or station) on the ground", body)
+            elif body in model.bodies:
+                if point is not None and point not in model.bodies[body].points:
+                    raise ModelError(f"{path}.point_{end}", f"a point of body {body!r}", point)
+                if station is not None or position is not None:
+                    raise ModelError(f"{path}.point_{end}", f"a point (not a station or position) on body {body!r}",
+                                     station if station is not None else position)
+            elif body in model.beams:
+                if station is None:
+                    raise ModelError(f"{path}.station_{end}", f"the station x on beam {body!r} [m]", None,
+                                     show_given=False)
+                _station(model, f"{path}.station_{end}", station, model.beams[body], params)
+            else:
+                raise ModelError(f"{path}.body_{end}", "'ground', a body or a beam", body,
+                                 _suggest(body, ["ground"] + model.link_names()))
+        if con.body_a == con.body_b:
+            raise ModelError(f"{path}.body_b", "a link other than body_a", con.body_b)
 
 
 def _suggest(name, options) -> str | None:
