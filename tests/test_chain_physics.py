@@ -65,3 +65,51 @@ def test_chapter_example_through_the_python_api_gives_the_file_model_trajectorie
     from_file = run(flexkane.builtin_model("falling-beam-exact").with_modes(2), t_end=0.5)
     assert by_api.state_names == from_file.state_names
     np.testing.assert_array_equal(by_api.state, from_file.state)
+
+
+SPRUNG_BODY = """
+name = "sprung-body"
+[parameters]
+m = 2.0
+J = 0.1
+k = 80.0
+c = 0.0
+g = 9.81
+[bodies.box]
+mass = "m"
+inertia = "J"
+points = { hook = [0.2, 0.1] }
+[joints.free]
+type = "free"
+parent = "ground"
+child = "box"
+[springs.hanger]
+body_a = "ground"
+position_a = [0, 1]
+body_b = "box"
+point_b = "hook"
+stiffness = "k"
+damping = "c"
+rest_length = 0.5
+[gravity]
+g = "g"
+direction = [0, -1]
+[initial]
+q_free_x = 0.3
+u_free_angle = 1.0
+"""
+
+
+@pytest.mark.parametrize("damping", [0.0, 0.8])
+def test_body_on_a_spring_between_points_balances_energy(damping):
+    model = flexkane.loads_model(SPRUNG_BODY)
+    model.parameters["c"] = damping
+    res = run(model, t_end=2.0, dt_out=5e-4)
+    e = res["energy"]
+    work = cumulative_trapezoid(res["power_nonconservative"], res.t, initial=0.0)
+    assert np.abs(res["q_free_angle"]).max() > 0.3
+    assert np.abs(e - e[0] - work).max() < 1e-6 * np.abs(e).max()
+    if damping:
+        assert work[-1] < -0.1
+    else:
+        assert np.abs(e - e[0]).max() < 1e-8 * np.abs(e).max()

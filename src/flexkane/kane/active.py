@@ -18,8 +18,8 @@ from __future__ import annotations
 
 import sympy as sp
 
-from .kinematics import FrameMotion, Kinematics, rot
-from .modal_field import ONE, X, Field, phi, vec_map
+from .kinematics import Kinematics, rot
+from .modal_field import ONE, X, phi
 
 __all__ = ["generalized_active_forces", "gravity_vector"]
 
@@ -174,17 +174,7 @@ def generalized_active_forces(kin: Kinematics) -> dict[str, list]:
     # ---------------------------------------------------------------- springs between points
     for spring in model.springs.values():
         path = f"springs.{spring.name}"
-        ends = []
-        for end in ("a", "b"):
-            body = getattr(spring, f"body_{end}")
-            if body == "ground":
-                pos = getattr(spring, f"position_{end}")
-                r = (kin.value(f"{path}.position_{end}[0]", pos[0], f"x_{spring.name}_{end}"),
-                     kin.value(f"{path}.position_{end}[1]", pos[1], f"y_{spring.name}_{end}"))
-                ends.append(FrameMotion(sp.Integer(0), sp.Integer(0), r, (sp.Integer(0), sp.Integer(0))))
-            else:
-                ends.append(kin.bodies[body].point(kin.body_point(body, getattr(spring, f"point_{end}")), chain))
-        a, b = ends
+        a, b = kin.end_frame(spring, "a", path), kin.end_frame(spring, "b", path)
         d = (b.r[0] - a.r[0], b.r[1] - a.r[1])
         length = sp.sqrt(d[0] ** 2 + d[1] ** 2)
         e = (d[0] / length, d[1] / length)

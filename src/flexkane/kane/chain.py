@@ -22,7 +22,7 @@ import sympy as sp
 
 from ..errors import ModelError
 from ..model import Model
-from ..model.parts import JOINT_DOFS, Beam, Joint
+from ..model.parts import JOINT_DOFS, Joint
 from ..model.values import TIME, FieldSymbols
 
 __all__ = ["Chain", "Coordinate", "build_chain"]

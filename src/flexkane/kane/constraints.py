@@ -23,7 +23,7 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ModelError
-from .kinematics import FrameMotion, Kinematics, rot
+from .kinematics import Kinematics, rot
 
 __all__ = ["ConstraintSet", "loop_constraints", "choose_dependent"]
 
@@ -50,27 +50,12 @@ class ConstraintSet:
     dependent: list
 
 
-def _end_frame(kin: Kinematics, con, end: str) -> FrameMotion:
-    body = getattr(con, f"body_{end}")
-    path = f"constraints.{con.name}"
-    zero = sp.Integer(0)
-    if body == "ground":
-        pos = getattr(con, f"position_{end}") or (0, 0)
-        r = (kin.value(f"{path}.position_{end}[0]", pos[0], f"x_{con.name}_{end}"),
-             kin.value(f"{path}.position_{end}[1]", pos[1], f"y_{con.name}_{end}"))
-        return FrameMotion(zero, zero, r, (zero, zero))
-    if body in kin.bodies:
-        return kin.bodies[body].point(kin.body_point(body, getattr(con, f"point_{end}")), kin.chain)
-    x, text = kin.station(body, f"{path}.station_{end}", getattr(con, f"station_{end}"))
-    return kin.beam_station(body, x, text)
-
-
 def loop_constraints(kin: Kinematics) -> ConstraintSet:
     """Configuration constraints of every loop joint of the model."""
     names, phi, rates, dependent = [], [], [], []
     for con in kin.chain.model.constraints.values():
-        a, b = _end_frame(kin, con, "a"), _end_frame(kin, con, "b")
         path = f"constraints.{con.name}"
+        a, b = kin.end_frame(con, "a", path), kin.end_frame(con, "b", path)
         if con.type == "revolute":
             eqs = [b.r[0] - a.r[0], b.r[1] - a.r[1]]
         else:

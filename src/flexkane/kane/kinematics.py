@@ -169,6 +169,24 @@ class Kinematics:
         value = lambda a: bm.constants.station(a, x, text)  # noqa: E731
         return (bm.v[0].evaluate(value), bm.v[1].evaluate(value))
 
+    def end_frame(self, part, end: str, path: str) -> FrameMotion:
+        """Frame at one end of a two-ended part (spring or loop constraint).
+
+        The part has attributes ``body_<end>`` (``ground``, a body or a beam) and ``point_<end>``,
+        ``station_<end>`` or ``position_<end>`` (absent attributes count as not given).
+        """
+        body = getattr(part, f"body_{end}")
+        zero = sp.Integer(0)
+        if body == "ground":
+            pos = getattr(part, f"position_{end}", None) or (0, 0)
+            r = (self.value(f"{path}.position_{end}[0]", pos[0], f"x_{part.name}_{end}"),
+                 self.value(f"{path}.position_{end}[1]", pos[1], f"y_{part.name}_{end}"))
+            return FrameMotion(zero, zero, r, (zero, zero))
+        if body in self.bodies:
+            return self.bodies[body].point(self.body_point(body, getattr(part, f"point_{end}", None)), self.chain)
+        x, text = self.station(body, f"{path}.station_{end}", getattr(part, f"station_{end}"))
+        return self.beam_station(body, x, text)
+
     def load_frame(self, load) -> FrameMotion:
         """Frame at the point where a load acts: a body point or a beam station."""
         if load.body in self.bodies:

@@ -22,7 +22,7 @@ import sympy as sp
 
 from .active import gravity_vector
 from .kinematics import rot
-from .modal_field import ONE, X, phi, rigid
+from .modal_field import ONE
 
 __all__ = ["output_expressions"]
 
@@ -120,18 +120,9 @@ def output_expressions(eom) -> dict:
             k = kin.value(f"joints.{joint.name}.stiffness", joint.stiffness, f"k_{joint.name}")
             rest = kin.value(f"joints.{joint.name}.rest", joint.rest, f"{coord.q.name}_rest")
             springs.append(k * (coord.q - rest) ** 2 / 2)
-    dissipation = []
     for spring in model.springs.values():
         path = f"springs.{spring.name}"
-        ends = []
-        for end in ("a", "b"):
-            body = getattr(spring, f"body_{end}")
-            if body == "ground":
-                pos = getattr(spring, f"position_{end}")
-                ends.append((kin.value(f"{path}.position_{end}[0]", pos[0], f"x_{spring.name}_{end}"),
-                             kin.value(f"{path}.position_{end}[1]", pos[1], f"y_{spring.name}_{end}")))
-            else:
-                ends.append(kin.bodies[body].point(kin.body_point(body, getattr(spring, f"point_{end}")), chain).r)
+        ends = [kin.end_frame(spring, end, path).r for end in ("a", "b")]
         length = sp.sqrt((ends[1][0] - ends[0][0]) ** 2 + (ends[1][1] - ends[0][1]) ** 2)
         k = kin.value(f"{path}.stiffness", spring.stiffness, f"k_{spring.name}")
         l0 = kin.value(f"{path}.rest_length", spring.rest_length, f"l0_{spring.name}")

@@ -71,7 +71,7 @@ class Model:
         for joint in self.joints.values():
             if joint.child == link:
                 return joint
-        raise ModelError(f"joints", f"a joint whose child is {link!r}", None, show_given=False)
+        raise ModelError("joints", f"a joint whose child is {link!r}", None, show_given=False)
 
     def copy(self) -> "Model":
         """A deep copy, safe to modify."""
