@@ -1,9 +1,10 @@
 """Numeric values of atoms along a beam, and of the integrals of their products.
 
-Integrals use Gauss-Legendre quadrature on [0, L], whose order grows with the number of modes so that
-the products of the most oscillatory shape functions are integrated to about 1e-13 relative.
-The foreshortening atoms ``d_ij(x) = int_0^x Phi_i' Phi_j' dxi`` are evaluated at each node by a
-second Gauss-Legendre rule on [0, x].
+Integrals use Gauss-Legendre quadrature on [0, L] of the order that :mod:`flexkane.modes.integrals`
+verifies for the family and mode count (products of shape functions and of their derivatives to
+about 1e-13 relative); products that involve the foreshortening atoms
+``d_ij(x) = int_0^x Phi_i' Phi_j' dxi`` (themselves quadratic in the shape functions) use twice that
+order, and ``d_ij`` at the nodes comes from :func:`flexkane.modes.integrals.foreshortening`.
 """
 
 from __future__ import annotations
@@ -12,12 +13,7 @@ from functools import lru_cache
 
 import numpy as np
 
-__all__ = ["AtomEvaluator", "gauss_order"]
-
-
-def gauss_order(n: int) -> int:
-    """Number of Gauss-Legendre nodes for products of shape functions up to mode ``n``."""
-    return int(max(64, 4 * n + 48))
+__all__ = ["AtomEvaluator"]
 
 
 @lru_cache(maxsize=32)
@@ -49,12 +45,19 @@ class AtomEvaluator:
         self.n = int(n)
         self.axial_family = axial_family
         self.n_axial = int(n_axial)
-        order = gauss_order(max(self.n, self.n_axial))
-        xi, w = _leggauss(order)
-        self.xi = xi
-        self.weights = w * self.L            # integrals over [0, L] [m]
-        self.x = xi * self.L
+        from ..modes.integrals import quadrature_order
+
+        order = quadrature_order(family, self.n)
+        if axial_family is not None and self.n_axial:
+            order = max(order, quadrature_order(axial_family, self.n_axial))
+        self._rules = {False: self._rule(order), True: self._rule(2 * order)}
+        self.xi, self.weights, self.x = self._rules[False]
         self._values: dict = {}
+        self._dfs_cache: dict = {}
+
+    def _rule(self, order: int):
+        xi, w = _leggauss(order)
+        return xi, w * self.L, xi * self.L   # nodes on [0, 1], weights for [0, L] [m], nodes [m]
 
     # ------------------------------------------------------------------ atom values
     def _phi(self, xi: np.ndarray, deriv: int) -> np.ndarray:
@@ -64,13 +67,13 @@ class AtomEvaluator:
         return self.axial_family.phi(xi, self.n_axial, deriv) / self.L ** deriv
 
     def _dfs(self, i: int, j: int, xi: np.ndarray) -> np.ndarray:
-        """d_ij at stations ``xi * L``: int_0^x Phi_i' Phi_j' (Gauss-Legendre on [0, x])."""
-        inner_xi, inner_w = _leggauss(gauss_order(self.n))
-        pts = np.outer(xi, inner_xi)                      # (len(xi), m) on [0, xi]
-        d1 = self.family.phi(pts.ravel(), self.n, 1) / self.L
-        pi_ = d1[i - 1].reshape(pts.shape)
-        pj = d1[j - 1].reshape(pts.shape)
-        return (pi_ * pj) @ inner_w * xi * self.L
+        """d_ij at stations ``xi * L`` [1/m] (all pairs computed once per set of stations)."""
+        from ..modes.integrals import foreshortening
+
+        key = xi.tobytes()
+        if key not in self._dfs_cache:
+            self._dfs_cache[key] = foreshortening(self.family, self.n, self.L, np.clip(xi, 0.0, 1.0) * self.L)
+        return self._dfs_cache[key][i - 1, j - 1]
 
     def values_at(self, atom, xi: np.ndarray, deriv: int = 0) -> np.ndarray:
         """Values of ``atom`` (or its x-derivative of order ``deriv``) at ``xi = x/L``, shape (len(xi),)."""
@@ -93,16 +96,18 @@ class AtomEvaluator:
             raise ValueError("only the first derivative of a foreshortening atom is available")
         raise ValueError(f"unknown atom {atom!r}")
 
-    def _nodes(self, atom, deriv: int = 0) -> np.ndarray:
-        key = (atom, deriv)
+    def _nodes(self, atom, deriv: int = 0, fine: bool = False) -> np.ndarray:
+        key = (atom, deriv, fine)
         if key not in self._values:
-            self._values[key] = self.values_at(atom, self.xi, deriv)
+            self._values[key] = self.values_at(atom, self._rules[fine][0], deriv)
         return self._values[key]
 
     # ------------------------------------------------------------------ integrals
     def integral(self, a, b) -> float:
         """``int_0^L a(x) b(x) dx`` [m * units of a * units of b]."""
-        return float(np.sum(self.weights * self._nodes(a) * self._nodes(b)))
+        fine = a[0] == "d" or b[0] == "d"
+        weights = self._rules[fine][1]
+        return float(np.sum(weights * self._nodes(a, fine=fine) * self._nodes(b, fine=fine)))
 
     def derivative_integral(self, a, b, deriv: int) -> float:
         """``int_0^L a^(k)(x) b^(k)(x) dx`` with k = ``deriv``."""
