@@ -94,6 +94,13 @@ def test_to_float_evaluates_every_construct():
     assert to_float(expr, {t: 5.0, x: 0.0, L: 0.0}, path="p") == 5.0
 
 
+def test_to_float_follows_the_conditions_sympy_rewrites():
+    expr = parse("where(0 < where(x < 1, t, 1), 2, 3)")  # SymPy turns the condition into an ITE
+    assert to_float(expr, {t: 1.0, x: 0.0}, path="p") == 2.0
+    assert to_float(expr, {t: -1.0, x: 0.0}, path="p") == 3.0
+    assert to_float(expr, {t: -1.0, x: 5.0}, path="p") == 2.0
+
+
 @pytest.mark.parametrize("text, values, message", [
     ("t*x", {t: 1.0}, "no value for 'x'"),
     ("1/(t - 1)", {t: 1.0}, "evaluating it failed"),
