@@ -199,7 +199,7 @@ class EquationsOfMotion:
 
     def _initial_guess(self, model, values) -> dict:
         """Coordinates and speeds from the model's [initial] table (others 0), as numbers."""
-        from ..expressions import parse_expression
+        from ..expressions import parse_expression, to_float
 
         psyms = self.chain.symbols.parameters
         out = {}
@@ -207,7 +207,7 @@ class EquationsOfMotion:
             for s in (c.q, c.u):
                 value = model.initial.get(s.name, 0)
                 expr = parse_expression(value, dict(psyms), path=f"initial.{s.name}")
-                out[s] = float(expr.subs(values)) if expr.free_symbols else float(expr)
+                out[s] = to_float(expr, values, path=f"initial.{s.name}")
         return out
 
     def project_coordinates(self, q: np.ndarray, p_values: dict, t: float = 0.0) -> np.ndarray:
@@ -272,7 +272,7 @@ class EquationsOfMotion:
         ``model`` may differ from the derived model in its numbers only (parameters, field values,
         typed roots); its structure must be the same.
         """
-        from ..expressions import parse_expression, resolve_parameters
+        from ..expressions import parse_expression, resolve_parameters, to_float
 
         model = model or self.model
         params = resolve_parameters(model.parameters, path_prefix="parameters")
@@ -282,7 +282,7 @@ class EquationsOfMotion:
 
         def number(path, value):
             expr = parse_expression(value, names, path=path)
-            return float(expr.subs(values)) if expr.free_symbols else float(expr)
+            return to_float(expr, values, path=path)
 
         for symbol, (path, _) in self.chain.symbols.definitions.items():
             values[symbol] = number(path, get_value(model, path))
@@ -296,7 +296,7 @@ class EquationsOfMotion:
             stations = {}
             for spec in consts.used.values():
                 if spec[0] == "station":
-                    stations[spec[3]] = float(sp.sympify(spec[3]).subs(values))
+                    stations[spec[3]] = to_float(sp.sympify(spec[3]), values, path=f"{path} station")
             values.update(consts.values(
                 L=number(f"{path}.L", beam.L), rho=number(f"{path}.rho", beam.rho),
                 EI=number(f"{path}.EI", beam.EI), family=family, n=beam.n_modes,
@@ -314,7 +314,7 @@ class EquationsOfMotion:
 
     def initial_state(self, model: Model | None = None) -> np.ndarray:
         """Initial state [q, u] from the model's ``[initial]`` table (others 0), shape (n,)."""
-        from ..expressions import parse_expression, resolve_parameters
+        from ..expressions import parse_expression, resolve_parameters, to_float
 
         model = model or self.model
         params = resolve_parameters(model.parameters, path_prefix="parameters")
@@ -324,7 +324,7 @@ class EquationsOfMotion:
         for s in self.q + self.u:
             value = model.initial.get(s.name, 0)
             expr = parse_expression(value, dict(psyms), path=f"initial.{s.name}")
-            state.append(float(expr.subs(values)) if expr.free_symbols else float(expr))
+            state.append(to_float(expr, values, path=f"initial.{s.name}"))
         state = np.array(state, dtype=float)
         if self.dependent_speeds:
             from ..errors import ModelError
