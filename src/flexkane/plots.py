@@ -13,7 +13,7 @@ import numpy as np
 from .atomic import atomic_writer
 from .results import Results
 
-__all__ = ["write_plots", "plot_series", "plot_energy", "units"]
+__all__ = ["write_plots", "plot_series", "plot_energy", "plot_runs", "units"]
 
 _UNITS = {"x": "m", "y": "m", "angle": "rad", "slide": "m", "mode": "m", "axial": "m"}
 _RATE = {"m": "m/s", "rad": "rad/s"}
@@ -98,6 +98,58 @@ def plot_energy(results: Results, path: Path, title: str = "") -> Path:
     _save(fig, path)
     plt.close(fig)
     return path
+
+
+def plot_runs(runs: dict, names: list[str], path: Path, *, units: dict | None = None, title: str = "",
+              log: bool = False, columns: int = 2) -> Path:
+    """Several runs compared: one panel per named column, one curve per run.
+
+    Parameters
+    ----------
+    runs : dict of str to Results
+        Runs by label (the legend).
+    names : list of str
+        Columns to plot (state variables or outputs), one panel each.
+    path : pathlib.Path
+        PNG file to write.
+    units : dict of str to str, optional
+        Unit of each column (see :func:`units`), shown in the axis labels.
+    title : str
+        Title of the figure.
+    log : bool
+        Plot ``|value|`` on a logarithmic axis (growth over decades, e.g. a tip deflection).
+    columns : int
+        Panels per row.
+
+    Returns
+    -------
+    pathlib.Path
+    """
+    plt = _figure()
+    units = units or {}
+    columns = max(1, min(columns, len(names)))
+    rows = -(-len(names) // columns)
+    width = max(4.2 * columns + 0.6, 6.4)
+    fig, axes = plt.subplots(rows, columns, figsize=(width, 2.9 * rows + 0.6 + 0.6 * (rows == 1)), squeeze=False)
+    for ax, name in zip(axes.flat, names):
+        for k, (label, results) in enumerate(runs.items()):
+            values = np.abs(results[name]) if log else results[name]
+            ax.plot(results.t, values, lw=1.3, label=label, color=f"C{k}", ls="-" if k == 0 else "--")
+        if log:
+            ax.set_yscale("log")
+        shown = f"|{name}|" if log else name
+        ax.set_ylabel(f"{shown} [{units.get(name, '-')}]")
+        ax.set_xlabel("t [s]")
+        ax.grid(alpha=0.3)
+    for ax in list(axes.flat)[len(names):]:
+        ax.set_visible(False)
+    axes.flat[0].legend(fontsize=8, loc="best")
+    if title:
+        fig.suptitle(title, fontsize=11)
+    fig.tight_layout()
+    _save(fig, Path(path))
+    plt.close(fig)
+    return Path(path)
 
 
 def write_plots(results: Results, eom, directory: Path) -> list[Path]:

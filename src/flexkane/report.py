@@ -1,31 +1,62 @@
-"""Printed equations: F*_r and F_r in the chapter's notation, as text, Markdown or LaTeX.
+"""Printed equations in the chapter's notation: text, a Markdown report and a LaTeX document.
 
-The generalized inertia forces are printed with the modal constants of eq. 8.22 (m_B, e_B, I_B, E_i,
-F_i, G_ij) and the elastic forces with H_ij of eq. 8.32, grouped by the derivatives of the speeds, as
-eq. 8.23 is.
+The report follows the chapter's steps: generalized coordinates and speeds with the kinematic
+equations (eqs. 8.10-8.16), the velocities of the bodies and of a point P of every beam (eqs. 8.17,
+8.18), the partial velocities, the generalized inertia forces F*_r (eq. 8.22, printed with the modal
+constants m_B, e_B, I_B, E_i, F_i, G_ij as eq. 8.23 is), the generalized active forces F_r by source
+(eqs. 8.28-8.35) and a table of every constant: its definition, unit and numeric value.
+:func:`render_pdf` turns ``equations.tex`` into a PDF where ``pdflatex`` is installed.
 """
 
 from __future__ import annotations
 
 import re
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
 
 import sympy as sp
 
 from . import __version__
 
-__all__ = ["collect_terms", "latex_names", "format_equations", "equations_markdown", "equations_latex"]
+__all__ = ["collect_terms", "latex_names", "format_equations", "equations_markdown", "equations_latex",
+           "constant_rows", "render_pdf", "PDFLATEX_MISSING"]
+
+#: Message shown by :func:`render_pdf` without a LaTeX installation.
+PDFLATEX_MISSING = ("PDF skipped: pdflatex is not on PATH (install a LaTeX distribution, e.g. TeX Live, "
+                    "or compile equations.tex elsewhere)")
+
+#: Characters of LaTeX source after which a long sum is continued on a new line.
+_LINE = 150
+
+
+#: Expressions with more operations than this are grouped by u' without being expanded first.
+_EXPAND_LIMIT = 600
 
 
 def collect_terms(eom, expr: sp.Expr) -> sp.Expr:
-    """Expand and group an expression by the speed derivatives u' and the speeds u."""
+    """Group an expression by the speed derivatives u', as eq. 8.23 is written.
+
+    Small expressions are expanded first (the chapter's form: sums of products of constants,
+    coordinates and speeds); large ones (chains of several links, whose expanded forms run to
+    thousands of terms) are split into ``sum_s (dF/du'_s) u'_s`` plus the rest, unexpanded.
+    """
     ud = list(eom.chain.ud.values())
-    return sp.collect(sp.expand(expr), ud)
+    if sp.count_ops(expr) <= _EXPAND_LIMIT:
+        return sp.collect(sp.expand(expr), ud)
+    rest = expr.xreplace({s: 0 for s in ud})
+    return sp.Add(*[sp.diff(expr, s) * s for s in ud if expr.has(s)], rest)
 
 
-_PRIME = re.compile(r"^(?P<stem>[A-Za-z]+)(?P<primes>'*)_(?P<idx>[^()]*)(?P<arg>\(.*\))?$")
+# ---------------------------------------------------------------------- names
+_GREEK = {"Phi": r"\Phi", "Psi": r"\Psi", "zeta": r"\zeta", "theta": r"\theta", "rho": r"\rho",
+          "alpha": r"\alpha", "omega": r"\omega", "lambda": r"\lambda", "phi": r"\phi", "psi": r"\psi"}
+_NAME = re.compile(r"^(?P<stem>[A-Za-z]+)(?P<pre>'*)_(?P<idx>[^()']+)(?P<post>'*)(?P<arg>\(.*\))?$")
 
 
 def _latex_symbol(name: str) -> str:
+    """LaTeX of a symbol name: ``u3'`` -> ``\\dot{u}_{3}``, ``Phi_1'''(0)`` -> ``\\Phi_{1}'''(0)``."""
     if name.endswith("'") and name[:-1].startswith(("u", "v")):
         inner = _latex_symbol(name[:-1])
         head, _, idx = inner.partition("_")
@@ -33,14 +64,13 @@ def _latex_symbol(name: str) -> str:
     m = re.fullmatch(r"([qu])(\d+)", name)
     if m:
         return f"{m.group(1)}_{{{m.group(2)}}}"
-    m = _PRIME.match(name)
+    m = _NAME.match(name)
     if m:
-        stem = {"Phi": r"\Phi", "Psi": r"\Psi", "zeta": r"\zeta", "theta": r"\theta",
-                "rho": r"\rho", "alpha": r"\alpha"}.get(m.group("stem"), m.group("stem"))
-        idx = m.group("idx").replace("_", r",")
-        arg = m.group("arg") or ""
-        return f"{stem}{m.group('primes')}_{{{idx}}}{arg}"
-    return name.replace("_", r"\_")
+        stem = m.group("stem")
+        stem = _GREEK.get(stem, stem if len(stem) == 1 else rf"\mathrm{{{stem}}}")
+        idx = m.group("idx").replace("_", ",")
+        return f"{stem}{m.group('pre')}_{{{idx}}}{m.group('post')}{m.group('arg') or ''}"
+    return _GREEK.get(name, name.replace("_", r"\_"))
 
 
 def latex_names(eom) -> dict:
@@ -53,6 +83,76 @@ def _str(expr) -> str:
     return sp.sstr(expr, order="none")
 
 
+def _term_key(eom):
+    ud = list(eom.chain.ud.values())
+
+    def key(term):
+        found = [i for i, s in enumerate(ud) if term.has(s)]
+        return (0, found[0]) if found else (1, 0)
+    return key
+
+
+def _tokens(expr: sp.Expr, names: dict, order=None) -> list:
+    """LaTeX pieces of an expression with the places where a line may break.
+
+    Items are strings, ``"("`` / ``")"`` (a ``\\left(`` / ``\\right)`` pair that a line break must
+    close and reopen) and ``None`` (a line may break here, before a sign). A sum breaks between its
+    terms; a product with a sum among its factors breaks inside that sum.
+    """
+    if not isinstance(expr, sp.Add):
+        return _product_tokens(expr, names)
+    out = []
+    for i, term in enumerate(sorted(sp.Add.make_args(expr), key=order) if order else sp.Add.make_args(expr)):
+        coeff, _ = term.as_coeff_Mul()
+        negative = coeff.is_negative
+        body = _product_tokens(-term if negative else term, names)
+        if i:
+            out += [None, " - " if negative else " + "]
+        elif negative:
+            out.append("- ")
+        out += body
+    return out
+
+
+def _product_tokens(term: sp.Expr, names: dict) -> list:
+    sums = [f for f in sp.Mul.make_args(term) if isinstance(f, sp.Add)] if isinstance(term, sp.Mul) else []
+    if not sums:
+        return [sp.latex(term, symbol_names=names)]
+    inner = max(sums, key=sp.count_ops)
+    others = sp.Mul(*[f for f in sp.Mul.make_args(term) if f is not inner])
+    head = "" if others == 1 else ("- " if others == -1 else sp.latex(others, symbol_names=names) + " ")
+    return [head, "("] + _tokens(inner, names) + [")"]
+
+
+def _latex_lines(eom, expr: sp.Expr, names: dict, width: int = _LINE) -> list[str]:
+    """LaTeX of a sum, terms in u' first (in the order of the speeds), cut into lines of about
+    ``width`` characters; parentheses open across a line break are closed with ``\\right.`` and
+    reopened with ``\\left.``."""
+    lines, line, depth = [], "", 0
+    for item in _tokens(expr, names, _term_key(eom)):
+        if item is None:
+            if len(line) > width:
+                lines.append(line + r"\right." * depth)
+                line = r"\left." * depth
+        elif item == "(":
+            line += r"\left("
+            depth += 1
+        elif item == ")":
+            line += r"\right)"
+            depth -= 1
+        else:
+            line += item
+    lines.append(line or "0")
+    return lines
+
+
+def _aligned(label: str, lines: list[str]) -> list[str]:
+    """``label &= line1 \\\\ &\\quad line2 ...`` rows of an aligned environment."""
+    out = [f"{label} &= {lines[0]}"]
+    out += [rf"&\quad {line}" for line in lines[1:]]
+    return [row + r" \\" for row in out]
+
+
 def format_equations(eom, latex: bool = False) -> str:
     """F*_r and F_r (by source) for every generalized speed r, as text or LaTeX lines."""
     names = latex_names(eom) if latex else None
@@ -61,10 +161,12 @@ def format_equations(eom, latex: bool = False) -> str:
         fs = collect_terms(eom, eom.F_r_star[r])
         active = {k: collect_terms(eom, v[r]) for k, v in eom.F_r.items() if v[r] != 0}
         if latex:
-            lines.append(rf"F^*_{{{_latex_symbol(u.name)}}} &= {sp.latex(fs, symbol_names=names)} \\")
+            lines += _aligned(rf"F^*_{{{_latex_symbol(u.name)}}}", _latex_lines(eom, fs, names))
             for kind, expr in active.items():
-                lines.append(rf"(F_{{{_latex_symbol(u.name)}}})_{{\mathrm{{{kind}}}}} &= "
-                             rf"{sp.latex(expr, symbol_names=names)} \\")
+                lines += _aligned(rf"(F_{{{_latex_symbol(u.name)}}})_{{\mathrm{{{kind}}}}}",
+                                  _latex_lines(eom, expr, names))
+            if not active:
+                lines.append(rf"F_{{{_latex_symbol(u.name)}}} &= 0 \\")
         else:
             lines.append(f"F*[{u.name}] = {_str(fs)}")
             for kind, expr in active.items():
@@ -74,18 +176,149 @@ def format_equations(eom, latex: bool = False) -> str:
     return "\n".join(lines)
 
 
-def _constants_table(eom, values: dict | None) -> list[str]:
-    if values is None:
-        return []
-    rows = ["| symbol | value |", "|---|---|"]
+# ---------------------------------------------------------------------- kinematics
+def _atom_latex(atom) -> str:
+    kind = atom[0]
+    if kind == "1":
+        return ""
+    if kind == "x":
+        return "x"
+    if kind == "phi":
+        return rf"\Phi_{{{atom[1]}}}(x)"
+    if kind == "psi":
+        return rf"\Psi_{{{atom[1]}}}(x)"
+    return rf"d_{{{atom[1]}{atom[2]}}}(x)"
+
+
+def _field_latex(field, names: dict) -> str:
+    """LaTeX of a modal field ``sum_a c_a f_a(x)`` (atom by atom, as eq. 8.18 is written)."""
+    parts = []
+    for atom, coefficient in field.items():
+        c = sp.latex(coefficient, symbol_names=names)
+        f = _atom_latex(atom)
+        if not f:
+            parts.append(c)
+        elif coefficient == 1:
+            parts.append(f)
+        elif coefficient == -1:
+            parts.append("-" + f)
+        else:
+            parts.append(rf"\left({c}\right) {f}" if isinstance(coefficient, sp.Add) else f"{c} {f}")
+    text = " + ".join(parts) or "0"
+    return re.sub(r"\+ -\s*", "- ", text)
+
+
+def _latex(expr, names) -> str:
+    return sp.latex(expr, symbol_names=names)
+
+
+def _kinematics(eom, names) -> list[tuple[str, list[str]]]:
+    """(heading, items) of the kinematics and the partial velocities; items are LaTeX-bearing text."""
+    kin = eom.kinematics
+    speeds = eom.all_speeds
+    velocities = []
+    for name, frame in kin.bodies.items():
+        velocities.append(f"body {name}: angular velocity $\\omega = {_latex(frame.omega, names)}$, velocity of "
+                          f"the mass centre along the body axes $({_latex(frame.v[0], names)},\\ "
+                          f"{_latex(frame.v[1], names)})$")
+    for name, bm in kin.beams.items():
+        velocities.append(f"beam {name}: angular velocity of its frame $\\omega = {_latex(bm.frame.omega, names)}$, "
+                          f"velocity of the point P at x along the beam axes (eq. 8.18) "
+                          f"$({_field_latex(bm.v[0], names)},\\ {_field_latex(bm.v[1], names)})$")
+    partial = []
+    for name, frame in kin.bodies.items():
+        for u in speeds:
+            vx, vy, w = (sp.diff(frame.v[0], u), sp.diff(frame.v[1], u), sp.diff(frame.omega, u))
+            if vx != 0 or vy != 0 or w != 0:
+                partial.append(f"body {name}, ${_latex_symbol(u.name)}$: $v_r = ({_latex(vx, names)},\\ "
+                               f"{_latex(vy, names)})$, $\\omega_r = {_latex(w, names)}$")
+    for name, bm in kin.beams.items():
+        for u in speeds:
+            vx, vy = (bm.v[k].map(lambda c: sp.diff(c, u)) for k in range(2))
+            w = sp.diff(bm.frame.omega, u)
+            if not (vx.is_zero() and vy.is_zero()) or w != 0:
+                partial.append(f"beam {name}, ${_latex_symbol(u.name)}$: $\\partial v_P / \\partial "
+                               f"{_latex_symbol(u.name)} = ({_field_latex(vx, names)},\\ {_field_latex(vy, names)})$, "
+                               f"$\\omega_r = {_latex(w, names)}$")
+    return [("Kinematics (eqs. 8.11-8.18)", velocities), ("Partial velocities", partial)]
+
+
+# ---------------------------------------------------------------------- constants
+_PAIR_UNITS = {0: "kg", 1: "kg m", 2: "kg m^2"}
+
+
+def _pair_definition(a, b) -> tuple[str, str]:
+    if a == b == ("x",):
+        body = r"x^2\,"
+    else:
+        body = "".join(f + r"\," for f in (_atom_latex(a), _atom_latex(b)) if f)
+    power = sum(1 for atom in (a, b) if atom[0] == "x") - sum(1 for atom in (a, b) if atom[0] == "d")
+    unit = _PAIR_UNITS.get(power, f"kg m^{power}")
+    return rf"\int_0^L \rho\,{body}dx", unit
+
+
+def _definition(spec) -> tuple[str, str]:
+    """LaTeX definition and unit of a modal constant from its specification."""
+    kind = spec[0]
+    if kind == "pair":
+        return _pair_definition(spec[1], spec[2])
+    if kind == "H":
+        return rf"\int_0^L EI\,\Phi_{{{spec[1]}}}''\,\Phi_{{{spec[2]}}}''\,dx", "N/m"
+    if kind == "HA":
+        return rf"\int_0^L EA\,\Psi_{{{spec[1]}}}'\,\Psi_{{{spec[2]}}}'\,dx", "N/m"
+    if kind == "station":
+        atom, deriv, x = spec[1], spec[2], spec[3]
+        f = _atom_latex(atom).replace("(x)", "")
+        unit = "-" if deriv == 0 else f"1/m^{deriv}" if deriv > 1 else "1/m"
+        return rf"{f}{chr(39) * deriv}\ \mathrm{{at}}\ x = {sp.latex(x)}", unit
+    if kind == "shear":
+        _, which, i, j = spec
+        return {"M0": (rf"\Phi_{{{i}}}''(0)", "1/m^2"), "V0": (rf"\Phi_{{{i}}}'''(0)", "1/m^3"),
+                "J": (rf"\int_0^L \Phi_{{{i}}}''''\,dx", "1/m^3"),
+                "Jx": (rf"\int_0^L x\,\Phi_{{{i}}}''''\,dx", "1/m^2"),
+                "JPhi": (rf"\int_0^L \Phi_{{{j}}}\,\Phi_{{{i}}}''''\,dx", "1/m^3")}[which]
+    return "", ""
+
+
+def constant_rows(eom, values: dict | None = None) -> list[tuple[str, str, str, str, str]]:
+    """One row per constant of the equations: (LaTeX symbol, beam or source, LaTeX definition, unit,
+    value as text); modal constants first, then parameters and other values of the model."""
+    modal = eom.beam_constant_symbols()
+    defined = eom.chain.symbols.definitions
+    params = eom.model.parameters
+    rows_modal, rows_other = [], []
     for s in eom.constants:
-        if s in values:
-            rows.append(f"| ${_latex_symbol(s.name)}$ | {values[s]:.10g} |")
-    return rows
+        value = f"{values[s]:.10g}" if values is not None and s in values else ""
+        if s in modal:
+            beam, consts = modal[s]
+            definition, unit = _definition(consts.used[s])
+            rows_modal.append((_latex_symbol(s.name), f"beam {beam}", definition, unit, value))
+        elif s.name in params:
+            given = params[s.name]
+            text = "" if isinstance(given, (int, float)) else rf"\mathtt{{{_tex_escape(str(given))}}}"
+            rows_other.append((_latex_symbol(s.name), "parameter", text, "", value))
+        elif s in defined:
+            path, given = defined[s]
+            rows_other.append((_latex_symbol(s.name), f"`{path}`", "", "",
+                               value or _tex_escape(str(given))))
+        else:
+            rows_other.append((_latex_symbol(s.name), "", "", "", value))
+    return rows_modal + rows_other
 
 
+def _unit_tex(unit: str) -> str:
+    """A unit such as ``kg m^2`` or ``1/m^3`` in LaTeX text mode."""
+    return re.sub(r"\^(-?\d+)", r"$^{\1}$", unit.replace(" ", r"\,"))
+
+
+def _tex_escape(text: str) -> str:
+    return text.replace("\\", r"\textbackslash{}").replace("_", r"\_").replace("%", r"\%").replace("&", r"\&")
+
+
+# ---------------------------------------------------------------------- Markdown
 def equations_markdown(eom, values: dict | None = None) -> str:
-    """A Markdown report (with LaTeX) of the derivation: coordinates, kinematics, F*_r, F_r, constants."""
+    """A Markdown report (with LaTeX) of the derivation: coordinates, kinematics, partial velocities,
+    F*_r, F_r and the constants with their definitions and values."""
     names = latex_names(eom)
     model = eom.model
     out = [f"# Equations of motion: {model.name}", "",
@@ -98,56 +331,119 @@ def equations_markdown(eom, values: dict | None = None) -> str:
         law = f" (driven: {'$' + sp.latex(c.law) + '$'} {c.driver})" if c.driver else ""
         out.append(f"| ${_latex_symbol(c.q.name)}$ | ${_latex_symbol(c.u.name)}${law} | "
                    f"$\\dot {_latex_symbol(c.q.name)} = {sp.latex(qd, symbol_names=names)}$ |")
-    out += ["", "## Kinematics", ""]
-    kin = eom.kinematics
-    for name, frame in kin.bodies.items():
-        out.append(f"* body {name}: angular velocity $\\omega = {sp.latex(frame.omega, symbol_names=names)}$, "
-                   f"velocity of the mass centre along the body axes "
-                   f"$({sp.latex(frame.v[0], symbol_names=names)},\\ {sp.latex(frame.v[1], symbol_names=names)})$")
-    for name, bm in kin.beams.items():
-        vx = sp.latex(sp.Add(*[c * sp.Symbol(_atom_name(a)) for a, c in bm.v[0].items()]), symbol_names=names)
-        vy = sp.latex(sp.Add(*[c * sp.Symbol(_atom_name(a)) for a, c in bm.v[1].items()]), symbol_names=names)
-        out.append(f"* beam {name}: velocity of the point at x along the beam axes (eq. 8.18): "
-                   f"$({vx},\\ {vy})$")
-    out += ["", "## Partial velocities", ""]
-    for name, frame in kin.bodies.items():
-        for u in eom.all_speeds:
-            vx, vy, w = (sp.diff(frame.v[0], u), sp.diff(frame.v[1], u), sp.diff(frame.omega, u))
-            if vx != 0 or vy != 0 or w != 0:
-                out.append(f"* ${name}$, ${_latex_symbol(u.name)}$: $v_r = ({sp.latex(vx, symbol_names=names)},\\ "
-                           f"{sp.latex(vy, symbol_names=names)})$, $\\omega_r = {sp.latex(w, symbol_names=names)}$")
-    out += ["", "## Generalized inertia and active forces (eqs. 8.22, 8.23, 8.28-8.35)", "", "$$",
-            "\\begin{aligned}", format_equations(eom, latex=True), "\\end{aligned}", "$$", ""]
+    for heading, items in _kinematics(eom, names):
+        out += ["", f"## {heading}", ""] + [f"* {item}" for item in items]
+    out += ["", "## Generalized inertia and active forces (eqs. 8.22, 8.23, 8.28-8.35)", "",
+            "Vectors are resolved along the axes of the link they belong to. F*_r is grouped by the "
+            "derivatives of the speeds, as eq. 8.23 is.", ""]
+    for r, u in enumerate(eom.all_speeds):
+        out += ["$$", "\\begin{aligned}"]
+        out += _one_speed(eom, r, u, names)
+        out += ["\\end{aligned}", "$$", ""]
     out += ["## Equations of motion", "",
             f"State: {', '.join(eom.state_names)}. Mass matrix $M$ is {len(eom.u)} x {len(eom.u)}.", ""]
     if values is not None:
-        out += ["## Constants", "", "Modal constants (eq. 8.22, 8.32) and parameters, numeric values:", ""]
-        out += _constants_table(eom, values)
+        out += ["## Constants", "",
+                "Modal constants (below eq. 8.22 and eq. 8.32; x along the beam from its root, "
+                "$\\Phi_i$ of eq. 8.4 or the beam's family) and the values of the model:", "",
+                "| symbol | of | definition | unit | value |", "|---|---|---|---|---|"]
+        for sym, source, definition, unit, value in constant_rows(eom, values):
+            d = f"${definition}$" if definition else ""
+            out.append(f"| ${sym}$ | {source} | {d} | {unit} | {value} |")
         out.append("")
     return "\n".join(out)
 
 
-def _atom_name(atom) -> str:
-    kind = atom[0]
-    if kind == "1":
-        return "1"
-    if kind == "x":
-        return "x"
-    if kind == "phi":
-        return f"Phi_{atom[1]}(x)"
-    if kind == "psi":
-        return f"Psi_{atom[1]}(x)"
-    return f"d_{atom[1]}{atom[2]}(x)"
+def _one_speed(eom, r: int, u, names) -> list[str]:
+    label = _latex_symbol(u.name)
+    rows = _aligned(rf"F^*_{{{label}}}", _latex_lines(eom, collect_terms(eom, eom.F_r_star[r]), names))
+    active = {k: v[r] for k, v in eom.F_r.items() if v[r] != 0}
+    for kind, expr in active.items():
+        rows += _aligned(rf"(F_{{{label}}})_{{\mathrm{{{kind}}}}}",
+                         _latex_lines(eom, collect_terms(eom, expr), names))
+    if not active:
+        rows.append(rf"F_{{{label}}} &= 0 \\")
+    return rows
+
+
+# ---------------------------------------------------------------------- LaTeX
+def _md_to_tex(item: str) -> str:
+    """Plain words of a list item escaped for LaTeX, its $...$ parts kept."""
+    parts = item.split("$")
+    return "$".join(p if i % 2 else _tex_escape(p) for i, p in enumerate(parts))
 
 
 def equations_latex(eom, values: dict | None = None) -> str:
-    """A standalone LaTeX document of the printed equations."""
-    body = format_equations(eom, latex=True)
-    rows = ""
+    """A standalone LaTeX document: the same content as :func:`equations_markdown`."""
+    names = latex_names(eom)
+    title = _tex_escape(eom.model.name)
+    doc = [r"\documentclass[10pt]{article}", r"\usepackage{amsmath}", r"\usepackage{longtable}",
+           r"\usepackage[margin=1.5cm,landscape]{geometry}", r"\allowdisplaybreaks", r"\begin{document}",
+           rf"\section*{{Equations of motion: {title}}}",
+           _tex_escape(f"Derived by flexkane {__version__} with Kane's method: ") +
+           r"$F^*_r + F_r = 0$ (eq. 8.36) for every generalized speed $u_r$, written as "
+           r"$M(q, t)\,\dot u = f(q, u, t)$.", "",
+           r"\subsection*{Generalized coordinates and speeds}", r"\begin{align*}"]
+    for c in eom.chain.coordinates:
+        qd = eom.chain.qdot[c.q]
+        driven = rf" && \text{{(driven: {c.driver})}}" if c.driver else ""
+        doc.append(rf"\dot {_latex_symbol(c.q.name)} &= {sp.latex(qd, symbol_names=names)}{driven} \\")
+    doc.append(r"\end{align*}")
+    for heading, items in _kinematics(eom, names):
+        doc += [rf"\subsection*{{{heading}}}", r"\begin{itemize}"]
+        doc += [rf"\item {_md_to_tex(item)}" for item in items] or [r"\item none"]
+        doc.append(r"\end{itemize}")
+    doc += [r"\subsection*{Generalized inertia and active forces (eqs. 8.22, 8.23, 8.28--8.35)}"]
+    for r, u in enumerate(eom.all_speeds):
+        doc += [r"\begin{align*}"] + _one_speed(eom, r, u, names) + [r"\end{align*}"]
     if values is not None:
-        rows = "\n".join(f"${_latex_symbol(s.name)}$ & {values[s]:.10g} \\\\" for s in eom.constants if s in values)
-        rows = ("\\section*{Constants}\n\\begin{longtable}{ll}\n" + rows + "\n\\end{longtable}\n")
-    return ("\\documentclass{article}\n\\usepackage{amsmath}\\usepackage{longtable}\n"
-            "\\usepackage[margin=1.5cm,landscape]{geometry}\n\\begin{document}\n"
-            f"\\section*{{Equations of motion: {eom.model.name}}}\n"
-            "\\begin{align*}\n" + body + "\n\\end{align*}\n" + rows + "\\end{document}\n")
+        doc += [r"\subsection*{Constants}", r"\begin{longtable}{lllll}",
+                r"symbol & of & definition & unit & value \\ \hline \endhead"]
+        for sym, source, definition, unit, value in constant_rows(eom, values):
+            src = _tex_escape(source.strip("`"))
+            doc.append(f"${sym}$ & {src} & {'$' + definition + '$' if definition else ''} & "
+                       f"{_unit_tex(unit)} & {value} \\\\")
+        doc.append(r"\end{longtable}")
+    doc.append(r"\end{document}")
+    return "\n".join(doc) + "\n"
+
+
+def render_pdf(tex_path, *, timeout: float = 120.0) -> tuple[Path | None, str]:
+    """Compile a LaTeX file with ``pdflatex`` into a PDF beside it.
+
+    Parameters
+    ----------
+    tex_path : str or pathlib.Path
+        The ``.tex`` file.
+    timeout : float
+        Longest time allowed for each pdflatex pass [s].
+
+    Returns
+    -------
+    (pathlib.Path or None, str)
+        The PDF (None when it could not be made) and a message for the user ("" on success). A
+        missing LaTeX installation or a failed compilation is reported, never raised.
+    """
+    from .atomic import atomic_write_bytes
+
+    tex_path = Path(tex_path)
+    exe = shutil.which("pdflatex")
+    if exe is None:
+        return None, PDFLATEX_MISSING
+    with tempfile.TemporaryDirectory(prefix="flexkane-latex-") as work:
+        source = Path(work) / "equations.tex"
+        source.write_bytes(tex_path.read_bytes())
+        for _ in range(2):            # the second pass settles the widths of the long table
+            try:
+                proc = subprocess.run([exe, "-interaction=nonstopmode", "-halt-on-error", source.name],
+                                      cwd=work, capture_output=True, text=True, timeout=timeout,
+                                      stdin=subprocess.DEVNULL)
+            except (OSError, subprocess.TimeoutExpired) as exc:
+                return None, f"PDF skipped: pdflatex did not finish ({exc})"
+            if proc.returncode != 0:
+                errors = [line for line in proc.stdout.splitlines() if line.startswith("!")]
+                detail = errors[0] if errors else f"exit code {proc.returncode}"
+                return None, f"PDF skipped: pdflatex failed on {tex_path.name}: {detail}"
+        pdf = tex_path.with_suffix(".pdf")
+        atomic_write_bytes(pdf, (Path(work) / "equations.pdf").read_bytes())
+    return pdf, ""

@@ -9,6 +9,7 @@ from pathlib import Path
 
 from ..errors import ModelError, SolverFailure
 from ._common import add_model_arguments, model_from_args
+from .animate import add_animation_arguments
 
 __all__ = ["register", "run_model"]
 
@@ -26,6 +27,11 @@ def register(subparsers) -> None:
     p.add_argument("--method", default=None, choices=("auto", "dop853", "radau"),
                    help="integration method [default: the model's, else auto]")
     p.add_argument("--force", action="store_true", help="write into an existing non-empty directory")
+    p.add_argument("--animate", action="store_true",
+                   help="also write animation.gif (and animation.mp4 where ffmpeg exists), as 'flexkane animate'")
+    add_animation_arguments(p, movie_options=False)
+    p.add_argument("--pdf", action="store_true",
+                   help="also render equations.tex to equations.pdf (needs pdflatex on PATH)")
     p.add_argument("--quiet", action="store_true", help="no progress bar and no summary")
     p.set_defaults(handler=_handle)
 
@@ -34,7 +40,8 @@ def _handle(args) -> int:
     model = model_from_args(args)
     out = Path(args.out) if args.out else Path("out") / model.name
     return run_model(model, out, t_end=args.t_end, dt_out=args.dt_out, rtol=args.rtol, atol=args.atol,
-                     method=args.method, force=args.force, quiet=args.quiet)
+                     method=args.method, force=args.force, quiet=args.quiet,
+                     animation=args if args.animate else None, pdf=args.pdf)
 
 
 def energy_balance_text(results) -> str:
@@ -57,14 +64,18 @@ def _terminate(signum, frame):  # SIGTERM behaves as Ctrl-C: partial results are
 
 
 def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None, method=None,
-              force=False, quiet=False) -> int:
-    """Run a validated model into directory ``out``; return the exit code (0 ok, 3 solver failure)."""
+              force=False, quiet=False, animation=None, pdf=False) -> int:
+    """Run a validated model into directory ``out``; return the exit code (0 ok, 3 solver failure).
+
+    ``animation``: options of :func:`~flexkane.commands.animate.add_animation_arguments` (``magnify``,
+    ``trace``) to also write animation.gif, or None. ``pdf``: also render equations.tex to a PDF.
+    """
     from ..atomic import atomic_write_text, prepare_output_dir
     from ..kane import derive
     from ..model import dumps_model
     from ..plots import write_plots
     from ..progress import ProgressBar
-    from ..report import equations_markdown
+    from ..report import equations_latex, equations_markdown, render_pdf
     from ..simulation import compile_model, simulate
 
     sim = model.simulation
@@ -92,8 +103,20 @@ def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None
     atomic_write_text(out / "model.toml", dumps_model(model))
     values = eom.constant_values(model)
     atomic_write_text(out / "equations.md", equations_markdown(eom, values))
+    atomic_write_text(out / "equations.tex", equations_latex(eom, values))
+    written.append(out / "equations.tex")
+    if pdf:
+        pdf_path, message = render_pdf(out / "equations.tex")
+        if pdf_path is not None:
+            written.append(pdf_path)
+        if message:
+            print(f"flexkane: {message}", file=sys.stderr)
     if len(results.t) > 1:
         written += write_plots(results, eom, out)
+    if animation is not None and len(results.t) > 0:
+        from .animate import animate_run
+
+        written += animate_run(results, out / "animation.gif", animation, quiet=quiet)
     s = results.solver
     if not quiet or results.partial:
         drift = ""
