@@ -1,4 +1,4 @@
-"""``flexkane check``: validate a model without running it."""
+"""``flexkane check``: validate a model without deriving or running it."""
 
 from __future__ import annotations
 
@@ -9,8 +9,11 @@ __all__ = ["register"]
 
 def register(subparsers) -> None:
     p = subparsers.add_parser("check", help="validate a model file without running it",
-                              description="Check every field and reference of a model; exit 0 if valid, "
-                                          "2 with a message naming the field otherwise.")
+                              description="Check every field, reference and the chain of a model (types, "
+                                          "ranges with units, names, the joint tree, shape families, "
+                                          "coordinates and initial conditions) without deriving the "
+                                          "equations; exit 0 if valid, 2 with a message naming the field "
+                                          "otherwise.")
     add_model_arguments(p, default=None)
     p.set_defaults(handler=_handle)
 
@@ -18,9 +21,16 @@ def register(subparsers) -> None:
 def _handle(args) -> int:
     from ..kane.chain import build_chain
 
-    model = model_from_args(args)
-    chain = build_chain(model)   # also checks initial conditions against the coordinates
-    print(f"{args.model}: valid ({len(model.bodies)} bodies, {len(model.beams)} beams, "
-          f"{len(model.joints)} joints, {len(chain.coordinates)} generalized coordinates: "
-          f"{', '.join(c.q.name for c in chain.coordinates)})")
+    model = model_from_args(args)   # validates fields, references, shape families and the chain
+    chain = build_chain(model)
+    free = [c for c in chain.coordinates if c.driver is None]
+    modes = ", ".join(f"{b.name}: {b.n_modes} {b.shape.family}" + (f" + {b.n_axial} axial" if b.n_axial else "")
+                      for b in model.beams.values())
+    print(f"{args.model}: valid ({len(model.bodies)} bodies, {len(model.beams)} beams"
+          + (f" [{modes}]" if modes else "") + f", {len(model.joints)} joints"
+          + (f", {len(model.constraints)} loop constraints" if model.constraints else "")
+          + f"; {len(chain.coordinates)} generalized coordinates: "
+          f"{', '.join(c.q.name for c in chain.coordinates)}"
+          + (f"; {len(chain.coordinates) - len(free)} prescribed by drivers" if len(free) < len(chain.coordinates)
+             else "") + ")")
     return 0

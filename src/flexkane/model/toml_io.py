@@ -9,17 +9,22 @@ The file has one table per kind of part, keyed by name::
     [gravity]               # g, direction
     [loads.NAME]            # body, point | station, force, torque, frame
     [springs.NAME]          # body_a, point_a | position_a, body_b, ..., stiffness, damping, rest_length
+    [constraints.NAME]      # loop-closure joints: type, body_a, point_a | station_a | position_a, ...
     [initial]               # coordinate or speed name = value
     [simulation]            # t_end, dt_out, rtol, atol, method
+    [sweep]                 # read by flexkane.sweep, ignored here
 
-Reading checks the shape of the file (tables, keys, types) with messages that name the key path;
-:func:`flexkane.model.validate.validate_model` then checks values and references.
+Reading checks the layout of the file: tables where tables belong, no unknown key (a typo is
+reported with the nearest valid key), every required key present. Values are kept as given (a
+number or the text of an expression); :func:`flexkane.model.validate.validate_model` then checks
+their types and ranges with the unit of each field, and every reference, so that a model built in
+Python gets the same checks.
 """
 
 from __future__ import annotations
 
 import difflib
-import math
+import numbers
 import tomllib
 from pathlib import Path
 
@@ -30,284 +35,186 @@ from .model import Model
 from .parts import (Beam, Driver, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody,
                     ShapeSpec, Simulation)
 
-__all__ = ["load_model", "loads_model", "dumps_model", "save_model", "MAX_FILE_BYTES"]
+__all__ = ["load_model", "loads_model", "dumps_model", "save_model", "model_to_dict", "MAX_FILE_BYTES"]
 
 #: Largest model file accepted [bytes].
 MAX_FILE_BYTES = 1_000_000
 
 _TOP_KEYS = ("name", "description", "naming", "parameters", "bodies", "beams", "joints", "gravity",
              "loads", "springs", "constraints", "initial", "simulation", "sweep")
+_BODY_KEYS = ("mass", "inertia", "points", "outline")
+_BEAM_KEYS = ("L", "EI", "rho", "n_modes", "shape", "damping", "gravity", "elastic_forces",
+              "geometric_stiffening", "EA", "n_axial", "axial_shape")
+_SHAPE_KEYS = ("family", "roots")  # plus the options of the family, checked by the family
+_JOINT_KEYS = ("type", "parent", "child", "parent_point", "parent_position", "station", "child_point",
+               "angle", "axis", "coordinates", "speeds", "stiffness", "damping", "rest", "torque", "driver")
+_DRIVER_KEYS = ("coordinate", "speed")
+_GRAVITY_KEYS = ("g", "direction")
+_LOAD_KEYS = ("body", "point", "station", "force", "torque", "frame")
+_SPRING_KEYS = ("body_a", "point_a", "position_a", "body_b", "point_b", "position_b", "stiffness",
+                "damping", "rest_length")
+_CONSTRAINT_KEYS = ("type", "body_a", "point_a", "station_a", "position_a", "body_b", "point_b", "station_b",
+                    "position_b", "axis", "angle", "dependent", "stabilization")
+_SIM_KEYS = ("t_end", "dt_out", "rtol", "atol", "method")
+
+_MISSING = object()
 
 
-def _unknown(path: str, key: str, valid) -> ModelError:
-    close = difflib.get_close_matches(key, list(valid), n=1, cutoff=0.5)
-    hint = f"did you mean {close[0]!r}?" if close else f"valid keys: {', '.join(valid)}"
-    return ModelError(f"{path}.{key}" if path else key, "a known key", key, hint)
+def _join(path: str, key: str) -> str:
+    return f"{path}.{key}" if path else key
 
 
 def _check_keys(table: dict, valid, path: str) -> None:
     for key in table:
         if key not in valid:
-            raise _unknown(path, key, valid)
+            close = difflib.get_close_matches(key, list(valid), n=1, cutoff=0.5)
+            hint = f"did you mean {close[0]!r}?" if close else f"valid keys: {', '.join(valid)}"
+            raise ModelError(_join(path, key), "a known key", key, hint)
 
 
-def _table(parent: dict, key: str, path: str, required: bool = False) -> dict:
-    value = parent.get(key, {} if not required else None)
-    if value is None:
-        raise ModelError(f"{path}.{key}" if path else key, "a table", None, show_given=False)
+def _table(parent: dict, key: str, path: str, what: str = "a table") -> dict:
+    """A sub-table (empty when absent)."""
+    value = parent.get(key, {})
     if not isinstance(value, dict):
-        raise ModelError(f"{path}.{key}" if path else key, "a table", value)
+        raise ModelError(_join(path, key), what, value)
     return value
 
 
-def _value(table: dict, key: str, path: str, required: bool = True, default=None):
-    """A scalar field value: number or expression text."""
-    if key not in table:
-        if required:
-            raise ModelError(f"{path}.{key}", "a value (number or expression)", None,
-                             "missing", show_given=False)
-        return default
-    value = table[key]
-    if isinstance(value, bool) or not isinstance(value, (int, float, str)):
-        raise ModelError(f"{path}.{key}", "a number or an expression string", value)
-    if isinstance(value, float) and not math.isfinite(value):
-        raise ModelError(f"{path}.{key}", "a finite number", value)
-    return value
+def _parts(data: dict, kind: str, keys) -> dict[str, dict]:
+    """The tables of one kind of part, ``[kind.NAME]``, each checked for unknown keys."""
+    out = {}
+    for name, table in _table(data, kind, "", f"a table of parts [{kind}.NAME]").items():
+        if not isinstance(table, dict):
+            raise ModelError(f"{kind}.{name}", f"a table [{kind}.{name}] of keys {', '.join(keys)}", table)
+        _check_keys(table, keys, f"{kind}.{name}")
+        out[name] = table
+    return out
 
 
-def _pair(table: dict, key: str, path: str, required: bool = True):
-    if key not in table:
-        if required:
-            raise ModelError(f"{path}.{key}", "a pair [x, y]", None, "missing", show_given=False)
-        return None
-    value = table[key]
-    if not isinstance(value, list) or len(value) != 2:
-        raise ModelError(f"{path}.{key}", "a pair [x, y]", value)
-    for i, item in enumerate(value):
-        _value({str(i): item}, str(i), f"{path}.{key}")
-    return (value[0], value[1])
+def _get(table: dict, key: str, path: str, expected: str | None = None, default=None):
+    """A field as given; ``expected`` (what to write, with the unit) makes it required."""
+    if key in table:
+        return table[key]
+    if expected is not None:
+        raise ModelError(_join(path, key), expected, None, "missing", show_given=False)
+    return default
 
 
-def _int(table: dict, key: str, path: str, default=None, required=False):
-    if key not in table:
-        if required:
-            raise ModelError(f"{path}.{key}", "an integer", None, "missing", show_given=False)
-        return default
-    value = table[key]
-    if isinstance(value, bool) or not isinstance(value, int):
-        raise ModelError(f"{path}.{key}", "an integer", value)
-    return value
-
-
-def _str(table: dict, key: str, path: str, default=None, required=False, choices=None):
-    if key not in table:
-        if required:
-            raise ModelError(f"{path}.{key}", "a string" + (f" (one of {', '.join(choices)})" if choices else ""),
-                             None, "missing", show_given=False)
-        return default
-    value = table[key]
-    if not isinstance(value, str):
-        raise ModelError(f"{path}.{key}", "a string", value)
-    if choices is not None and value not in choices:
-        close = difflib.get_close_matches(value, list(choices), n=1, cutoff=0.5)
-        raise ModelError(f"{path}.{key}", f"one of {', '.join(choices)}", value,
-                         f"did you mean {close[0]!r}?" if close else None)
-    return value
-
-
-def _float(table: dict, key: str, path: str, default=None):
-    if key not in table:
-        return default
-    value = table[key]
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise ModelError(f"{path}.{key}", "a finite number", value)
-    return float(value)
-
-
-def _names(table: dict, key: str, path: str):
-    if key not in table:
-        return None
-    value = table[key]
-    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-        raise ModelError(f"{path}.{key}", "a list of names", value)
-    return list(value)
+def _pair(table: dict, key: str, path: str, expected: str | None = None):
+    """A pair [x, y] as a tuple (other values are kept as given, for the validation to report)."""
+    value = _get(table, key, path, expected)
+    return tuple(value) if isinstance(value, list) else value
 
 
 def _shape(table: dict, key: str, path: str, default_family: str | None):
     if key not in table:
         return ShapeSpec(default_family) if default_family else None
     spec = table[key]
-    sp = f"{path}.{key}"
+    shape_path = f"{path}.{key}"
     if isinstance(spec, str):
         return ShapeSpec(spec)
     if not isinstance(spec, dict):
-        raise ModelError(sp, "a family name or a table { family = ... }", spec)
-    family = _str(spec, "family", sp, required=True)
-    roots = None
-    if "roots" in spec:
-        roots = spec["roots"]
-        if not isinstance(roots, list) or not roots or not all(
-                isinstance(r, (int, float)) and not isinstance(r, bool) for r in roots):
-            raise ModelError(f"{sp}.roots", "a non-empty list of numbers", roots)
+        raise ModelError(shape_path, "a family name or a table { family = ..., options }", spec)
+    family = _get(spec, "family", shape_path, "the name of a shape-function family")
+    roots = spec.get("roots")
+    if isinstance(roots, list) and all(isinstance(r, numbers.Real) and not isinstance(r, bool) for r in roots):
         roots = [float(r) for r in roots]
-    options = {k: v for k, v in spec.items() if k not in ("family", "roots")}
+    options = {k: v for k, v in spec.items() if k not in _SHAPE_KEYS}
     return ShapeSpec(family, roots, options)
 
 
-_BODY_KEYS = ("mass", "inertia", "points", "outline")
-_BEAM_KEYS = ("L", "EI", "rho", "n_modes", "shape", "damping", "gravity", "elastic_forces",
-              "geometric_stiffening", "EA", "n_axial", "axial_shape")
-_JOINT_KEYS = ("type", "parent", "child", "parent_point", "parent_position", "station", "child_point",
-               "angle", "axis", "coordinates", "speeds", "stiffness", "damping", "rest", "torque", "driver")
-_LOAD_KEYS = ("body", "point", "station", "force", "torque", "frame")
-_SPRING_KEYS = ("body_a", "point_a", "position_a", "body_b", "point_b", "position_b", "stiffness",
-                "damping", "rest_length")
-_SIM_KEYS = ("t_end", "dt_out", "rtol", "atol", "method")
-_CONSTRAINT_KEYS = ("type", "body_a", "point_a", "station_a", "position_a", "body_b", "point_b", "station_b",
-                    "position_b", "axis", "angle", "dependent", "stabilization")
+def _float(table: dict, key: str, default=None):
+    value = table.get(key, default)
+    if isinstance(value, numbers.Real) and not isinstance(value, bool):
+        return float(value)
+    return value
 
 
 def _model_from_dict(data: dict) -> Model:
-    from .model import NAMING_STYLES
-    from .parts import ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_TYPES
-
     _check_keys(data, _TOP_KEYS, "")
-    model = Model(name=_str(data, "name", "", default="model"),
-                  description=_str(data, "description", "", default=""),
-                  naming=_str(data, "naming", "", default="joint", choices=NAMING_STYLES))
-    params = _table(data, "parameters", "")
-    for key in params:
-        model.parameters[key] = _value(params, key, "parameters")
-    for name, body in _table(data, "bodies", "").items():
+    model = Model(name=_get(data, "name", "", default="model"),
+                  description=_get(data, "description", "", default=""),
+                  naming=_get(data, "naming", "", default="joint"))
+    model.parameters.update(_table(data, "parameters", "", "a table of parameters { name = value }"))
+    for name, body in _parts(data, "bodies", _BODY_KEYS).items():
         path = f"bodies.{name}"
-        if not isinstance(body, dict):
-            raise ModelError(path, "a table", body)
-        _check_keys(body, _BODY_KEYS, path)
-        points = {}
-        for pname in _table(body, "points", path):
-            points[pname] = _pair(body["points"], pname, f"{path}.points")
-        outline = []
-        if "outline" in body:
-            if not isinstance(body["outline"], list):
-                raise ModelError(f"{path}.outline", "a list of [x, y] pairs", body["outline"])
-            for i, _ in enumerate(body["outline"]):
-                outline.append(_pair({str(i): body["outline"][i]}, str(i), f"{path}.outline"))
-        model.bodies[name] = RigidBody(name, _value(body, "mass", path), _value(body, "inertia", path),
-                                       points, outline)
-    for name, beam in _table(data, "beams", "").items():
+        points = {pname: _pair(body["points"], pname, f"{path}.points")
+                  for pname in _table(body, "points", path, "a table of named points { P = [x, y] } [m]")}
+        outline = body.get("outline", [])
+        if isinstance(outline, list):
+            outline = [tuple(v) if isinstance(v, list) else v for v in outline]
+        model.bodies[name] = RigidBody(name, _get(body, "mass", path, "the mass [kg]"),
+                                       _get(body, "inertia", path, "the moment of inertia about the mass centre"
+                                            " [kg m^2]"), points, outline)
+    for name, beam in _parts(data, "beams", _BEAM_KEYS).items():
         path = f"beams.{name}"
-        if not isinstance(beam, dict):
-            raise ModelError(path, "a table", beam)
-        _check_keys(beam, _BEAM_KEYS, path)
         damping = beam.get("damping", [])
-        if not isinstance(damping, list):
-            damping = [damping]
-        for i, item in enumerate(damping):
-            _value({str(i): item}, str(i), f"{path}.damping")
-        stiff = beam.get("geometric_stiffening", False)
-        if not isinstance(stiff, bool):
-            raise ModelError(f"{path}.geometric_stiffening", "true or false", stiff)
-        n_axial = _int(beam, "n_axial", path, default=0)
+        n_axial = beam.get("n_axial", 0)
         model.beams[name] = Beam(
-            name, _value(beam, "L", path), _value(beam, "EI", path), _value(beam, "rho", path),
-            _int(beam, "n_modes", path, required=True),
-            shape=_shape(beam, "shape", path, "clamped-free"), damping=damping,
-            gravity=_str(beam, "gravity", path, default="distributed", choices=GRAVITY_MODELS),
-            elastic_forces=_str(beam, "elastic_forces", path, default="strain-energy",
-                                choices=ELASTIC_MODELS),
-            geometric_stiffening=stiff, EA=_value(beam, "EA", path, required=False),
-            n_axial=n_axial,
+            name, _get(beam, "L", path, "the length [m]"), _get(beam, "EI", path, "the flexural rigidity [N m^2]"),
+            _get(beam, "rho", path, "the mass per unit length [kg/m]"),
+            _get(beam, "n_modes", path, "the number of shape functions, an integer from 1 to 200"),
+            shape=_shape(beam, "shape", path, "clamped-free"),
+            damping=damping if isinstance(damping, list) else [damping],
+            gravity=beam.get("gravity", "distributed"), elastic_forces=beam.get("elastic_forces", "strain-energy"),
+            geometric_stiffening=beam.get("geometric_stiffening", False), EA=beam.get("EA"), n_axial=n_axial,
             axial_shape=_shape(beam, "axial_shape", path, "axial-fixed-free" if n_axial else None))
-    for name, joint in _table(data, "joints", "").items():
+    for name, joint in _parts(data, "joints", _JOINT_KEYS).items():
         path = f"joints.{name}"
-        if not isinstance(joint, dict):
-            raise ModelError(path, "a table", joint)
-        _check_keys(joint, _JOINT_KEYS, path)
         driver = None
         if "driver" in joint:
-            dt = _table(joint, "driver", path)
-            _check_keys(dt, ("coordinate", "speed"), f"{path}.driver")
-            driver = Driver(_value(dt, "coordinate", f"{path}.driver", required=False),
-                            _value(dt, "speed", f"{path}.driver", required=False))
+            table = _table(joint, "driver", path, "a table { coordinate = ... } or { speed = ... }")
+            _check_keys(table, _DRIVER_KEYS, f"{path}.driver")
+            driver = Driver(table.get("coordinate"), table.get("speed"))
         model.joints[name] = Joint(
-            name, _str(joint, "type", path, required=True, choices=JOINT_TYPES),
-            _str(joint, "parent", path, required=True), _str(joint, "child", path, required=True),
-            parent_point=_str(joint, "parent_point", path),
-            parent_position=_pair(joint, "parent_position", path, required=False),
-            station=_value(joint, "station", path, required=False),
-            child_point=_str(joint, "child_point", path),
-            angle=_value(joint, "angle", path, required=False, default=0),
-            axis=_value(joint, "axis", path, required=False, default=0),
-            coordinates=_names(joint, "coordinates", path), speeds=_names(joint, "speeds", path),
-            stiffness=_value(joint, "stiffness", path, required=False),
-            damping=_value(joint, "damping", path, required=False),
-            rest=_value(joint, "rest", path, required=False, default=0),
-            torque=_value(joint, "torque", path, required=False), driver=driver)
+            name, _get(joint, "type", path, "the joint type (free, revolute, prismatic or weld)"),
+            _get(joint, "parent", path, "the parent: 'ground', a body or a beam"),
+            _get(joint, "child", path, "the child: a body or a beam"),
+            parent_point=joint.get("parent_point"), parent_position=_pair(joint, "parent_position", path),
+            station=joint.get("station"), child_point=joint.get("child_point"),
+            angle=joint.get("angle", 0), axis=joint.get("axis", 0),
+            coordinates=joint.get("coordinates"), speeds=joint.get("speeds"),
+            stiffness=joint.get("stiffness"), damping=joint.get("damping"), rest=joint.get("rest", 0),
+            torque=joint.get("torque"), driver=driver)
     if "gravity" in data:
-        grav = _table(data, "gravity", "")
-        _check_keys(grav, ("g", "direction"), "gravity")
-        direction = _pair(grav, "direction", "gravity")
-        if any(isinstance(c, str) for c in direction):
-            raise ModelError("gravity.direction", "two numbers [x, y] (the direction is structural)",
-                             list(direction))
-        model.gravity = Gravity(_value(grav, "g", "gravity"), direction)
-    for name, load in _table(data, "loads", "").items():
+        grav = _table(data, "gravity", "", "a table { g = ..., direction = [x, y] }")
+        _check_keys(grav, _GRAVITY_KEYS, "gravity")
+        model.gravity = Gravity(_get(grav, "g", "gravity", "the gravitational acceleration [m/s^2]"),
+                                _pair(grav, "direction", "gravity", "a direction [x, y] in the ground frame"))
+    for name, load in _parts(data, "loads", _LOAD_KEYS).items():
         path = f"loads.{name}"
-        if not isinstance(load, dict):
-            raise ModelError(path, "a table", load)
-        _check_keys(load, _LOAD_KEYS, path)
-        model.loads[name] = Load(name, _str(load, "body", path, required=True),
-                                 point=_str(load, "point", path),
-                                 station=_value(load, "station", path, required=False),
-                                 force=_pair(load, "force", path, required=False),
-                                 torque=_value(load, "torque", path, required=False),
-                                 frame=_str(load, "frame", path, default="ground", choices=FRAMES))
-    for name, spring in _table(data, "springs", "").items():
+        model.loads[name] = Load(name, _get(load, "body", path, "the name of a body or a beam"),
+                                 point=load.get("point"), station=load.get("station"),
+                                 force=_pair(load, "force", path), torque=load.get("torque"),
+                                 frame=load.get("frame", "ground"))
+    for name, spring in _parts(data, "springs", _SPRING_KEYS).items():
         path = f"springs.{name}"
-        if not isinstance(spring, dict):
-            raise ModelError(path, "a table", spring)
-        _check_keys(spring, _SPRING_KEYS, path)
         model.springs[name] = PointSpring(
-            name, _str(spring, "body_a", path, required=True), _str(spring, "body_b", path, required=True),
-            point_a=_str(spring, "point_a", path), point_b=_str(spring, "point_b", path),
-            position_a=_pair(spring, "position_a", path, required=False),
-            position_b=_pair(spring, "position_b", path, required=False),
-            stiffness=_value(spring, "stiffness", path, required=False, default=0),
-            damping=_value(spring, "damping", path, required=False, default=0),
-            rest_length=_value(spring, "rest_length", path, required=False, default=0))
-    for name, con in _table(data, "constraints", "").items():
+            name, _get(spring, "body_a", path, "'ground' or a body"), _get(spring, "body_b", path, "'ground' or a body"),
+            point_a=spring.get("point_a"), point_b=spring.get("point_b"),
+            position_a=_pair(spring, "position_a", path), position_b=_pair(spring, "position_b", path),
+            stiffness=spring.get("stiffness", 0), damping=spring.get("damping", 0),
+            rest_length=spring.get("rest_length", 0))
+    for name, con in _parts(data, "constraints", _CONSTRAINT_KEYS).items():
         path = f"constraints.{name}"
-        if not isinstance(con, dict):
-            raise ModelError(path, "a table", con)
-        _check_keys(con, _CONSTRAINT_KEYS, path)
-        stab = _float(con, "stabilization", path, 0.0)
-        if stab < 0:
-            raise ModelError(f"{path}.stabilization", "a non-negative rate [1/s]", stab)
         model.constraints[name] = LoopConstraint(
-            name, _str(con, "type", path, required=True, choices=("revolute", "prismatic")),
-            _str(con, "body_a", path, required=True), _str(con, "body_b", path, required=True),
-            point_a=_str(con, "point_a", path), point_b=_str(con, "point_b", path),
-            station_a=_value(con, "station_a", path, required=False),
-            station_b=_value(con, "station_b", path, required=False),
-            position_a=_pair(con, "position_a", path, required=False),
-            position_b=_pair(con, "position_b", path, required=False),
-            axis=_value(con, "axis", path, required=False, default=0),
-            angle=_value(con, "angle", path, required=False, default=0),
-            dependent=_names(con, "dependent", path), stabilization=stab)
-    initial = _table(data, "initial", "")
-    for key in initial:
-        model.initial[key] = _value(initial, key, "initial")
-    sim = _table(data, "simulation", "")
+            name, _get(con, "type", path, "the loop joint type (revolute or prismatic)"),
+            _get(con, "body_a", path, "'ground', a body or a beam"), _get(con, "body_b", path, "'ground', a body or a beam"),
+            point_a=con.get("point_a"), point_b=con.get("point_b"),
+            station_a=con.get("station_a"), station_b=con.get("station_b"),
+            position_a=_pair(con, "position_a", path), position_b=_pair(con, "position_b", path),
+            axis=con.get("axis", 0), angle=con.get("angle", 0), dependent=con.get("dependent"),
+            stabilization=_float(con, "stabilization", 0.0))
+    model.initial.update(_table(data, "initial", "", "a table of initial values { q_name = value }"))
+    sim = _table(data, "simulation", "", "a table of run settings")
     _check_keys(sim, _SIM_KEYS, "simulation")
-    model.simulation = Simulation(_float(sim, "t_end", "simulation"), _float(sim, "dt_out", "simulation"),
-                                  _float(sim, "rtol", "simulation", 1e-8),
-                                  _float(sim, "atol", "simulation", 1e-10),
-                                  _str(sim, "method", "simulation", default="auto"))
+    model.simulation = Simulation(_float(sim, "t_end"), _float(sim, "dt_out"), _float(sim, "rtol", 1e-8),
+                                  _float(sim, "atol", 1e-10), sim.get("method", "auto"))
     return model
 
 
 def loads_model(text: str, *, source: str = "<string>") -> Model:
-    """Parse a model from TOML text.
+    """Parse and validate a model from TOML text.
 
     Parameters
     ----------
@@ -321,9 +228,11 @@ def loads_model(text: str, *, source: str = "<string>") -> Model:
     Model
         The model, validated.
     """
+    if not isinstance(text, str):
+        raise ModelError(source if isinstance(source, str) else "text", "the text of a model file (str)",
+                         type(text).__name__)
     if len(text.encode("utf-8", "replace")) > MAX_FILE_BYTES:
-        raise ModelError(source, f"a model file of at most {MAX_FILE_BYTES} bytes",
-                         f"{len(text)} characters")
+        raise ModelError(source, f"a model file of at most {MAX_FILE_BYTES} bytes", f"{len(text)} characters")
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -339,8 +248,13 @@ def load_model(path: str | Path) -> Model:
     path : str or Path
         Path of a TOML model file.
     """
+    if not isinstance(path, (str, Path)):
+        raise ModelError("MODEL", "the path of a model file", type(path).__name__)
     path = Path(path)
     try:
+        if path.stat().st_size > MAX_FILE_BYTES:
+            raise ModelError(str(path), f"a model file of at most {MAX_FILE_BYTES} bytes",
+                             f"{path.stat().st_size} bytes")
         raw = path.read_bytes()
     except OSError as exc:
         raise ModelError("MODEL", "a readable model file", str(path), exc.strerror) from None
@@ -458,4 +372,10 @@ def save_model(model: Model, path: str | Path) -> None:
     """Write the model file atomically."""
     from ..atomic import atomic_write_text
 
-    atomic_write_text(Path(path), dumps_model(model))
+    if not isinstance(path, (str, Path)):
+        raise ModelError("path", "the path of the model file to write", type(path).__name__)
+    text = dumps_model(model)
+    try:
+        atomic_write_text(Path(path), text)
+    except OSError as exc:
+        raise ModelError("path", "a writable model file path", str(path), exc.strerror or str(exc)) from None

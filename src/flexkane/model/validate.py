@@ -1,283 +1,618 @@
-"""Validation of a model's values and references, before anything is derived.
+"""Validation of a model, before anything is derived.
 
-Each problem raises :class:`~flexkane.errors.ModelError` naming the key path, what was expected
-(with the unit) and what was given.
+:func:`validate_model` checks a :class:`~flexkane.model.Model` however it was built (model file,
+Python API, ``--set``, sweep), so it trusts no field's type. In order:
+
+1. the model's own fields, the parameters (each resolved to a number);
+2. every part: types, names (identifiers, unique), physical ranges with units (positive lengths,
+   rigidities, densities and masses; non-negative inertias, stiffnesses and dampings; beam stations
+   ``0 <= x <= L``), time laws (expressions of ``t`` finite at ``t = 0``);
+3. references: every joint's parent and child, points, stations, load, spring and loop-constraint
+   ends; the joints form a tree rooted at the ground (loops are closed by ``constraints``);
+4. structure: the shape-function family of each beam with its options and mode count, the chain's
+   generalized coordinates (names unique), initial conditions only for coordinates and speeds that
+   exist, the dependent speeds of loop constraints.
+
+The first problem found raises :class:`~flexkane.errors.ModelError` naming the key path
+(``beams.arm.EI``), what was expected with its unit, and what was given.
 """
 
 from __future__ import annotations
 
+import difflib
+import keyword
 import math
+import numbers
+import re
+
+import sympy as sp
 
 from ..errors import ModelError
-from .model import Model
-from .parts import JOINT_DOFS
+from .model import NAMING_STYLES, Model
+from .parts import (ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES, Beam, Driver,
+                    Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody, ShapeSpec, Simulation)
 
-__all__ = ["validate_model", "MAX_MODES"]
+__all__ = ["validate_model", "validate_run_arguments", "MAX_MODES", "METHODS", "is_name"]
 
+#: Largest number of shape functions of one beam (transverse or axial).
 MAX_MODES = 200
+#: Integration methods a model may ask for.
+METHODS = ("auto", "dop853", "radau")
+#: Range of relative tolerances the integrators accept [-].
+RTOL_RANGE = (1e-13, 1.0)
+
+_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+_NAME_RULE = "of ASCII letters, digits and underscores, not starting with a digit"
+#: Unit of a joint's coordinate, by role.
+_ROLE_UNIT = {"x": "m", "y": "m", "angle": "rad", "slide": "m", "mode": "m", "axial": "m"}
 
 
-def _numeric(model: Model, path: str, value, params: dict[str, float], *, allow_t=False) -> float | None:
-    """Evaluate a constant field for range checks (None when it depends on t)."""
-    from ..expressions import parse_expression
-
-    import sympy as sp
-
-    names = {k: sp.Symbol(k, real=True) for k in model.parameters}
-    if allow_t:
-        names["t"] = sp.Symbol("t", real=True)
-    expr = parse_expression(value, names, path=path)
-    if allow_t and expr.has(names["t"]):
-        return None
-    subs = {names[k]: v for k, v in params.items()}
-    number = complex(expr.subs(subs).evalf())
-    if number.imag != 0 or not math.isfinite(number.real):
-        raise ModelError(path, "a finite real value", value)
-    return number.real
+def is_name(text) -> bool:
+    """Whether ``text`` is a valid part, point, coordinate or speed name."""
+    return isinstance(text, str) and _NAME.fullmatch(text) is not None
 
 
-def _positive(model, path, value, params, unit):
-    number = _numeric(model, path, value, params)
-    if not number > 0:
-        raise ModelError(path, f"a positive value [{unit}]", value if number == value else f"{value} = {number:g}")
-    return number
+def _suggest(name, options) -> str | None:
+    close = difflib.get_close_matches(str(name), [str(o) for o in options], n=1, cutoff=0.5)
+    return f"did you mean {close[0]!r}?" if close else None
 
 
-def _non_negative(model, path, value, params, unit):
-    number = _numeric(model, path, value, params)
-    if number < 0:
-        raise ModelError(path, f"a non-negative value [{unit}]", value if number == value else f"{value} = {number:g}")
-    return number
+def _is_value(value) -> bool:
+    return not isinstance(value, bool) and isinstance(value, (numbers.Real, str))
+
+
+def _is_pair(value) -> bool:
+    return isinstance(value, (tuple, list)) and len(value) == 2
+
+
+class _Values:
+    """Evaluates constant fields and time laws of one model, for range checks."""
+
+    def __init__(self, model: Model):
+        from ..expressions import resolve_parameters
+
+        numbers_ = resolve_parameters(model.parameters, path_prefix="parameters")
+        self.names = {name: sp.Symbol(name, real=True) for name in numbers_}
+        self.numbers = {self.names[name]: value for name, value in numbers_.items()}
+        self.t = sp.Symbol("t", real=True)
+
+    def number(self, path: str, value, what: str, unit: str, *, time: bool = False) -> float:
+        """The value of a field (at t = 0 for a time law); checks its type and that it is finite."""
+        from ..expressions import parse_expression, to_float
+
+        kind = f"{what} [{unit}]" + (", a number or an expression of t" if time else "")
+        if not _is_value(value):
+            raise ModelError(path, f"a number or an expression string ({kind})", value)
+        names = dict(self.names)
+        numbers_ = dict(self.numbers)
+        if time:
+            names["t"] = self.t
+            numbers_[self.t] = 0.0
+        try:
+            expr = parse_expression(value, names, path=path)
+        except ModelError as exc:
+            raise ModelError(exc.path, f"{kind}, written as {exc.expected}", exc.given, exc.hint) from None
+        try:
+            return to_float(expr, numbers_, path=path)
+        except ModelError as exc:
+            where = " at t = 0" if time and expr.has(self.t) else ""
+            raise ModelError(path, f"{kind} with a finite real value{where}", value, exc.hint) from None
+
+    @staticmethod
+    def shown(value, number: float):
+        """What was given: the number, or the expression with its value."""
+        return value if not isinstance(value, str) else f"{value} = {number:g}"
+
+    def positive(self, path, value, what, unit) -> float:
+        number = self.number(path, value, what, unit)
+        if not number > 0:
+            raise ModelError(path, f"a positive value [{unit}] ({what})", self.shown(value, number))
+        return number
+
+    def non_negative(self, path, value, what, unit) -> float:
+        number = self.number(path, value, what, unit)
+        if number < 0:
+            raise ModelError(path, f"a non-negative value [{unit}] ({what})", self.shown(value, number))
+        return number
+
+    def pair(self, path, value, what, unit, *, time=False) -> tuple[float, float]:
+        if not _is_pair(value):
+            raise ModelError(path, f"a pair [x, y] of {what} [{unit}]", value)
+        return (self.number(f"{path}[0]", value[0], what, unit, time=time),
+                self.number(f"{path}[1]", value[1], what, unit, time=time))
+
+
+def _name(path: str, name, what: str = f"a name {_NAME_RULE}") -> None:
+    if not is_name(name):
+        raise ModelError(path, what, name)
+
+
+def _choice(path: str, value, choices) -> None:
+    if not isinstance(value, str) or value not in choices:
+        raise ModelError(path, "one of " + ", ".join(repr(c) for c in choices), value,
+                         _suggest(value, choices) if isinstance(value, str) else None)
+
+
+def _integer(path: str, value, low: int, high: int, what: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not low <= value <= high:
+        raise ModelError(path, f"an integer {what} from {low} to {high}", value)
+    return int(value)
+
+
+def _names_list(path: str, value, count: int, what: str) -> None:
+    if value is None:
+        return
+    if not isinstance(value, (list, tuple)) or len(value) != count:
+        raise ModelError(path, f"a list of {count} {what} names", value)
+    from ..expressions import RESERVED_NAMES
+
+    for i, item in enumerate(value):
+        _name(f"{path}[{i}]", item)
+        if item in RESERVED_NAMES or item in ("t", "xi") or keyword.iskeyword(item):
+            raise ModelError(f"{path}[{i}]", f"a {what} name that is not reserved (t, xi, pi, function names, "
+                             "Python keywords)", item)
+
+
+def _table(model: Model, kind: str, cls) -> dict:
+    table = getattr(model, kind)
+    if not isinstance(table, dict):
+        raise ModelError(kind, f"a table of {cls.__name__} parts by name", table)
+    for key, part in table.items():
+        if not isinstance(part, cls):
+            raise ModelError(f"{kind}.{key}", f"a {cls.__name__}", type(part).__name__)
+        _name(f"{kind}.{key}", key, f"a part name {_NAME_RULE}")
+        if part.name != key:
+            raise ModelError(f"{kind}.{key}.name", f"the name the part is stored under ({key!r})", part.name)
+    return table
 
 
 def validate_model(model: Model) -> None:
-    """Check a model; raise :class:`ModelError` on the first problem found."""
-    from ..expressions import resolve_parameters
+    """Check a model; raise :class:`~flexkane.errors.ModelError` on the first problem found.
 
-    params = resolve_parameters(model.parameters, path_prefix="parameters")
-    names = set()
-    for kind, table in (("bodies", model.bodies), ("beams", model.beams)):
-        for key, part in table.items():
-            if key == "ground":
-                raise ModelError(f"{kind}.{key}", "a name other than 'ground'", key)
-            if key in names:
-                raise ModelError(f"{kind}.{key}", "a name unique among bodies and beams", key)
-            names.add(key)
-    if not names:
+    Parameters
+    ----------
+    model : Model
+        The model, from a file or built in Python.
+    """
+    if not isinstance(model, Model):
+        raise ModelError("model", "a flexkane Model", type(model).__name__)
+    if not isinstance(model.name, str) or not model.name.strip():
+        raise ModelError("name", "a non-empty model name", model.name)
+    if not isinstance(model.description, str):
+        raise ModelError("description", "a text", model.description)
+    _choice("naming", model.naming, NAMING_STYLES)
+    values = _Values(model)
+    bodies = _table(model, "bodies", RigidBody)
+    beams = _table(model, "beams", Beam)
+    for kind, cls in (("joints", Joint), ("loads", Load), ("springs", PointSpring),
+                      ("constraints", LoopConstraint)):
+        _table(model, kind, cls)
+    for name in beams:
+        if name in bodies:
+            raise ModelError(f"beams.{name}", "a name unique among bodies and beams", name)
+    for name in list(bodies) + list(beams):
+        if name == "ground":
+            raise ModelError(f"{'bodies' if name in bodies else 'beams'}.{name}",
+                             "a name other than 'ground' (the fixed frame)", name)
+    if not bodies and not beams:
         raise ModelError("bodies", "at least one body or beam", None, show_given=False)
-    for body in model.bodies.values():
-        path = f"bodies.{body.name}"
-        _positive(model, f"{path}.mass", body.mass, params, "kg")
-        _non_negative(model, f"{path}.inertia", body.inertia, params, "kg m^2")
-        for pname, (x, y) in body.points.items():
-            _numeric(model, f"{path}.points.{pname}[0]", x, params)
-            _numeric(model, f"{path}.points.{pname}[1]", y, params)
-    for beam in model.beams.values():
-        path = f"beams.{beam.name}"
-        length = _positive(model, f"{path}.L", beam.L, params, "m")
-        _positive(model, f"{path}.EI", beam.EI, params, "N m^2")
-        _positive(model, f"{path}.rho", beam.rho, params, "kg/m")
-        if not 1 <= beam.n_modes <= MAX_MODES:
-            raise ModelError(f"{path}.n_modes", f"an integer from 1 to {MAX_MODES}", beam.n_modes)
-        if beam.shape.roots is not None and len(beam.shape.roots) != beam.n_modes:
-            raise ModelError(f"{path}.shape.roots", f"{beam.n_modes} roots (one per mode)", beam.shape.roots)
-        if beam.shape.roots is not None and any(not (r > 0 and math.isfinite(r)) for r in beam.shape.roots):
-            raise ModelError(f"{path}.shape.roots", "positive finite numbers", beam.shape.roots)
-        if beam.damping and len(beam.damping) not in (1, beam.n_modes):
-            raise ModelError(f"{path}.damping", f"1 or {beam.n_modes} damping ratios", beam.damping)
-        for i, zeta in enumerate(beam.damping):
-            _non_negative(model, f"{path}.damping[{i}]", zeta, params, "-")
-        if beam.n_axial < 0 or beam.n_axial > MAX_MODES:
-            raise ModelError(f"{path}.n_axial", f"an integer from 0 to {MAX_MODES}", beam.n_axial)
-        if beam.n_axial and beam.EA is None:
+    for body in bodies.values():
+        _check_body(body, values)
+    lengths = {beam.name: _check_beam(beam, values) for beam in beams.values()}
+    for joint in model.joints.values():
+        _check_joint(model, joint, values, lengths)
+    _check_tree(model)
+    for load in model.loads.values():
+        _check_load(model, load, values, lengths)
+    for spring in model.springs.values():
+        _check_spring(model, spring, values)
+    for con in model.constraints.values():
+        _check_constraint(model, con, values, lengths)
+    _check_gravity(model.gravity, values)
+    _check_simulation(model.simulation)
+    if not isinstance(model.initial, dict):
+        raise ModelError("initial", "a table of initial values by coordinate or speed name", model.initial)
+    _check_structure(model, values)
+
+
+# ---------------------------------------------------------------------------------------- parts
+def _check_body(body: RigidBody, values: _Values) -> None:
+    path = f"bodies.{body.name}"
+    values.positive(f"{path}.mass", body.mass, "mass", "kg")
+    values.non_negative(f"{path}.inertia", body.inertia, "moment of inertia about the mass centre", "kg m^2")
+    if not isinstance(body.points, dict):
+        raise ModelError(f"{path}.points", "a table of named points { P = [x, y] } [m]", body.points)
+    for pname, xy in body.points.items():
+        _name(f"{path}.points.{pname}", pname, f"a point name {_NAME_RULE}")
+        values.pair(f"{path}.points.{pname}", xy, "coordinates from the mass centre", "m")
+    if not isinstance(body.outline, (list, tuple)):
+        raise ModelError(f"{path}.outline", "a list of [x, y] vertices [m]", body.outline)
+    for k, xy in enumerate(body.outline):
+        values.pair(f"{path}.outline[{k}]", xy, "vertex coordinates from the mass centre", "m")
+
+
+def _check_shape_spec(path: str, spec) -> None:
+    if not isinstance(spec, ShapeSpec):
+        raise ModelError(path, "a shape family name or a table { family = ... }", spec)
+    if not isinstance(spec.family, str):
+        raise ModelError(f"{path}.family", "the name of a shape-function family", spec.family)
+    if spec.roots is not None:
+        if not isinstance(spec.roots, (list, tuple)) or not spec.roots or any(
+                not _is_value(r) or isinstance(r, str) or not (math.isfinite(r) and r > 0) for r in spec.roots):
+            raise ModelError(f"{path}.roots", "a non-empty list of positive finite numbers lambda_i [-]", spec.roots)
+    if not isinstance(spec.options, dict):
+        raise ModelError(path, "family options as a table", spec.options)
+
+
+def _check_beam(beam: Beam, values: _Values) -> float:
+    path = f"beams.{beam.name}"
+    length = values.positive(f"{path}.L", beam.L, "length", "m")
+    values.positive(f"{path}.EI", beam.EI, "flexural rigidity", "N m^2")
+    values.positive(f"{path}.rho", beam.rho, "mass per unit length", "kg/m")
+    n = _integer(f"{path}.n_modes", beam.n_modes, 1, MAX_MODES, "number of shape functions")
+    _check_shape_spec(f"{path}.shape", beam.shape)
+    if beam.shape.roots is not None and len(beam.shape.roots) != n:
+        raise ModelError(f"{path}.shape.roots", f"{n} roots lambda_i (one per mode, n_modes = {n})",
+                         list(beam.shape.roots))
+    if not isinstance(beam.damping, (list, tuple)):
+        raise ModelError(f"{path}.damping", "a list of modal damping ratios [-]", beam.damping)
+    if beam.damping and len(beam.damping) not in (1, n):
+        raise ModelError(f"{path}.damping", f"1 or {n} modal damping ratios [-] (n_modes = {n})",
+                         list(beam.damping))
+    for i, zeta in enumerate(beam.damping):
+        values.non_negative(f"{path}.damping[{i}]", zeta, "modal damping ratio", "-")
+    _choice(f"{path}.gravity", beam.gravity, GRAVITY_MODELS)
+    _choice(f"{path}.elastic_forces", beam.elastic_forces, ELASTIC_MODELS)
+    if not isinstance(beam.geometric_stiffening, bool):
+        raise ModelError(f"{path}.geometric_stiffening", "true or false", beam.geometric_stiffening)
+    n_axial = _integer(f"{path}.n_axial", beam.n_axial, 0, MAX_MODES, "number of axial shape functions")
+    if beam.EA is not None:
+        values.positive(f"{path}.EA", beam.EA, "axial stiffness", "N")
+    if n_axial:
+        if beam.EA is None:
             raise ModelError(f"{path}.EA", "the axial stiffness [N] (required with n_axial > 0)", None,
                              show_given=False)
-        if beam.EA is not None:
-            _positive(model, f"{path}.EA", beam.EA, params, "N")
-        if beam.elastic_forces == "shear-moment" and (beam.geometric_stiffening or beam.n_axial):
-            raise ModelError(f"{path}.elastic_forces", "'strain-energy' with geometric_stiffening or axial modes",
-                             beam.elastic_forces)
-        beam._length = length  # used by station checks below
-    _validate_joints(model, params)
-    _validate_loads(model, params)
-    _validate_constraints(model, params)
-    if model.gravity is not None:
-        _non_negative(model, "gravity.g", model.gravity.g, params, "m/s^2")
-        dx = _numeric(model, "gravity.direction[0]", model.gravity.direction[0], params)
-        dy = _numeric(model, "gravity.direction[1]", model.gravity.direction[1], params)
-        if dx == 0 and dy == 0:
-            raise ModelError("gravity.direction", "a non-zero direction [x, y]", list(model.gravity.direction))
-    sim = model.simulation
-    for key in ("t_end", "dt_out", "rtol", "atol"):
-        value = getattr(sim, key)
-        if value is not None and not value > 0:
-            raise ModelError(f"simulation.{key}", "a positive number", value)
-    for beam in model.beams.values():
-        del beam._length
+        if beam.axial_shape is None:
+            raise ModelError(f"{path}.axial_shape", "an axial shape family (required with n_axial > 0)",
+                             None, show_given=False)
+        _check_shape_spec(f"{path}.axial_shape", beam.axial_shape)
+    if beam.elastic_forces == "shear-moment" and (beam.geometric_stiffening or n_axial):
+        raise ModelError(f"{path}.elastic_forces", "'strain-energy' with geometric_stiffening or axial modes",
+                         beam.elastic_forces)
+    return length
 
 
-def _station(model, path, value, beam, params):
-    x = _numeric(model, path, value, params)
-    if not 0 <= x <= beam._length * (1 + 1e-12):
-        raise ModelError(path, f"a station 0 <= x <= L = {beam._length:g} [m]", value)
+def _station(path: str, value, beam: str, lengths: dict, values: _Values) -> None:
+    x = values.number(path, value, f"station on beam {beam!r}", "m")
+    length = lengths[beam]
+    if not 0 <= x <= length * (1 + 1e-12):
+        raise ModelError(path, f"a station 0 <= x <= L = {length:g} [m] on beam {beam!r}",
+                         values.shown(value, x))
 
 
-def _validate_joints(model: Model, params) -> None:
-    children: dict[str, str] = {}
-    for joint in model.joints.values():
-        path = f"joints.{joint.name}"
-        if joint.child not in model.bodies and joint.child not in model.beams:
-            raise ModelError(f"{path}.child", "the name of a body or a beam", joint.child,
-                             _suggest(joint.child, model.link_names()))
-        if joint.child in children:
-            raise ModelError(f"{path}.child", "a link that no other joint has as child "
-                             f"(joint {children[joint.child]!r} already does)", joint.child)
-        children[joint.child] = joint.name
-        if joint.parent == joint.child:
-            raise ModelError(f"{path}.parent", "a link other than the child", joint.parent)
-        if joint.parent != "ground" and joint.parent not in model.bodies and joint.parent not in model.beams:
-            raise ModelError(f"{path}.parent", "'ground' or the name of a body or a beam", joint.parent,
-                             _suggest(joint.parent, ["ground"] + model.link_names()))
-        if joint.parent in model.bodies:
-            body = model.bodies[joint.parent]
-            if joint.parent_point is not None and joint.parent_point not in body.points:
-                raise ModelError(f"{path}.parent_point", f"a point of body {body.name!r}"
-                                 f" ({', '.join(body.points) or 'it has none'})", joint.parent_point)
-            if joint.station is not None or joint.parent_position is not None:
-                raise ModelError(path, "parent_point (not station or parent_position) on a body parent",
-                                 joint.parent)
-        elif joint.parent in model.beams:
-            if joint.station is None:
-                raise ModelError(f"{path}.station", "the station x on the parent beam [m]", None,
-                                 show_given=False)
-            _station(model, f"{path}.station", joint.station, model.beams[joint.parent], params)
-            if joint.parent_point is not None:
-                raise ModelError(f"{path}.parent_point", "no point on a beam parent (use station)",
-                                 joint.parent_point)
-        else:
-            if joint.parent_point is not None or joint.station is not None:
-                raise ModelError(path, "parent_position (not parent_point or station) on the ground",
-                                 joint.parent_point or joint.station)
-        if joint.child in model.bodies:
-            body = model.bodies[joint.child]
-            if joint.child_point is not None and joint.child_point not in body.points:
-                raise ModelError(f"{path}.child_point", f"a point of body {body.name!r}"
-                                 f" ({', '.join(body.points) or 'it has none'})", joint.child_point)
-        elif joint.child_point is not None:
-            raise ModelError(f"{path}.child_point", "no child point for a beam (beams hang at their root)",
-                             joint.child_point)
-        dofs = len(JOINT_DOFS[joint.type])
-        for key in ("coordinates", "speeds"):
-            names = getattr(joint, key)
-            if names is not None and len(names) != dofs:
-                raise ModelError(f"{path}.{key}", f"{dofs} names for a {joint.type} joint", names)
+def _point(path: str, model: Model, body: str, point) -> None:
+    if point is None:
+        return
+    points = model.bodies[body].points
+    if not isinstance(point, str) or point not in points:
+        raise ModelError(path, f"a point of body {body!r} ({', '.join(points) or 'it has none'})", point,
+                         _suggest(point, points))
+
+
+def _link(path: str, model: Model, name, *, ground: bool) -> None:
+    links = model.link_names()
+    if isinstance(name, str) and (name in links or (ground and name == "ground")):
+        return
+    options = (["ground"] if ground else []) + links
+    expected = ("'ground' or " if ground else "") + "the name of a body or a beam"
+    raise ModelError(path, f"{expected} ({', '.join(options)})", name,
+                     _suggest(name, options) if isinstance(name, str) else None)
+
+
+def _check_joint(model: Model, joint: Joint, values: _Values, lengths: dict) -> None:
+    path = f"joints.{joint.name}"
+    _choice(f"{path}.type", joint.type, JOINT_TYPES)
+    _link(f"{path}.parent", model, joint.parent, ground=True)
+    _link(f"{path}.child", model, joint.child, ground=False)
+    if joint.parent == joint.child:
+        raise ModelError(f"{path}.parent", "a link other than the child", joint.parent)
+    given = [key for key in ("parent_point", "station", "parent_position") if getattr(joint, key) is not None]
+    allowed = ("parent_point" if joint.parent in model.bodies else
+               "station" if joint.parent in model.beams else "parent_position")
+    for key in given:
+        if key != allowed:
+            raise ModelError(f"{path}.{key}", f"{allowed} (not {key}) on parent {joint.parent!r}",
+                             getattr(joint, key))
+    if joint.parent in model.bodies:
+        _point(f"{path}.parent_point", model, joint.parent, joint.parent_point)
+    elif joint.parent in model.beams:
+        if joint.station is None:
+            raise ModelError(f"{path}.station", f"the station x on parent beam {joint.parent!r} [m]", None,
+                             show_given=False)
+        _station(f"{path}.station", joint.station, joint.parent, lengths, values)
+    elif joint.parent_position is not None:
+        values.pair(f"{path}.parent_position", joint.parent_position, "ground coordinates", "m")
+    if joint.child in model.bodies:
+        _point(f"{path}.child_point", model, joint.child, joint.child_point)
+    elif joint.child_point is not None:
+        raise ModelError(f"{path}.child_point", "no child point for a beam (a beam hangs at its root)",
+                         joint.child_point)
+    dofs = len(JOINT_DOFS[joint.type])
+    unit = {"revolute": "rad", "prismatic": "m"}.get(joint.type, "")
+    values.number(f"{path}.angle", joint.angle, "angle of the child frame", "rad")
+    axis = values.number(f"{path}.axis", joint.axis, "slide direction angle", "rad")
+    if axis != 0 and joint.type != "prismatic":
+        raise ModelError(f"{path}.axis", "no slide axis on a joint that is not prismatic", joint.axis)
+    for key, what in (("coordinates", "coordinate"), ("speeds", "speed")):
+        names = getattr(joint, key)
+        _names_list(f"{path}.{key}", names, dofs, f"{joint.type}-joint {what}")
+        if names is not None and model.naming == "sequential":
+            raise ModelError(f"{path}.{key}", "no names with naming = 'sequential' (q1, q2, ... are used)",
+                             names)
+    for key in ("stiffness", "damping", "torque", "driver"):
+        if getattr(joint, key) is not None and dofs != 1:
+            raise ModelError(f"{path}.{key}", f"a revolute or prismatic joint for a joint {key}", joint.type)
+    if dofs != 1:
+        values.number(f"{path}.rest", joint.rest, "rest position", "rad or m")
+        return
+    force = "N m" if joint.type == "revolute" else "N"
+    if joint.stiffness is not None:
+        values.non_negative(f"{path}.stiffness", joint.stiffness, "joint stiffness", f"{force}/{unit}")
+    if joint.damping is not None:
+        values.non_negative(f"{path}.damping", joint.damping, "joint damping", f"{force} s/{unit}")
+    values.number(f"{path}.rest", joint.rest, "rest position of the joint spring", unit)
+    if joint.torque is not None:
+        what = "actuator torque" if joint.type == "revolute" else "actuator force"
+        values.number(f"{path}.torque", joint.torque, what, force, time=True)
         if joint.driver is not None:
-            if dofs != 1:
-                raise ModelError(f"{path}.driver", "a revolute or prismatic joint (one coordinate)",
-                                 joint.type)
-            if (joint.driver.coordinate is None) == (joint.driver.speed is None):
-                raise ModelError(f"{path}.driver", "exactly one of 'coordinate' and 'speed'",
-                                 "both" if joint.driver.coordinate is not None else "neither")
-        if joint.torque is not None and dofs != 1:
-            raise ModelError(f"{path}.torque", "a revolute or prismatic joint for an actuator torque", joint.type)
-        if joint.torque is not None and joint.driver is not None:
             raise ModelError(f"{path}.torque", "no actuator torque on a driven joint (the driver supplies it)",
                              joint.torque)
-        if (joint.stiffness is not None or joint.damping is not None) and dofs != 1:
-            raise ModelError(f"{path}.stiffness", "a revolute or prismatic joint for joint springs",
-                             joint.type)
-        for key, unit in (("stiffness", "N m/rad or N/m"), ("damping", "N m s/rad or N s/m")):
-            if getattr(joint, key) is not None:
-                _non_negative(model, f"{path}.{key}", getattr(joint, key), params, unit)
+    if joint.driver is not None:
+        driver = joint.driver
+        if not isinstance(driver, Driver):
+            raise ModelError(f"{path}.driver", "a table { coordinate = ... } or { speed = ... }", driver)
+        if (driver.coordinate is None) == (driver.speed is None):
+            raise ModelError(f"{path}.driver", "exactly one of 'coordinate' and 'speed'",
+                             "both" if driver.coordinate is not None else "neither")
+        if driver.coordinate is not None:
+            values.number(f"{path}.driver.coordinate", driver.coordinate, "prescribed coordinate", unit, time=True)
+        else:
+            values.number(f"{path}.driver.speed", driver.speed, "prescribed speed", f"{unit}/s", time=True)
+
+
+def _check_tree(model: Model) -> None:
+    children: dict[str, str] = {}
+    for joint in model.joints.values():
+        if joint.child in children:
+            raise ModelError(f"joints.{joint.name}.child", "a link that no other joint has as child "
+                             f"(joint {children[joint.child]!r} already does)", joint.child)
+        children[joint.child] = joint.name
     for link in model.link_names():
         if link not in children:
-            raise ModelError("joints", f"a joint with child {link!r} (every body and beam hangs from one joint)",
-                             None, show_given=False)
-    # the joints form a tree rooted at the ground
+            kind = "bodies" if link in model.bodies else "beams"
+            raise ModelError(f"{kind}.{link}", "a link that hangs from a joint (a joint with child "
+                             f"{link!r})", None, show_given=False)
     parent_of = {j.child: j.parent for j in model.joints.values()}
     for link in parent_of:
         seen = [link]
         node = parent_of[link]
         while node != "ground":
             if node in seen:
-                raise ModelError("joints", "a tree rooted at the ground (loops need loop constraints)",
-                                 " -> ".join(seen + [node]))
+                loop = seen[seen.index(node):] + [node]
+                raise ModelError(f"joints.{children[link]}.parent",
+                                 "joints forming a tree rooted at the ground (close loops with [constraints])",
+                                 " -> ".join(loop))
             seen.append(node)
             node = parent_of[node]
 
 
-def _validate_loads(model: Model, params) -> None:
-    for load in model.loads.values():
-        path = f"loads.{load.name}"
-        if load.body in model.bodies:
-            body = model.bodies[load.body]
-            if load.point is not None and load.point not in body.points:
-                raise ModelError(f"{path}.point", f"a point of body {body.name!r}", load.point)
-            if load.station is not None:
-                raise ModelError(f"{path}.station", "no station on a body (use point)", load.station)
-        elif load.body in model.beams:
-            if load.station is None:
-                raise ModelError(f"{path}.station", "the station x on the beam [m]", None, show_given=False)
-            _station(model, f"{path}.station", load.station, model.beams[load.body], params)
-        else:
-            raise ModelError(f"{path}.body", "the name of a body or a beam", load.body,
-                             _suggest(load.body, model.link_names()))
-        if load.force is None and load.torque is None:
-            raise ModelError(path, "a force, a torque or both", None, show_given=False)
-    for spring in model.springs.values():
-        path = f"springs.{spring.name}"
-        for end in ("a", "b"):
-            body = getattr(spring, f"body_{end}")
-            point = getattr(spring, f"point_{end}")
-            if body == "ground":
-                if getattr(spring, f"position_{end}") is None:
-                    raise ModelError(f"{path}.position_{end}", "a ground position [x, y] [m]", None,
-                                     show_given=False)
-            elif body in model.bodies:
-                if point is not None and point not in model.bodies[body].points:
-                    raise ModelError(f"{path}.point_{end}", f"a point of body {body!r}", point)
-            else:
-                raise ModelError(f"{path}.body_{end}", "'ground' or a body name", body,
-                                 _suggest(body, ["ground"] + list(model.bodies)))
-        _non_negative(model, f"{path}.stiffness", spring.stiffness, params, "N/m")
-        _non_negative(model, f"{path}.damping", spring.damping, params, "N s/m")
-        _non_negative(model, f"{path}.rest_length", spring.rest_length, params, "m")
+def _check_load(model: Model, load: Load, values: _Values, lengths: dict) -> None:
+    path = f"loads.{load.name}"
+    _link(f"{path}.body", model, load.body, ground=False)
+    if load.body in model.bodies:
+        if load.station is not None:
+            raise ModelError(f"{path}.station", f"a point (not a station) on body {load.body!r}", load.station)
+        _point(f"{path}.point", model, load.body, load.point)
+    else:
+        if load.point is not None:
+            raise ModelError(f"{path}.point", f"a station (not a point) on beam {load.body!r}", load.point)
+        if load.station is None:
+            raise ModelError(f"{path}.station", f"the station x on beam {load.body!r} [m]", None, show_given=False)
+        _station(f"{path}.station", load.station, load.body, lengths, values)
+    if load.force is None and load.torque is None:
+        raise ModelError(path, "a force, a torque or both", None, show_given=False)
+    if load.force is not None:
+        values.pair(f"{path}.force", load.force, "force components", "N", time=True)
+    if load.torque is not None:
+        values.number(f"{path}.torque", load.torque, "torque", "N m", time=True)
+    _choice(f"{path}.frame", load.frame, FRAMES)
 
 
-def _validate_constraints(model: Model, params) -> None:
-    names = set(model.joints)
+def _check_end(model: Model, path: str, part, end: str, values: _Values, lengths: dict | None) -> None:
+    """One end of a spring (lengths None: no beams) or of a loop constraint."""
+    body = getattr(part, f"body_{end}")
+    given = {key: getattr(part, f"{key}_{end}", None) for key in ("point", "station", "position")}
+    if body == "ground":
+        allowed = "position"
+    elif isinstance(body, str) and body in model.bodies:
+        allowed = "point"
+    elif lengths is not None and isinstance(body, str) and body in model.beams:
+        allowed = "station"
+    elif lengths is None and isinstance(body, str) and body in model.beams:
+        raise ModelError(f"{path}.body_{end}", "'ground' or a body (a spring does not attach to a beam: "
+                         "weld a small body to the beam's station and attach the spring to it)", body)
+    else:
+        options = ["ground"] + (model.link_names() if lengths is not None else list(model.bodies))
+        what = "a body or a beam" if lengths is not None else "a body"
+        raise ModelError(f"{path}.body_{end}", f"'ground' or {what} ({', '.join(options)})", body,
+                         _suggest(body, options) if isinstance(body, str) else None)
+    for key, value in given.items():
+        if value is not None and key != allowed:
+            raise ModelError(f"{path}.{key}_{end}", f"{allowed}_{end} (not {key}_{end}) on {body!r}", value)
+    if allowed == "point":
+        _point(f"{path}.point_{end}", model, body, given["point"])
+    elif allowed == "station":
+        if given["station"] is None:
+            raise ModelError(f"{path}.station_{end}", f"the station x on beam {body!r} [m]", None,
+                             show_given=False)
+        _station(f"{path}.station_{end}", given["station"], body, lengths, values)
+    elif given["position"] is not None:
+        values.pair(f"{path}.position_{end}", given["position"], "ground coordinates", "m")
+
+
+def _check_spring(model: Model, spring: PointSpring, values: _Values) -> None:
+    path = f"springs.{spring.name}"
+    for end in ("a", "b"):
+        _check_end(model, path, spring, end, values, None)
+    if spring.body_a == "ground" and spring.body_b == "ground":
+        raise ModelError(f"{path}.body_b", "a body at one end at least", spring.body_b)
+    values.non_negative(f"{path}.stiffness", spring.stiffness, "spring stiffness", "N/m")
+    values.non_negative(f"{path}.damping", spring.damping, "damping coefficient", "N s/m")
+    values.non_negative(f"{path}.rest_length", spring.rest_length, "rest length", "m")
+
+
+def _check_constraint(model: Model, con: LoopConstraint, values: _Values, lengths: dict) -> None:
+    path = f"constraints.{con.name}"
+    if con.name in model.joints:
+        raise ModelError(path, "a name different from every joint's", con.name)
+    _choice(f"{path}.type", con.type, ("revolute", "prismatic"))
+    for end in ("a", "b"):
+        _check_end(model, path, con, end, values, lengths)
+    if con.body_a == con.body_b:
+        raise ModelError(f"{path}.body_b", "a link other than body_a", con.body_b)
+    values.number(f"{path}.axis", con.axis, "slide direction angle in frame a", "rad")
+    values.number(f"{path}.angle", con.angle, "angle of frame b relative to frame a", "rad")
+    _names_list(f"{path}.dependent", con.dependent, 2, "dependent speed")
+    rate = con.stabilization
+    if isinstance(rate, bool) or not isinstance(rate, numbers.Real) or not (math.isfinite(rate) and rate >= 0):
+        raise ModelError(f"{path}.stabilization", "a non-negative finite rate [1/s]", rate)
+
+
+def _check_gravity(gravity, values: _Values) -> None:
+    if gravity is None:
+        return
+    if not isinstance(gravity, Gravity):
+        raise ModelError("gravity", "a table { g = ..., direction = [x, y] }", gravity)
+    values.non_negative("gravity.g", gravity.g, "gravitational acceleration", "m/s^2")
+    direction = gravity.direction
+    if not _is_pair(direction) or any(not _is_value(c) or isinstance(c, str) or not math.isfinite(c)
+                                       for c in direction):
+        raise ModelError("gravity.direction", "two finite numbers [x, y] (a direction in the ground frame)",
+                         direction)
+    if direction[0] == 0 and direction[1] == 0:
+        raise ModelError("gravity.direction", "a non-zero direction [x, y]", list(direction))
+
+
+def _check_simulation(sim) -> None:
+    if not isinstance(sim, Simulation):
+        raise ModelError("simulation", "a table of run settings", sim)
+    for key, what in (("t_end", "end time [s]"), ("dt_out", "output interval [s]"),
+                      ("atol", "absolute tolerance [units of each state]")):
+        value = getattr(sim, key)
+        if value is None and key != "atol":
+            continue
+        if isinstance(value, bool) or not isinstance(value, numbers.Real) or not (math.isfinite(value) and value > 0):
+            raise ModelError(f"simulation.{key}", f"a positive finite {what}", value)
+    low, high = RTOL_RANGE
+    if isinstance(sim.rtol, bool) or not isinstance(sim.rtol, numbers.Real) or not low <= sim.rtol < high:
+        raise ModelError("simulation.rtol", f"a relative tolerance from {low:g} to below {high:g} [-]", sim.rtol)
+    _choice("simulation.method", sim.method, METHODS)
+
+
+def validate_run_arguments(*, t_end, dt_out, rtol, atol, method="auto", max_steps=None, progress=None) -> None:
+    """Check the arguments of a run (:func:`flexkane.simulate`, ``flexkane run``) before it starts.
+
+    Parameters
+    ----------
+    t_end : float
+        End time [s], positive and finite.
+    dt_out : float
+        Output interval [s], positive and finite.
+    rtol : float
+        Relative tolerance [-], from 1e-13 to below 1.
+    atol : float
+        Absolute tolerance [units of each state], positive and finite.
+    method : str
+        One of :data:`METHODS`.
+    max_steps : int, optional
+        Step budget, a positive integer.
+    progress : callable, optional
+        Called as ``progress(t_reached, t_end)``.
+
+    Raises
+    ------
+    ModelError
+        Naming the argument (and its command-line option), what was expected and what was given.
+    """
+    def real(value) -> bool:
+        return not isinstance(value, bool) and isinstance(value, numbers.Real) and math.isfinite(value)
+
+    for name, value, what in (("t_end", t_end, "end time [s]"), ("dt_out", dt_out, "output interval [s]"),
+                              ("atol", atol, "absolute tolerance [units of each state]")):
+        if not (real(value) and value > 0):
+            raise ModelError(f"{name} (--{name.replace('_', '-')})", f"a positive finite {what}", value)
+    low, high = RTOL_RANGE
+    if not (real(rtol) and low <= rtol < high):
+        raise ModelError("rtol (--rtol)", f"a relative tolerance from {low:g} to below {high:g} [-]", rtol)
+    _choice("method (--method)", method, METHODS)
+    if max_steps is not None and (isinstance(max_steps, bool) or not isinstance(max_steps, numbers.Integral)
+                                  or max_steps < 1):
+        raise ModelError("max_steps", "a positive integer number of steps", max_steps)
+    if progress is not None and not callable(progress):
+        raise ModelError("progress", "a function progress(t_reached, t_end), or None", progress)
+
+
+# ------------------------------------------------------------------------------------ structure
+def _family(spec: ShapeSpec, path: str, n: int, kind: str) -> None:
+    """Build the shape family, check that it is of ``kind`` and provides ``n`` functions."""
+    from ..kane.equations import shape_family
+
+    try:
+        family = shape_family(spec, path)
+    except ModelError as exc:
+        hint = exc.hint
+        option = exc.path.rsplit(".", 1)[-1]
+        if hint is None and exc.path == f"{path}.family" and isinstance(spec.family, str):
+            from ..modes import family_names
+
+            hint = _suggest(spec.family, family_names())
+        if hint is None and option in spec.options and exc.expected.startswith("options among"):
+            words = exc.expected[len("options among "):].split(" for family")[0].split(", ")
+            hint = _suggest(option, words)
+        raise ModelError(exc.path, exc.expected, exc.given, hint) from None
+    if family.kind != kind:
+        raise ModelError(f"{path}.family", f"the name of {'an axial' if kind == 'axial' else 'a transverse'}"
+                         " shape-function family", spec.family)
+    if family.max_modes is not None and n > family.max_modes:
+        count = path.rsplit(".", 1)[0] + (".n_axial" if kind == "axial" else ".n_modes")
+        raise ModelError(count, f"at most {family.max_modes} shape function(s): as many as family "
+                         f"{spec.family!r} provides as specified", n)
+
+
+def _check_structure(model: Model, values: _Values) -> None:
+    """Shape families, the chain's coordinates, initial conditions and dependent speeds."""
+    from ..kane.chain import build_chain
+
+    for beam in model.beams.values():
+        path = f"beams.{beam.name}"
+        _family(beam.shape, f"{path}.shape", beam.n_modes, "transverse")
+        if beam.n_axial:
+            _family(beam.axial_shape, f"{path}.axial_shape", beam.n_axial, "axial")
+    chain = build_chain(model)   # coordinate names; initial conditions name existing coordinates
+    units = {}
+    for coord in chain.coordinates:
+        unit = _ROLE_UNIT[coord.role]
+        units[coord.q.name], units[coord.u.name] = unit, f"{unit}/s"
+    for key, value in model.initial.items():
+        values.number(f"initial.{key}", value, f"initial value of {key}", units[key])
+    free = {c.u.name for c in chain.coordinates if c.driver is None}
+    chosen: dict[str, str] = {}
     for con in model.constraints.values():
-        path = f"constraints.{con.name}"
-        if con.name in names:
-            raise ModelError(path, "a name different from every joint's", con.name)
-        for end in ("a", "b"):
-            body = getattr(con, f"body_{end}")
-            point = getattr(con, f"point_{end}")
-            station = getattr(con, f"station_{end}")
-            position = getattr(con, f"position_{end}")
-            if body == "ground":
-                if point is not None or station is not None:
-                    raise ModelError(f"{path}.body_{end}", f"position_{end} (not a point or station) on the ground", body)
-            elif body in model.bodies:
-                if point is not None and point not in model.bodies[body].points:
-                    raise ModelError(f"{path}.point_{end}", f"a point of body {body!r}", point)
-                if station is not None or position is not None:
-                    raise ModelError(f"{path}.point_{end}", f"a point (not a station or position) on body {body!r}",
-                                     station if station is not None else position)
-            elif body in model.beams:
-                if station is None:
-                    raise ModelError(f"{path}.station_{end}", f"the station x on beam {body!r} [m]", None,
-                                     show_given=False)
-                _station(model, f"{path}.station_{end}", station, model.beams[body], params)
-            else:
-                raise ModelError(f"{path}.body_{end}", "'ground', a body or a beam", body,
-                                 _suggest(body, ["ground"] + model.link_names()))
-        if con.body_a == con.body_b:
-            raise ModelError(f"{path}.body_b", "a link other than body_a", con.body_b)
-
-
-def _suggest(name, options) -> str | None:
-    import difflib
-
-    close = difflib.get_close_matches(str(name), list(options), n=1, cutoff=0.5)
-    return f"did you mean {close[0]!r}?" if close else None
+        for i, name in enumerate(con.dependent or []):
+            path = f"constraints.{con.name}.dependent[{i}]"
+            if name not in free:
+                raise ModelError(path, f"the name of a free generalized speed ({', '.join(sorted(free))})", name,
+                                 _suggest(name, free))
+            if name in chosen:
+                raise ModelError(path, f"a speed not already dependent through constraint {chosen[name]!r}", name)
+            chosen[name] = con.name

@@ -8,6 +8,13 @@ by ``M = L D L^T`` (unrolled into scalar statements for ``nu <= UNROLL_LDL_MAX``
 ``ldl_solve`` of :mod:`flexkane.numerics.linear_algebra`). ``rhs`` returns 0, or 2 (non-finite)
 / 4 (singular mass matrix) with ``dy`` filled with NaN.
 
+Large models (many modes, many links) are split: when the printed statements exceed
+``SPLIT_CHARS`` characters, they are distributed over functions ``rhs_part0, rhs_part1, ...``
+of about ``SPLIT_CHARS`` characters each, which pass the common subexpressions they share
+through a work array. Numba's compile time of one function grows faster than its length (LLVM
+optimises a single basic block; measured for ``falling-beam-exact`` with 40 modes: 145 s for
+one function, of which 110 s in LLVM), and linearly over many functions.
+
 The text returned here is a fragment: :func:`flexkane.numerics.jit_module.build_module` puts it in
 a module with the imports and the integrator templates.
 """
@@ -22,16 +29,22 @@ import sympy
 from sympy.printing.codeprinter import PrintMethodNotImplementedError
 from sympy.printing.pycode import PythonCodePrinter
 
-__all__ = ["UNROLL_LDL_MAX", "generate_outputs_source", "generate_rhs_source"]
+__all__ = ["SPLIT_CHARS", "SUM_TERMS_MAX", "UNROLL_LDL_MAX", "generate_outputs_source", "generate_rhs_source"]
 
 # Largest number of speeds for which L D L^T is written as scalar statements (no allocation,
 # about 20 ns saved per call); above it a loop over an allocated array is used.
 UNROLL_LDL_MAX = 8
 
+# Printed characters of statements per generated function above which the right-hand side is
+# split into parts (see the module docstring; chosen by measuring compile times).
+SPLIT_CHARS = 20_000
+# Largest number of terms of one sum in a split right-hand side (longer sums become partial sums).
+SUM_TERMS_MAX = 200
+
 # Names of the generated functions' arguments, and names no model symbol may take.
 _RESERVED = {"t", "y", "p", "dy", "math", "np", "njit", "min", "max", "abs", "range",
              "ldl_solve", "mass_matrix_failure", "float", "int", "complex", "bool", "len",
-             "rhs", "outputs", "PIVOT_RTOL"}
+             "rhs", "outputs", "PIVOT_RTOL", "w", "M"}
 
 
 class _MathPrinter(PythonCodePrinter):
@@ -83,7 +96,7 @@ def _safe_names(symbols: Sequence[sympy.Basic], taken: set[str]) -> list[str]:
         base = getattr(sym, "name", None) or getattr(getattr(sym, "func", None), "__name__", "s")
         base = re.sub(r"\W", "_", str(base))
         if not base or base[0].isdigit() or base.startswith("_") or keyword.iskeyword(base) \
-                or base in _RESERVED:
+                or base in _RESERVED or re.fullmatch(r"\w+_part\d+", base):
             base = "s_" + base.lstrip("_")
         name = base
         k = 1
@@ -205,7 +218,17 @@ def generate_rhs_source(eom, name: str = "rhs") -> str:
     replacements, reduced = sympy.cse(exprs, symbols=sympy.numbered_symbols("_c"), order="none")
     printer = _MathPrinter()
     prefix = "" if name == "rhs" else name.upper() + "_"
-    unrolled = nu <= UNROLL_LDL_MAX
+    texts = [_print(printer, expr) for expr in reduced]
+    statements = [_Statement(str(sym), _print(printer, expr), expr) for sym, expr in replacements]
+    split = sum(len(st.text) for st in statements) + sum(map(len, texts)) > SPLIT_CHARS
+    unrolled = nu <= UNROLL_LDL_MAX and not split
+    targets = ([f"dy[{i}]" for i in range(nq)]
+               + [f"_m{i}_{j}" if unrolled else f"_M[{i}, {j}]" for i, j in upper]
+               + [f"_f{i}" if unrolled else f"dy[{nq + i}]" for i in range(nu)])
+    statements += [_Statement(target, text, expr)
+                   for target, text, expr in zip(targets, texts, reduced)]
+    if split:
+        statements = _split_long_sums(statements, printer)
     lines = _header(eom, q_names, u_names, c_names, f"generated right-hand side {name}")
     lines += ["# Kinematic equations q' = qdot(q, u, t); dynamic equations M(q, t) u' = f(q, u, t)",
               "# solved by M = L D L^T (upper triangle of M only).",
@@ -214,35 +237,124 @@ def generate_rhs_source(eom, name: str = "rhs") -> str:
               f"{prefix}STATE_NAMES = {tuple(str(s) for s in [*eom.q, *eom.u])!r}",
               f"{prefix}CONSTANT_NAMES = {tuple(str(s) for s in eom.constants)!r}",
               "",
-              "",
-              '@njit(cache=True, error_model="numpy")',
+              ""]
+    loads = {n: f"y[{k}]" for k, n in enumerate([*q_names, *u_names])}
+    loads.update({n: f"p[{k}]" for k, n in enumerate(c_names)})
+    if t_name != "t":
+        loads[t_name] = "t"
+    if split:
+        lines += _split_rhs(name, statements, loads, nq, nu)
+        return "\n".join(lines) + "\n"
+    lines += ['@njit(cache=True, error_model="numpy")',
               f"def {name}(t, y, p, dy):",
               f'    """Write [q\', u\'] (nq + nu = {nq + nu},) into dy; return 0, 2 or 4."""']
     ind = "    "
-    for k, qn in enumerate([*q_names, *u_names]):
-        lines.append(f"{ind}{qn} = y[{k}]")
-    for k, cn in enumerate(c_names):
-        lines.append(f"{ind}{cn} = p[{k}]")
-    if t_name != "t":
-        lines.append(f"{ind}{t_name} = t")
-    for sym, expr in replacements:
-        lines.append(f"{ind}{sym} = {_print(printer, expr)}")
-    for i in range(nq):
-        lines.append(f"{ind}dy[{i}] = {_print(printer, reduced[i])}")
+    lines += [f"{ind}{local} = {source}" for local, source in loads.items()]
     if not unrolled:
         lines.append(f"{ind}_M = np.empty(({nu}, {nu}))")
-    for k, (i, j) in enumerate(upper):
-        text = _print(printer, reduced[nq + k])
-        lines.append(f"{ind}_m{i}_{j} = {text}" if unrolled else f"{ind}_M[{i}, {j}] = {text}")
-    for i in range(nu):
-        text = _print(printer, reduced[nq + len(upper) + i])
-        lines.append(f"{ind}_f{i} = {text}" if unrolled else f"{ind}dy[{nq + i}] = {text}")
+    lines += [f"{ind}{st.target} = {st.text}" for st in statements]
     if unrolled:
         lines += _unrolled_ldl(nu, nq, ind)
         lines.append(f"{ind}return 0")
     else:
         lines.append(f"{ind}return ldl_solve(_M, dy[{nq}:])")
     return "\n".join(lines) + "\n"
+
+
+class _Statement:
+    """One generated assignment ``target = text``; ``uses`` are the names it reads."""
+
+    __slots__ = ("target", "text", "expr", "uses")
+
+    def __init__(self, target: str, text: str, expr: sympy.Basic):
+        self.target = target
+        self.text = text
+        self.expr = expr
+        self.uses = {s.name for s in expr.free_symbols}
+
+
+def _split_long_sums(statements: list[_Statement], printer) -> list[_Statement]:
+    """Replace sums of more than ``SUM_TERMS_MAX`` terms by sums of partial sums ``_s{k}``.
+
+    A statement of many thousand terms (``M_33 = sum_ij G_ij q_i q_j`` with 40 modes) would
+    otherwise make one part, hence one basic block, too long for LLVM.
+    """
+    out: list[_Statement] = []
+    counter = [0]
+
+    def shrink(expr):
+        if not expr.args or expr.is_Atom:
+            return expr
+        args = [shrink(a) for a in expr.args]
+        if isinstance(expr, sympy.Add) and len(args) > SUM_TERMS_MAX:
+            partial = []
+            for start in range(0, len(args), SUM_TERMS_MAX):
+                chunk = sympy.Add(*args[start:start + SUM_TERMS_MAX], evaluate=False)
+                symbol = sympy.Symbol(f"_s{counter[0]}")
+                counter[0] += 1
+                out.append(_Statement(symbol.name, _print(printer, chunk), chunk))
+                partial.append(symbol)
+            return sympy.Add(*partial, evaluate=False)
+        if any(a is not b for a, b in zip(args, expr.args)):
+            return expr.func(*args, evaluate=False)
+        return expr
+
+    for st in statements:
+        if len(st.text) <= SUM_TERMS_MAX * 8:
+            out.append(st)
+            continue
+        expr = shrink(st.expr)
+        out.append(st if expr is st.expr else _Statement(st.target, _print(printer, expr), expr))
+    return out
+
+
+def _split_rhs(name: str, statements: list[_Statement], loads: dict[str, str], nq: int,
+               nu: int) -> list[str]:
+    """Lines of ``name`` calling parts of about ``SPLIT_CHARS`` characters each.
+
+    Part ``k`` is ``name_part{k}(t, y, p, w, _M, dy)``: it loads the states and constants it
+    uses, reads the common subexpressions of earlier parts from the work array ``w``, stores
+    there those that later parts read, and writes its entries of ``dy`` and of ``_M``.
+    """
+    parts: list[list[_Statement]] = [[]]
+    size = 0
+    for st in statements:
+        if size > SPLIT_CHARS and parts[-1]:
+            parts.append([])
+            size = 0
+        parts[-1].append(st)
+        size += len(st.text)
+    defined_in = {st.target: k for k, part in enumerate(parts) for st in part
+                  if not st.target.startswith(("dy[", "_M["))}
+    slots: dict[str, int] = {}
+    for k, part in enumerate(parts):
+        for st in part:
+            for used in sorted(st.uses):
+                if defined_in.get(used, k) < k and used not in slots:
+                    slots[used] = len(slots)
+    lines = []
+    for k, part in enumerate(parts):
+        own = {st.target for st in part}
+        uses = set().union(*(st.uses for st in part))
+        lines += ['@njit(cache=True, error_model="numpy")',
+                  f"def {name}_part{k}(t, y, p, w, _M, dy):",
+                  f'    """Part {k} of {name}: {len(part)} statements."""']
+        lines += [f"    {local} = {source}" for local, source in loads.items() if local in uses]
+        lines += [f"    {used} = w[{slots[used]}]" for used in sorted(uses - own)
+                  if used in slots]
+        for st in part:
+            lines.append(f"    {st.target} = {st.text}")
+            if st.target in slots:
+                lines.append(f"    w[{slots[st.target]}] = {st.target}")
+        lines += ["", ""]
+    lines += ['@njit(cache=True, error_model="numpy")',
+              f"def {name}(t, y, p, dy):",
+              f'    """Write [q\', u\'] (nq + nu = {nq + nu},) into dy; return 0, 2 or 4."""',
+              f"    w = np.empty({max(len(slots), 1)})",
+              f"    _M = np.empty(({nu}, {nu}))"]
+    lines += [f"    {name}_part{k}(t, y, p, w, _M, dy)" for k in range(len(parts))]
+    lines.append(f"    return ldl_solve(_M, dy[{nq}:])")
+    return lines
 
 
 def generate_outputs_source(exprs: Mapping[str, sympy.Expr], args, name: str = "outputs",

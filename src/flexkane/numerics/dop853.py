@@ -19,9 +19,12 @@ Contract of :func:`dop853_chunk` (also followed by ``radau5_chunk``)
 2. Row ``Y_out[i]`` (m, n) is filled with the dense output at ``t_out[i]`` once a step passes it
    (a row with ``t_out[i] == t`` receives ``y``); rows are filled in order, so the rows filled are
    exactly those with ``t_out[i] <= t_returned``.
-3. It returns ``(t, y, h, status, nfev, naccept, nreject)``: the time reached, the state there (a
-   new array), the step size to try next, the status (0 ok, 1 step size too small, 2 non-finite
-   state or derivative, 3 ``max_steps`` attempted steps used, 4 singular mass matrix) and counts.
+3. It returns ``(t, y, h, status, nfev, naccept, nreject, nstiff)``: the time reached, the state
+   there (a new array), the step size to try next, the status (0 ok, 1 step size too small, 2
+   non-finite state or derivative, 3 ``max_steps`` attempted steps used, 4 singular mass matrix)
+   and counts; ``nstiff`` counts the accepted steps whose size was limited by stability rather
+   than accuracy (Hairer's test ``h |lambda| > 6.1`` of DOP853, Sec. IV.2 of Hairer & Wanner's
+   volume II; always 0 for Radau).
 4. ``h <= 0`` on entry asks for an automatic starting step.
 """
 
@@ -46,6 +49,9 @@ DOP853_SAFETY = 0.9
 DOP853_MIN_FACTOR = 0.333
 DOP853_MAX_FACTOR = 6.0
 DOP853_BETA = 0.0
+# Stiffness test of DOP853: ``h |lambda|`` estimated from the last two stages (both at t + h) above
+# this value means the step sits on the boundary of the stability region (about -6 on the axes).
+DOP853_STIFF_HLAMBDA = 6.1
 
 
 @njit(cache=True, error_model="numpy")
@@ -182,16 +188,17 @@ def dop853_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out):
     nfev = 0
     naccept = 0
     nreject = 0
+    nstiff = 0
     t_end = t_out[-1]
     i_out = fill_rows_at(t, y, t_out, 0, Y_out)
     code = rhs(t, y, p, K[0])
     nfev += 1
     if code != 0:
-        return t, y, h, code, nfev, naccept, nreject
+        return t, y, h, code, nfev, naccept, nreject, nstiff
     if not all_finite(K[0]):
-        return t, y, h, 2, nfev, naccept, nreject
+        return t, y, h, 2, nfev, naccept, nreject, nstiff
     if t >= t_end:
-        return t, y, h, 0, nfev, naccept, nreject
+        return t, y, h, 0, nfev, naccept, nreject, nstiff
     if h <= 0.0:
         h, extra = starting_step(t, y, K[0], p, rtol, atol, 8, t_end, ytmp, ynew)
         nfev += extra
@@ -201,10 +208,10 @@ def dop853_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out):
     failure = 0  # cause (2 or 4) of the current run of rejected steps, 0 if none
     while True:
         if naccept + nreject >= max_steps:
-            return t, y, h, 3, nfev, naccept, nreject
+            return t, y, h, 3, nfev, naccept, nreject, nstiff
         h_min = 16.0 * UNIT_ROUNDOFF * max(abs(t), 1e-300)
         if h < h_min:
-            return t, y, h, failure if failure != 0 else 1, nfev, naccept, nreject
+            return t, y, h, failure if failure != 0 else 1, nfev, naccept, nreject, nstiff
         last = False
         h_untruncated = h
         if t + 1.01 * h >= t_end:
@@ -267,6 +274,14 @@ def dop853_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out):
         if err <= 1.0:
             facold = max(err, 1e-4)
             naccept += 1
+            # Stiffness test: stages 12 (argument ytmp) and 13 (argument ynew) are both at t + h.
+            stnum = 0.0
+            stden = 0.0
+            for i in range(n):
+                stnum += (K[12, i] - K[11, i]) ** 2
+                stden += (ynew[i] - ytmp[i]) ** 2
+            if stden > 0.0 and h * math.sqrt(stnum / stden) > DOP853_STIFF_HLAMBDA:
+                nstiff += 1
             t_new = t_end if last else t + h
             for i in range(n):
                 rc[0, i] = ynew[i] - y[i]
@@ -274,7 +289,7 @@ def dop853_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out):
                                                   ytmp)
             nfev += extra
             if code != 0:
-                return t, y, h, code, nfev, naccept, nreject
+                return t, y, h, code, nfev, naccept, nreject, nstiff
             for i in range(n):
                 K[0, i] = K[12, i]
                 y[i] = ynew[i]
@@ -286,7 +301,7 @@ def dop853_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out):
             if last:
                 # The step was shortened to end the chunk: propose the untruncated size next.
                 h_next = max(h_new, h_untruncated) if h < h_untruncated else h_new
-                return t, y, h_next, 0, nfev, naccept, nreject
+                return t, y, h_next, 0, nfev, naccept, nreject, nstiff
             h = h_new
         else:
             h = h / min(1.0 / DOP853_MIN_FACTOR, fac11 / DOP853_SAFETY)

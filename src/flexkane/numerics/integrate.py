@@ -3,7 +3,8 @@
 :func:`integrate` calls the compiled loop (``dop853_chunk`` or ``radau5_chunk``) on successive
 chunks of the output grid; between chunks it reports progress, and a ``KeyboardInterrupt`` or a
 failure ends the run with the rows computed so far. The stiff/non-stiff choice of
-``method="auto"`` is :func:`choose_method`.
+``method="auto"`` is :func:`choose_method` at the start, then
+:class:`~flexkane.numerics.switching.MethodSwitch` during the run.
 """
 
 from __future__ import annotations
@@ -11,11 +12,12 @@ from __future__ import annotations
 import enum
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from flexkane.errors import ModelError
+from flexkane.numerics.switching import MethodSwitch
 
 __all__ = ["METHODS", "IntegrationResult", "Status", "StiffnessEstimate", "choose_method",
            "estimate_stiffness", "evaluate_outputs", "integrate"]
@@ -79,11 +81,15 @@ class IntegrationResult:
     wall_time : float
         Elapsed time [s], compilation on first use included.
     method : str
-        ``"dop853"`` or ``"radau"`` (the one chosen when ``"auto"`` was asked).
+        ``"dop853"`` or ``"radau"`` (when ``"auto"`` was asked: the one that covered most of
+        the span).
     t_reached : float
         Last time at which the state is known [s] (may exceed ``t[-1]`` on failure).
     n_valid : int
         Number of rows computed.
+    method_spans : dict of str to float
+        Simulated time covered by each method [s] (``method="auto"`` may switch, see
+        :mod:`flexkane.numerics.switching`).
     """
 
     t: np.ndarray
@@ -98,6 +104,7 @@ class IntegrationResult:
     method: str
     t_reached: float
     n_valid: int
+    method_spans: dict = field(default_factory=dict)
 
     @property
     def success(self) -> bool:
@@ -219,7 +226,9 @@ def integrate(module, y0, t_out, p, *, rtol: float, atol, method: str = "auto",
     atol : float or array_like (n,)
         Absolute tolerance, in the units of each state.
     method : {"auto", "dop853", "radau"}
-        ``"auto"`` applies :func:`choose_method` at ``t_out[0]``.
+        ``"auto"`` starts with :func:`choose_method` at ``t_out[0]`` and may switch methods
+        during the run where the other one is measured to be faster
+        (:mod:`flexkane.numerics.switching`).
     progress : callable, optional
         ``progress(t_reached, t_end)`` called between chunks.
     max_steps : int
@@ -248,32 +257,45 @@ def integrate(module, y0, t_out, p, *, rtol: float, atol, method: str = "auto",
     if not (isinstance(max_steps, (int, np.integer)) and max_steps > 0):
         raise ModelError("max_steps", "a positive integer", max_steps)
     t0, t_end = float(t_out[0]), float(t_out[-1])
+    switch = None
     if method == "auto":
-        method = choose_method(module, t0, y0, p, max(t_end - t0, 1e-300), rtol)
+        switch = MethodSwitch(choose_method(module, t0, y0, p, max(t_end - t0, 1e-300), rtol),
+                              t0, t_end - t0)
+        method = switch.current
     if method not in METHODS:
         raise ModelError("method", f"one of 'auto', {', '.join(map(repr, METHODS))}", method)
-    chunk = getattr(module, METHODS[method])
     Y = np.full((t_out.shape[0], n), np.nan)
-    t, y, h = t0, y0.copy(), 0.0
+    t, y = t0, y0.copy()
+    h_of = {name: 0.0 for name in METHODS}  # step size to try next, by method (0: automatic)
+    budget = {name: 200 for name in METHODS}  # steps per call, adapted to CHUNK_TARGET_SECONDS
+    warm = set()
     started = False  # whether row 0 (y0 at t0) has been written by a chunk call
     nfev = naccept = nreject = 0
     status = Status.OK
     span_step = CHUNK_SPAN_FRACTION * (t_end - t0)
-    budget = 200  # steps per call, adapted to take about CHUNK_TARGET_SECONDS
     try:
         while not started or t < t_end:
+            name, limit = switch.next_chunk() if switch is not None else (method, None)
+            chunk = getattr(module, METHODS[name])
+            if switch is not None and name not in warm:
+                _compile(chunk, t, y, p, rtol, atol, Y)
+                warm.add(name)
+            steps = budget[name] if limit is None else limit
             i_row = int(np.searchsorted(t_out, t, side="right")) if started else 0
             j = int(np.searchsorted(t_out, t + span_step, side="right"))
             j = min(max(j, i_row + 1), t_out.shape[0])
-            tic = time.perf_counter()
-            result = chunk(t, y, h, t_out[i_row:j], p, rtol, atol,
-                           min(budget, max_steps - naccept - nreject), Y[i_row:j])
+            tic, cpu = time.perf_counter(), time.thread_time()
+            result = chunk(t, y, h_of[name], t_out[i_row:j], p, rtol, atol,
+                           min(steps, max_steps - naccept - nreject), Y[i_row:j])
+            cpu = time.thread_time() - cpu
             elapsed = time.perf_counter() - tic
-            t_new, y, h, code, fe, na, nr = result
-            t, started = float(t_new), True
+            t_new, y, h_of[name], code, fe, na, nr, ns = result
+            t_before, t, started = t, float(t_new), True
             nfev, naccept, nreject = nfev + fe, naccept + na, nreject + nr
-            if na + nr > 0 and elapsed > 0:
-                budget = int(min(max((na + nr) / elapsed * CHUNK_TARGET_SECONDS, 50), 1e7))
+            if limit is None and na + nr > 0 and elapsed > 0:
+                budget[name] = int(min(max((na + nr) / elapsed * CHUNK_TARGET_SECONDS, 50), 1e7))
+            if switch is not None:
+                switch.record(name, t_before, t, cpu, na, ns)
             if code == Status.MAX_STEPS and naccept + nreject < max_steps:
                 code = Status.OK  # only this call's share of the steps is used up
             if code != Status.OK:
@@ -287,8 +309,14 @@ def integrate(module, y0, t_out, p, *, rtol: float, atol, method: str = "auto",
     return IntegrationResult(
         t=t_out[:i_row].copy(), y=Y if i_row == Y.shape[0] else Y[:i_row].copy(), status=status,
         message=_message(status, t, max_steps), nfev=nfev, nsteps=naccept + nreject,
-        naccept=naccept, nreject=nreject, wall_time=time.perf_counter() - start, method=method,
-        t_reached=t, n_valid=i_row)
+        naccept=naccept, nreject=nreject, wall_time=time.perf_counter() - start,
+        method=switch.main_method if switch is not None else method, t_reached=t, n_valid=i_row,
+        method_spans=dict(switch.covered) if switch is not None else {method: t - t0})
+
+
+def _compile(chunk, t, y, p, rtol, atol, Y) -> None:
+    """Call ``chunk`` on an empty span so that it is compiled (or loaded) before it is timed."""
+    chunk(t, y, 0.0, np.array([t]), p, rtol, atol, 1, np.empty((1, Y.shape[1])))
 
 
 def evaluate_outputs(module, t: np.ndarray, y: np.ndarray, p: np.ndarray,

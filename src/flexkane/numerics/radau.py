@@ -154,11 +154,11 @@ def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out):
     code = rhs(t, y, p, f0)
     nfev += 1
     if code != 0:
-        return t, y, h, code, nfev, naccept, nreject
+        return t, y, h, code, nfev, naccept, nreject, 0
     if not all_finite(f0):
-        return t, y, h, 2, nfev, naccept, nreject
+        return t, y, h, 2, nfev, naccept, nreject, 0
     if t >= t_end:
-        return t, y, h, 0, nfev, naccept, nreject
+        return t, y, h, 0, nfev, naccept, nreject, 0
     if h <= 0.0:
         h, extra = starting_step(t, y, f0, p, rtol, atol, 5, t_end, ytmp, ftmp)
         nfev += extra
@@ -166,7 +166,7 @@ def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out):
     code, extra = fd_jacobian(t, y, f0, p, J, ytmp, ftmp)
     nfev += extra
     if code != 0:
-        return t, y, h, code, nfev, naccept, nreject
+        return t, y, h, code, nfev, naccept, nreject, 0
     jac_current = True
     h_lu = -1.0
     eta_prev = 1.0
@@ -179,10 +179,10 @@ def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out):
     failure = 0
     while True:
         if naccept + nreject >= max_steps:
-            return t, y, h, 3, nfev, naccept, nreject
+            return t, y, h, 3, nfev, naccept, nreject, 0
         h_min = 16.0 * RADAU_UNIT_ROUNDOFF * max(abs(t), 1e-300)
         if h < h_min:
-            return t, y, h, failure if failure != 0 else 1, nfev, naccept, nreject
+            return t, y, h, failure if failure != 0 else 1, nfev, naccept, nreject, 0
         last = False
         h_untruncated = h
         if t + 1.01 * h >= t_end:
@@ -272,7 +272,7 @@ def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out):
                 code, extra = fd_jacobian(t, y, f0, p, J, ytmp, ftmp)
                 nfev += extra
                 if code != 0:
-                    return t, y, h, code, nfev, naccept, nreject
+                    return t, y, h, code, nfev, naccept, nreject, 0
                 jac_current = True
                 h_lu = -1.0
             else:
@@ -355,7 +355,7 @@ def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out):
             code, extra = fd_jacobian(t, y, f0, p, J, ytmp, ftmp)
             nfev += extra
             if code != 0:
-                return t, y, h, code, nfev, naccept, nreject
+                return t, y, h, code, nfev, naccept, nreject, 0
             jac_current = True
             h_lu = -1.0
         h_new = h * factor
@@ -363,7 +363,7 @@ def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out):
             h_new = h
         if last:
             return t, y, max(h_new, h_untruncated) if h < h_untruncated else h_new, 0, nfev, \
-                naccept, nreject
+                naccept, nreject, 0
         h = h_new
 # <<< flexkane template <<<
 
