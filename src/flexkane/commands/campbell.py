@@ -1,0 +1,61 @@
+"""``flexkane campbell``: frequencies of a chain against the spin rate of its hub.
+
+Example::
+
+    flexkane campbell spin-up --spin 0:8:33
+    flexkane campbell spin-up-linear --spin 0:8:33 --n-modes 6
+
+writes ``campbell.csv`` (Omega [rad/s], the frequencies in the rotating frame [rad/s], the largest
+growth rate [1/s]) and ``campbell.png`` to DIR and prints the table.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ._common import add_model_arguments, model_from_args
+
+__all__ = ["register"]
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "campbell", help="Campbell diagram: frequencies against the spin rate of a hub",
+        description="Linearize a model about steady spins of a hub (revolute joint) and tabulate and plot "
+                    "its frequencies in the rotating frame against the spin rate; write campbell.csv and "
+                    "campbell.png to DIR.")
+    add_model_arguments(p, default=None)
+    p.add_argument("--spin", required=True, metavar="START:STOP:COUNT",
+                   help="spin rates [rad/s]: COUNT values from START to STOP (e.g. 0:8:33), or a list A,B,C")
+    p.add_argument("--hub", default=None, metavar="JOINT",
+                   help="revolute joint that spins [default: the driven one, else the one on the ground]")
+    p.add_argument("--out", metavar="DIR", default=None, help="output directory [default: out/MODEL_NAME-campbell]")
+    p.add_argument("--force", action="store_true", help="write into an existing non-empty directory")
+    p.add_argument("--quiet", action="store_true", help="print nothing but errors")
+    p.set_defaults(handler=_handle)
+
+
+def _handle(args) -> int:
+    from ..atomic import atomic_write_text, prepare_output_dir
+    from ..linearize import campbell_diagram
+    from ..linearize.campbell import parse_spin_range
+
+    spins = parse_spin_range(args.spin)
+    model = model_from_args(args)
+    diagram = campbell_diagram(model, spins, hub=args.hub)
+    out = prepare_output_dir(Path(args.out) if args.out else Path("out") / f"{model.name}-campbell",
+                             force=args.force)
+    atomic_write_text(out / "campbell.csv", diagram.csv_text())
+    diagram.plot(out / "campbell.png")
+    if not args.quiet:
+        print(f"{model.name}: Campbell diagram, joint {diagram.hub} spinning at {spins.size} rates "
+              f"from {spins[0]:g} to {spins[-1]:g} rad/s")
+        for note in diagram.notes:
+            print(f"note: {note}")
+        if diagram.unstable.any():
+            unstable = diagram.spins[diagram.unstable]
+            print(f"unstable (a mode grows) from Omega = {unstable.min():g} rad/s "
+                  f"({int(diagram.unstable.sum())} of {spins.size} rates)")
+        print(diagram.table())
+        print(f"wrote 2 files to {out}")
+    return 0

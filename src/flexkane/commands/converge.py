@@ -1,0 +1,66 @@
+"""``flexkane converge``: frequencies and an output against the number of modes.
+
+Example::
+
+    flexkane converge flexible-arm --n-modes 1..6
+    flexkane converge flexible-arm --n-modes 1..4 --output tip_link --at 0.8
+
+prints a table (one row per number of modes, with the relative change from the previous row) and
+writes ``convergence.csv`` to DIR. With ``--output NAME --at T`` each model is also integrated from
+its initial state to T [s] (compiling one right-hand side per number of modes).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from .linearize import add_operating_point_arguments, operating_point
+
+__all__ = ["register"]
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "converge", help="convergence study: frequencies and an output as modes are added",
+        description="Linearize a model with 1, 2, ... N shape functions per beam and tabulate its first "
+                    "natural frequencies and, with --output and --at, an output at a time; write "
+                    "convergence.csv to DIR.")
+    p.add_argument("model", metavar="MODEL", help="built-in model name or model file (.toml)")
+    p.add_argument("--n-modes", required=True, metavar="1..N", dest="n_modes_range",
+                   help="numbers of shape functions per beam: 1..N, a list A,B,C, or N")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="settings",
+                   help="override a parameter, an initial condition or any value by key path; repeatable")
+    add_operating_point_arguments(p)
+    p.add_argument("--count", type=int, default=4, metavar="K", help="number of frequencies tabulated [default: 4]")
+    p.add_argument("--output", default=None, metavar="NAME", help="output to follow, e.g. tip_link (with --at)")
+    p.add_argument("--at", type=float, default=None, metavar="T", help="time of the output [s]")
+    p.add_argument("--out", metavar="DIR", default=None, help="output directory [default: out/MODEL_NAME-converge]")
+    p.add_argument("--force", action="store_true", help="write into an existing non-empty directory")
+    p.add_argument("--quiet", action="store_true", help="print nothing but errors")
+    p.set_defaults(handler=_handle)
+
+
+def _handle(args) -> int:
+    from ..atomic import atomic_write_text, prepare_output_dir
+    from ..errors import ModelError
+    from ..linearize import convergence_study
+    from ..linearize.convergence import parse_mode_counts
+    from ._common import model_from_args
+
+    counts = parse_mode_counts(args.n_modes_range)
+    if args.count < 1:
+        raise ModelError("--count", "a positive number of frequencies", args.count)
+    model = model_from_args(args)          # MODEL and --set (--n-modes is the range here)
+    about, spin = operating_point(args)
+    study = convergence_study(model, counts, about=about, spin=spin, hub=args.hub, count=args.count,
+                              output=args.output, at=args.at)
+    out = prepare_output_dir(Path(args.out) if args.out else Path("out") / f"{model.name}-converge",
+                             force=args.force)
+    atomic_write_text(out / "convergence.csv", study.csv_text())
+    if not args.quiet:
+        print(f"{model.name}: convergence with the number of modes per beam, linearized about {about}")
+        for note in study.notes:
+            print(f"note: {note}")
+        print(study.table())
+        print(f"wrote 1 file to {out}")
+    return 0

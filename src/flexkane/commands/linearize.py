@@ -1,0 +1,107 @@
+"""``flexkane linearize``: linear model, natural frequencies and mode shapes of a chain.
+
+Example::
+
+    flexkane linearize flexible-arm --n-modes 4
+    flexkane linearize falling-beam-exact --set g=0 --about rest
+    flexkane linearize spin-up --about spin --spin 6
+
+prints the operating point and the table of modes (natural frequency [rad/s] and [Hz], damping
+ratio, eigenvalue; rigid-body modes first) and writes to DIR: ``linear_model.npz`` and
+``linear_model.mat`` (M, C, K, B, W, V and the state-space A, B_ss, C_ss, D_ss with the names of
+states, inputs and outputs), ``modes.csv`` (the table with the mode shapes) and
+``mode_shapes.png``. A model without equilibrium (free fall) exits with code 2 and says so.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ._common import add_model_arguments, model_from_args
+
+__all__ = ["register", "add_operating_point_arguments"]
+
+
+def add_operating_point_arguments(parser, *, spin: bool = True) -> None:
+    """--about, --spin (unless ``spin`` is false), --hub."""
+    from ..linearize import ABOUT
+
+    parser.add_argument("--about", choices=ABOUT, default=None,
+                        help="operating point: equilibrium (searched from the initial coordinates), "
+                             "rest (undeformed, speeds zero) or spin (a hub at the constant rate --spin) "
+                             "[default: equilibrium, or spin when --spin is given]")
+    if spin:
+        parser.add_argument("--spin", type=float, default=None, metavar="OMEGA",
+                            help="spin rate of the hub [rad/s] (--about spin)")
+    parser.add_argument("--hub", default=None, metavar="JOINT",
+                        help="revolute joint that spins [default: the driven one, else the one on the ground]")
+
+
+def operating_point(args) -> tuple[str, float | None]:
+    """``(about, spin)`` from the command line."""
+    spin = getattr(args, "spin", None)
+    about = args.about or ("spin" if spin is not None else "equilibrium")
+    return about, spin
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "linearize", help="linearize a model: natural frequencies, mode shapes, state-space matrices",
+        description="Linearize Kane's equations of a model about an equilibrium, the state at rest or a "
+                    "steady spin: M du' + C du + K dq = B dr. Print the natural frequencies [rad/s, Hz], "
+                    "damping ratios and rigid-body modes; write the matrices (.npz, .mat), modes.csv and "
+                    "mode_shapes.png to DIR.")
+    add_model_arguments(p, default=None)
+    add_operating_point_arguments(p)
+    p.add_argument("--t0", type=float, default=0.0, metavar="T",
+                   help="time of the operating point [s]: loads and drivers are taken there [default: 0]")
+    p.add_argument("--plot-modes", type=int, default=4, metavar="K", help="number of mode shapes drawn [default: 4]")
+    p.add_argument("--out", metavar="DIR", default=None, help="output directory [default: out/MODEL_NAME-linearized]")
+    p.add_argument("--force", action="store_true", help="write into an existing non-empty directory")
+    p.add_argument("--quiet", action="store_true", help="print nothing but errors")
+    p.set_defaults(handler=_handle)
+
+
+def describe(linear) -> list[str]:
+    """Lines describing the operating point of a linear model."""
+    if linear.about == "spin":
+        about = f"a steady spin of joint {linear.hub} at Omega = {linear.spin:g} rad/s"
+    else:
+        about = "an equilibrium" if linear.about == "equilibrium" else "rest"
+    n, m = linear.n, len(linear.inputs)
+    lines = [f"{linear.name}: linearized about {about}, {n} degree{'s' if n != 1 else ''} of freedom, "
+             f"{m} input{'s' if m != 1 else ''} ({', '.join(linear.input_names) or 'none'})"]
+    if linear.n:
+        lines.append("operating point: " + ", ".join(f"{c} = {v:.6g}" for c, v in zip(linear.coordinates, linear.q0)))
+    lines += [f"note: {note}" for note in linear.notes]
+    return lines
+
+
+def _handle(args) -> int:
+    from ..atomic import atomic_write_text, prepare_output_dir
+    from ..errors import ModelError
+    from ..linearize import Linearization, modal_analysis, plot_mode_shapes
+
+    model = model_from_args(args)
+    about, spin = operating_point(args)
+    if args.plot_modes < 1:
+        raise ModelError("--plot-modes", "a positive number of modes", args.plot_modes)
+    linear = Linearization(model, about=about, spin=spin, hub=args.hub, t0=args.t0).at()
+    modal = modal_analysis(linear)
+    out = prepare_output_dir(Path(args.out) if args.out else Path("out") / f"{model.name}-linearized",
+                             force=args.force)
+    linear.save_npz(out / "linear_model.npz")
+    linear.save_mat(out / "linear_model.mat")
+    atomic_write_text(out / "modes.csv", modal.csv_text())
+    plot_mode_shapes(modal, out / "mode_shapes.png", count=args.plot_modes)
+    if not args.quiet:
+        for line in describe(linear):
+            print(line)
+        rigid = len(modal.rigid)
+        if rigid:
+            print(f"{rigid} rigid-body mode{'s' if rigid > 1 else ''} (zero frequency)")
+        if not modal.stable:
+            print("the operating point is unstable (a mode grows)")
+        print(modal.table())
+        print(f"wrote 4 files to {out}")
+    return 0

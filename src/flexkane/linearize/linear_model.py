@@ -1,0 +1,206 @@
+"""The numeric linear model, its state-space form and its export (.npz, MATLAB .mat).
+
+Second-order form (velocity coordinates), about the operating point ``(q0, u0 = 0, r0)``::
+
+    M du' + C du + K dq = B dr,        dq' = W du + V dq.
+
+State-space form, with the state ``x = (dq, du)`` of length 2n and the outputs ``y = C_ss x``
+(the tip deflection of every beam, ``tip_<beam>`` [m], measured from its value ``y0``)::
+
+    x' = A x + B_ss dr,     A = [[V, W], [-M^-1 K, -M^-1 C]],     B_ss = [[0], [M^-1 B]].
+
+When ``W`` is invertible and ``V = 0`` (every operating point of a chain at rest), ``du = W^-1 dq'``
+and premultiplying by ``W^-T`` (which turns generalized forces along the speeds into forces along the
+coordinates) give the form in the coordinates alone, with a symmetric mass matrix
+(:meth:`LinearModel.second_order`)::
+
+    W^-T M W^-1 dq'' + W^-T C W^-1 dq' + W^-T K dq = W^-T B dr.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.linalg
+
+from .prepare import InputChannel
+
+__all__ = ["LinearModel"]
+
+
+@dataclass
+class LinearModel:
+    """A chain's equations of motion linearized about an operating point (module docstring).
+
+    Attributes
+    ----------
+    name : str
+        Model name.
+    about : str
+        ``equilibrium``, ``rest`` or ``spin``.
+    spin : float or None
+        Spin rate Omega of the hub [rad/s] (``about = "spin"``).
+    hub : str or None
+        The spun joint.
+    t0 : float
+        Time of the operating point [s].
+    coordinates, speeds : list of str
+        Names of dq and du, n of each.
+    inputs : list of InputChannel
+        The inputs dr, m of them (actuator torques [N m] or forces [N], load components).
+    output_names : list of str
+        Names of the outputs y, k of them.
+    q0 : numpy.ndarray
+        Operating point, shape (n,) [m or rad].
+    r0 : numpy.ndarray
+        Nominal inputs, shape (m,).
+    M, C, K : numpy.ndarray
+        Mass, damping-and-gyroscopic, stiffness matrices, shape (n, n).
+    B : numpy.ndarray
+        Input matrix of the second-order form, shape (n, m).
+    W, V : numpy.ndarray
+        Linearized kinematic equations ``dq' = W du + V dq``, shape (n, n).
+    C_out : numpy.ndarray
+        Output matrix on the state x, shape (k, 2n).
+    y0 : numpy.ndarray
+        Outputs at the operating point, shape (k,).
+    dropped : dict of str to str
+        Coordinates left out of the linear model and why (``cyclic``, ``prescribed, frozen``,
+        ``dependent (closed loop)``).
+    fixed : dict of str to float
+        Their values at the operating point [m or rad].
+    dependent_map : numpy.ndarray
+        ``dq_d = dependent_map dq`` for the dependent coordinates of closed loops (in the order they
+        appear in ``dropped``), shape (n_d, n); (0, n) for open chains.
+    notes : list of str
+        Assumptions and changes, in words.
+    residual : float
+        Largest generalized acceleration left at the operating point [m/s^2 or rad/s^2].
+    """
+
+    name: str
+    about: str
+    spin: float | None
+    hub: str | None
+    t0: float
+    coordinates: list[str]
+    speeds: list[str]
+    inputs: list[InputChannel]
+    output_names: list[str]
+    q0: np.ndarray
+    r0: np.ndarray
+    M: np.ndarray
+    C: np.ndarray
+    K: np.ndarray
+    B: np.ndarray
+    W: np.ndarray
+    V: np.ndarray
+    C_out: np.ndarray
+    y0: np.ndarray
+    dropped: dict = field(default_factory=dict)
+    fixed: dict = field(default_factory=dict)
+    dependent_map: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    notes: list = field(default_factory=list)
+    residual: float = 0.0
+    linearization: object = field(default=None, repr=False, compare=False)
+
+    # ------------------------------------------------------------------ sizes and names
+    @property
+    def n(self) -> int:
+        """Number of degrees of freedom of the linear model."""
+        return len(self.coordinates)
+
+    @property
+    def input_names(self) -> list[str]:
+        return [ch.name for ch in self.inputs]
+
+    @property
+    def state_names(self) -> list[str]:
+        """Names of the state x = (dq, du)."""
+        return list(self.coordinates) + list(self.speeds)
+
+    # ------------------------------------------------------------------ forms
+    def state_space(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(A, B_ss)`` of ``x' = A x + B_ss dr``, shapes (2n, 2n) and (2n, m)."""
+        n, m = self.n, self.B.shape[1]
+        if n == 0:
+            return np.zeros((0, 0)), np.zeros((0, m))
+        lu = scipy.linalg.lu_factor(self.M)
+        A = np.block([[self.V, self.W],
+                      [-scipy.linalg.lu_solve(lu, self.K), -scipy.linalg.lu_solve(lu, self.C)]])
+        Bss = np.vstack([np.zeros((n, m)), scipy.linalg.lu_solve(lu, self.B) if m else np.zeros((n, 0))])
+        return A, Bss
+
+    def output_matrices(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(C_ss, D_ss)`` of ``y - y0 = C_ss x + D_ss dr``, shapes (k, 2n) and (k, m)."""
+        return self.C_out.copy(), np.zeros((len(self.output_names), self.B.shape[1]))
+
+    def second_order(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """``(M_q, C_q, K_q, B_q)`` of ``M_q dq'' + C_q dq' + K_q dq = B_q dr`` (module docstring).
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            Shapes (n, n), (n, n), (n, n), (n, m); ``M_q`` is symmetric.
+
+        Raises
+        ------
+        ValueError
+            If ``V`` is not zero (the form needs ``du = W^-1 dq'``).
+        """
+        if np.any(self.V != 0):
+            raise ValueError("the coordinate form needs V = 0 (dq' = W du)")
+        if self.n == 0:
+            return self.M.copy(), self.C.copy(), self.K.copy(), self.B.copy()
+        Winv = np.linalg.inv(self.W)
+        return Winv.T @ self.M @ Winv, Winv.T @ self.C @ Winv, Winv.T @ self.K, Winv.T @ self.B
+
+    # ------------------------------------------------------------------ export
+    def arrays(self) -> dict:
+        """Every matrix and name, as the arrays written by :meth:`save_npz` and :meth:`save_mat`.
+
+        Keys: ``M, C, K, B, W, V`` (second-order form), ``A, B_ss, C_ss, D_ss`` (state space),
+        ``q0, r0, y0``, ``spin`` (NaN unless about a spin), ``t0``, and the names ``state_names``,
+        ``coordinates``, ``speeds``, ``input_names``, ``input_units``, ``output_names``, ``about``.
+        """
+        A, Bss = self.state_space()
+        Css, Dss = self.output_matrices()
+        return {
+            "M": self.M, "C": self.C, "K": self.K, "B": self.B, "W": self.W, "V": self.V,
+            "A": A, "B_ss": Bss, "C_ss": Css, "D_ss": Dss,
+            "q0": self.q0, "r0": self.r0, "y0": self.y0,
+            "spin": np.array(np.nan if self.spin is None else self.spin), "t0": np.array(self.t0),
+            "state_names": self.state_names, "coordinates": list(self.coordinates),
+            "speeds": list(self.speeds), "input_names": self.input_names,
+            "input_units": [ch.unit for ch in self.inputs], "output_names": list(self.output_names),
+            "about": self.about,
+        }
+
+    def save_npz(self, path) -> None:
+        """Write :meth:`arrays` to a NumPy ``.npz`` file (names as Unicode arrays, no pickles)."""
+        from ..atomic import atomic_writer
+
+        data = {k: (np.array(v, dtype=str) if isinstance(v, (list, str)) else np.asarray(v, dtype=float))
+                for k, v in self.arrays().items()}
+        with atomic_writer(path, "path") as temporary:
+            np.savez(temporary, **data)
+
+    def save_mat(self, path) -> None:
+        """Write :meth:`arrays` to a MATLAB ``.mat`` file (``scipy.io.savemat``; names as cell arrays)."""
+        import scipy.io
+
+        from ..atomic import atomic_writer
+
+        data = {}
+        for k, v in self.arrays().items():
+            if isinstance(v, list):
+                cell = np.empty((len(v),), dtype=object)
+                cell[:] = v
+                data[k] = cell
+            elif isinstance(v, str):
+                data[k] = v
+            else:
+                data[k] = np.asarray(v, dtype=float)
+        with atomic_writer(path, "path") as temporary:
+            scipy.io.savemat(temporary, data, oned_as="column")

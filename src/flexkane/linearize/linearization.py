@@ -1,0 +1,496 @@
+"""Linearized Kane's equations about an equilibrium or a steady spin.
+
+Kane's equations ``M(q, t) u' = f(q, u, t, r)`` with ``q' = qdot(q, u, t)`` (eq. 8.36), perturbed
+about an operating point ``(q0, u0 = 0, r0)`` at which ``u' = 0`` and ``q' = 0``, give to first order
+
+    M du' + C du + K dq = B dr,        dq' = W du + V dq,
+
+with, all evaluated at the operating point,
+
+    M = M(q0),  C = -df/du,  K = -df/dq,  B = df/dr,  W = dqdot/du,  V = dqdot/dq.
+
+(The term ``dM/dq . u'`` vanishes because ``u' = 0`` there.) W is the matrix of the kinematic
+equations ``q' = W(q) u + k(q, t)``: the identity for revolute, prismatic and modal coordinates, a
+rotation for the translation of a free joint (eq. 8.14). The state-space form is
+``x = (dq, du)``, ``x' = A x + B_ss dr`` (:class:`~flexkane.linearize.linear_model.LinearModel`).
+Chains with closed loops are linearized in their independent coordinates
+(:mod:`flexkane.linearize.reduction`).
+
+Operating points (``about``):
+
+* ``equilibrium``: q0 solves ``f(q0, 0, t0) = 0`` (and the loop constraints), searched from the
+  model's initial coordinates (:mod:`flexkane.linearize.equilibrium`);
+* ``rest``: q0 is the model's initial configuration with every elastic coordinate (modal and axial)
+  set to zero, and must be an equilibrium; for free-floating chains;
+* ``spin``: a revolute hub turns at the constant rate Omega (its driver is replaced by
+  ``speed = Omega``); the other coordinates are in equilibrium in the hub's rotating frame.
+
+Coordinates whose speed is prescribed by a driver are not degrees of freedom of the perturbation
+(their perturbation is zero): they are dropped from the linear model. When such a coordinate does
+not appear in the equations (it is cyclic, like the angle of a hub without gravity) nothing is lost;
+when it does, the linear model freezes it at its value at t0 (and a steady spin is refused).
+
+:class:`Linearization` forms the Jacobians once, symbolically (:mod:`flexkane.linearize.jacobian`),
+and evaluates them for any operating point, which serves Campbell diagrams (one derivation, many spin
+rates).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import sympy as sp
+
+from ..errors import ModelError
+from ..model import Model
+from .equilibrium import EquilibriumCheck, NoEquilibriumError, check_equilibrium, find_equilibrium
+from .jacobian import forward_jacobian
+from .linear_model import LinearModel
+from .prepare import ABOUT, prepare_model
+from .reduction import closure_map
+
+__all__ = ["Linearization", "linearize", "ABOUT"]
+
+
+class Linearization:
+    """Symbolic linearization of a model's equations of motion (module docstring).
+
+    Parameters
+    ----------
+    model : Model
+        A valid model (not modified).
+    about : str
+        ``equilibrium``, ``rest`` or ``spin``.
+    spin : float, optional
+        Spin rate Omega of the hub [rad/s] (``about = "spin"``); :meth:`at` may change it.
+    hub : str, optional
+        Revolute joint spun for ``about = "spin"``; by default the only driven revolute joint, else
+        the only revolute joint on the ground.
+    t0 : float
+        Time of the operating point [s]: loads become the inputs' nominal values at t0, and explicit
+        functions of time (drivers) are frozen at t0.
+
+    Attributes
+    ----------
+    eom : EquationsOfMotion
+        Of the prepared model (:mod:`flexkane.linearize.prepare`).
+    q, u : list of sympy.Symbol
+        Coordinates and speeds of the linear model, n of each.
+    q_all : list of sympy.Symbol
+        The coordinates searched for the operating point: ``q`` and the dependent coordinates of
+        closed loops.
+    dependent : list of sympy.Symbol
+        Dependent coordinates of closed loops (empty for open chains).
+    dropped : list of sympy.Symbol
+        Coordinates prescribed by drivers, not in the linear model.
+    r : list of sympy.Symbol
+        Inputs (actuator torques and load components), m of them.
+    M, W, V : sympy.Matrix
+        Mass matrix M(q) (n, n) and kinematic Jacobians ``dqdot/du`` (n_all, n), ``dqdot/dq``
+        (n_all, n_all) at u = 0; the Jacobians of the forcing are in :meth:`symbolic_matrices`.
+    output_names : list of str
+        Outputs of the linear model: the tip deflection of every beam, ``tip_<beam>`` [m].
+    parameters : list of sympy.Symbol
+        Order of the constants vector p of the numeric functions.
+    notes : list of str
+        What the linear model leaves out or assumes, in words.
+    """
+
+    def __init__(self, model: Model, *, about: str = "equilibrium", spin: float | None = None,
+                 hub: str | None = None, t0: float = 0.0):
+        from ..kane import derive
+
+        if isinstance(t0, bool) or not (isinstance(t0, (int, float)) and np.isfinite(t0)):
+            raise ModelError("t0", "a finite time [s]", t0)
+        self.about = about
+        self.t0 = float(t0)
+        self.prepared = prepare_model(model, about=about, spin=spin, hub=hub, t0=t0)
+        self.model = self.prepared.model
+        self.notes = list(self.prepared.notes)
+        eom = derive(self.model)
+        self.eom = eom
+        self.t = eom.t
+        self._coordinate = {c.q: c for c in eom.chain.coordinates}
+        self.dropped = [q for q in eom.q if self._coordinate[q].driver == "speed"]
+        self.dependent = list(eom.dependent_coordinates) if eom.dependent_speeds else []
+        self.q_all = [q for q in eom.q if q not in self.dropped]
+        self.q = [q for q in self.q_all if q not in self.dependent]
+        self.u = list(eom.u)
+        if len(self.q) != len(self.u):  # pragma: no cover - the chain gives one speed per coordinate
+            raise ModelError("model", "as many independent speeds as coordinates",
+                             f"{len(self.q)} and {len(self.u)}")
+        params = eom.chain.symbols.parameters
+        self.inputs = list(self.prepared.inputs)
+        self.r = [params[ch.name] for ch in self.inputs]
+        self._form_matrices()
+        self._check_dropped()
+        self._check_drivers()
+        self._compile()
+
+    # ------------------------------------------------------------------ symbolic
+    def _form_matrices(self) -> None:
+        eom = self.eom
+        at_rest = {u: sp.Integer(0) for u in self.u}
+        rows = [k for k, q in enumerate(eom.q) if q not in self.dropped]
+        qdot = sp.Matrix([eom.qdot[k] for k in rows])
+        n_all = len(self.q_all)
+        self.qdot0 = qdot.xreplace(at_rest)
+        self.M = eom.mass_matrix
+        self.W = qdot.jacobian(self.u).xreplace(at_rest) if n_all and self.u else sp.zeros(n_all, len(self.u))
+        self.V = self.qdot0.jacobian(self.q_all) if n_all else sp.zeros(0, 0)
+        names = eom.constraint_set.names if self.dependent else []
+        self.phi = sp.Matrix([eom.outputs[f"constraint_{name}"] for name in names])
+        self.phi_q = self.phi.jacobian(self.q_all) if names else sp.zeros(0, n_all)
+        self.output_names = [k for k in eom.outputs if k.startswith("tip_")]
+        y = sp.Matrix([eom.outputs[k] for k in self.output_names])
+        self.y0 = y.xreplace(at_rest)
+        k = len(self.output_names)
+        self.Cq = self.y0.jacobian(self.q_all) if n_all and k else sp.zeros(k, n_all)
+        self.Cu = y.jacobian(self.u).xreplace(at_rest) if self.u and k else sp.zeros(k, len(self.u))
+        # f and its Jacobian with respect to (q_all, u, r), in factored form for the numbers
+        self._forward = forward_jacobian(list(eom.forcing), [*self.q_all, *self.u, *self.r])
+        self._symbolic = None
+
+    def symbolic_matrices(self) -> dict:
+        """The symbolic matrices, SymPy Jacobians of ``eom.forcing`` and ``eom.qdot`` at u = 0.
+
+        Returns
+        -------
+        dict of str to sympy.Matrix
+            ``M`` (n, n), ``C = -df/du`` (n, n), ``K = -df/dq`` (n, n_all), ``B = df/dr`` (n, m),
+            ``W = dqdot/du`` (n_all, n), ``V = dqdot/dq`` (n_all, n_all) and, for closed loops,
+            ``Phi_q`` (constraints, n_all). Functions of q, t, the constants and r. For an open chain
+            n_all = n; a closed one is reduced numerically (``K T``, ``V T``, see
+            :mod:`flexkane.linearize.reduction`). Formed on first use: for large models (many modes
+            with geometric stiffening) this takes long, and the numeric matrices do not need it.
+        """
+        if self._symbolic is None:
+            at_rest = {u: sp.Integer(0) for u in self.u}
+            f = self.eom.forcing
+            f0 = f.xreplace(at_rest)
+            n, m = len(self.u), len(self.r)
+            self._symbolic = {
+                "M": self.M,
+                "C": -f.jacobian(self.u).xreplace(at_rest) if n else sp.zeros(0, 0),
+                "K": -f0.jacobian(self.q_all) if n else sp.zeros(0, len(self.q_all)),
+                "B": f0.jacobian(self.r) if n and m else sp.zeros(n, m),
+                "W": self.W, "V": self.V,
+            }
+            if self.dependent:
+                self._symbolic["Phi_q"] = self.phi_q
+        return self._symbolic
+
+    def _appears(self, symbol) -> bool:
+        exprs = list(self.M) + list(self.eom.forcing) + list(self.qdot0) + list(self.W) + list(self.phi)
+        return any(symbol in e.free_symbols for e in exprs)
+
+    def _check_dropped(self) -> None:
+        for q in self.dropped:
+            owner = self._coordinate[q].owner
+            if not self._appears(q):
+                self.notes.append(f"{q.name} (joint {owner}, prescribed speed) does not appear in the "
+                                  "equations (cyclic): dropped from the linear model")
+            elif self.about == "spin" and owner == self.prepared.hub:
+                hint = " (--set g=0 removes gravity)" if self.model.gravity is not None else ""
+                raise NoEquilibriumError(
+                    "spin", f"no steady spin of joint {owner}: its angle {q.name} appears in the equations "
+                    "(through gravity, a spring, a load or a closed loop), so a constant spin is not a steady "
+                    f"motion and the linear model would be periodic in time{hint}")
+            else:
+                self.notes.append(f"{q.name} (joint {owner}) is prescribed by a driver: dropped from the "
+                                  f"linear model, its value frozen at t0 = {self.t0:g} s")
+        if self.dependent:
+            self.notes.append("closed loops: " + ", ".join(q.name for q in self.dependent)
+                              + " follow the independent coordinates (dq = T dq_i)")
+        exprs = list(self.M) + list(self.eom.forcing) + list(self.qdot0) + list(self.phi)
+        if any(self.t in e.free_symbols for e in exprs):
+            self.notes.append(f"the equations depend explicitly on time (drivers): frozen at t0 = {self.t0:g} s")
+
+    def _check_drivers(self) -> None:
+        """A driver other than the steady spin must be at rest at t0 for an equilibrium."""
+        from ..expressions import to_float
+
+        values = self.eom.constant_values(self.model)
+        values[self.t] = self.t0
+        for c in self.eom.chain.coordinates:
+            if c.driver is None or (self.about == "spin" and c.owner == self.prepared.hub):
+                continue
+            rate = c.law if c.driver == "speed" else sp.diff(c.law, self.t)
+            path = f"joints.{c.owner}.driver"
+            speed = to_float(rate, values, path=path)
+            if abs(speed) > 1e-12 * max(1.0, abs(to_float(c.law, values, path=path))):
+                raise NoEquilibriumError(
+                    self.about, f"{self.model.name} has no equilibrium at t0 = {self.t0:g} s: joint {c.owner} "
+                    f"is driven at {speed:.6g} (rad/s or m/s) there, so the chain is not at rest; linearize "
+                    "about a steady spin instead (--about spin --spin OMEGA) or at a time when the driver "
+                    "is at rest (--t0)")
+
+    # ------------------------------------------------------------------ numeric
+    def _compile(self) -> None:
+        eom = self.eom
+        extra = [r for r in self.r if r not in eom.constants]
+        self.parameters = list(eom.constants) + extra
+        self._values = eom.constant_values(self.model)
+        self.p = np.array([self._values[s] for s in self.parameters], dtype=float)
+        state0 = eom.initial_state(self.model)
+        index = {q: k for k, q in enumerate(eom.q)}
+        self.q_initial = np.array([state0[index[q]] for q in self.q_all], dtype=float)
+        self.dropped_values = np.array([self._dropped_value(q, state0[index[q]]) for q in self.dropped])
+        args = [*self.q_all, *self.dropped, *self.u, self.t, *self.parameters]
+        fj = self._forward
+        self._f_forcing = sp.lambdify(args, [fj.values, fj.jacobian], modules="numpy", cse=fj.cse)
+        self._f_mass = sp.lambdify(args, self.M, modules="numpy", cse=True)
+        kinematic = [self.qdot0, self.W, self.V, self.phi, self.phi_q, self.y0, self.Cq, self.Cu]
+        self._f_kinematic = sp.lambdify(args, kinematic, modules="numpy", cse=True)
+        self._cache = (None, None)
+
+    def _dropped_value(self, q, initial: float) -> float:
+        """Value of a coordinate with prescribed speed at t0 (its initial value plus the integral)."""
+        if self.t0 == 0.0:
+            return float(initial)
+        from scipy.integrate import quad
+
+        law = self._coordinate[q].law.xreplace({s: v for s, v in self._values.items() if s != self.t})
+        rate = sp.lambdify([self.t], law, "numpy")
+        return float(initial + quad(lambda s: float(rate(s)), 0.0, self.t0, limit=200)[0])
+
+    def _args(self, q_all: np.ndarray, p: np.ndarray) -> list:
+        return [*np.asarray(q_all, dtype=float), *self.dropped_values, *np.zeros(len(self.u)), self.t0, *p]
+
+    def _numbers(self, q_all: np.ndarray, p: np.ndarray) -> dict:
+        """Every numeric matrix at ``(q_all, u = 0, t0)`` for constants p (cached for the last point)."""
+        key = (np.asarray(q_all, dtype=float).tobytes(), np.asarray(p, dtype=float).tobytes())
+        if self._cache[0] != key:
+            n, n_all, m = len(self.u), len(self.q_all), len(self.r)
+            k, c = len(self.output_names), self.phi.shape[0]
+            args = self._args(q_all, p)
+            as_array = lambda v, shape: np.array(v, dtype=float).reshape(shape)  # noqa: E731
+            with np.errstate(all="ignore"):
+                values, jacobian = self._f_forcing(*args)
+                kin = self._f_kinematic(*args)
+                M = self._f_mass(*args)
+            J = as_array(jacobian, (n, n_all + n + m))
+            out = {"f": as_array(values, (n,)), "F_q": J[:, :n_all], "F_u": J[:, n_all:n_all + n],
+                   "F_r": J[:, n_all + n:], "M": as_array(M, (n, n)), "qdot": as_array(kin[0], (n_all,)),
+                   "W": as_array(kin[1], (n_all, n)), "V": as_array(kin[2], (n_all, n_all)),
+                   "phi": as_array(kin[3], (c,)), "phi_q": as_array(kin[4], (c, n_all)),
+                   "y": as_array(kin[5], (k,)), "Y_q": as_array(kin[6], (k, n_all)),
+                   "Y_u": as_array(kin[7], (k, n))}
+            self._cache = (key, out)
+        return self._cache[1]
+
+    def parameter_values(self, spin: float | None = None) -> np.ndarray:
+        """The constants vector p, with the spin rate ``spin`` [rad/s] if given, shape (len(parameters),)."""
+        p = self.p.copy()
+        if spin is not None:
+            if self.about != "spin":
+                raise ModelError("--spin", "no spin rate unless --about spin", spin)
+            symbol = self.eom.chain.symbols.parameters[self.prepared.spin_parameter]
+            if symbol in self.parameters:
+                p[self.parameters.index(symbol)] = float(spin)
+        return p
+
+    def _load_accelerations(self, q_all: np.ndarray, p: np.ndarray) -> float:
+        """Size of the accelerations gravity and the nominal inputs cause [m/s^2 or rad/s^2]."""
+        from ..kane.active import gravity_vector
+
+        size = 0.0
+        gravity = gravity_vector(self.eom.kinematics)
+        if gravity is not None:
+            values = dict(zip(self.parameters, p))
+            size = float(sp.sqrt(gravity[0] ** 2 + gravity[1] ** 2).xreplace(values))
+        if self.r:
+            x = self._numbers(q_all, p)
+            r0 = np.array([ch.value for ch in self.inputs])
+            try:
+                size = max(size, float(np.max(np.abs(np.linalg.solve(x["M"], x["F_r"] @ r0)))))
+            except np.linalg.LinAlgError:
+                pass
+        return abs(size)
+
+    def _evaluators(self, p: np.ndarray) -> dict:
+        ev = {"forcing": lambda q: self._numbers(q, p)["f"],
+              "stiffness": lambda q: -self._numbers(q, p)["F_q"],
+              "mass": lambda q: self._numbers(q, p)["M"],
+              "rates": lambda q: self._numbers(q, p)["qdot"]}
+        if self.dependent:
+            ev["constraints"] = lambda q: self._numbers(q, p)["phi"]
+            ev["constraint_jacobian"] = lambda q: self._numbers(q, p)["phi_q"]
+        return ev
+
+    def _project(self, q_all: np.ndarray) -> np.ndarray:
+        """Close the loops: the dependent coordinates for the others of ``q_all``."""
+        if not self.dependent:
+            return np.asarray(q_all, dtype=float)
+        index = {q: k for k, q in enumerate(self.eom.q)}
+        full = np.zeros(len(self.eom.q))
+        for q, v in zip(self.q_all, q_all):
+            full[index[q]] = v
+        for q, v in zip(self.dropped, self.dropped_values):
+            full[index[q]] = v
+        full = self.eom.project_coordinates(full, self._values, self.t0)
+        return np.array([full[index[q]] for q in self.q_all])
+
+    def operating_point(self, spin: float | None = None, q_start=None) -> EquilibriumCheck:
+        """The configuration of the operating point, all coordinates ``q_all``.
+
+        Parameters
+        ----------
+        spin : float, optional
+            Spin rate [rad/s] (``about = "spin"``); the one given at construction by default.
+        q_start : array_like, optional
+            Starting configuration of the search, shape (n_all,), or (n,) for the independent
+            coordinates only (the loops are then closed from the model's initial guesses); the
+            model's initial coordinates by default. The search finds the equilibrium nearest to it,
+            which may be unstable.
+
+        Returns
+        -------
+        EquilibriumCheck
+
+        Raises
+        ------
+        NoEquilibriumError
+            If no equilibrium is found (``equilibrium``, ``spin``) or the configuration at rest is
+            not one (``rest``).
+        """
+        p = self.parameter_values(spin)
+        ev = self._evaluators(p)
+        n_all = len(self.q_all)
+        start = self.q_initial.copy()
+        if q_start is not None:
+            given = np.asarray(q_start, dtype=float).ravel()
+            if given.size == n_all:
+                start = given
+            elif given.size == len(self.q):     # independent coordinates: close the loops from there
+                independent = [k for k, q in enumerate(self.q_all) if q not in self.dependent]
+                start[independent] = given
+                start = self._project(start)
+            else:
+                raise ModelError("q_start", f"{len(self.q)} or {n_all} coordinates [m or rad]", given.size)
+        loads = self._load_accelerations(start, p)
+        if self.about == "rest":
+            elastic = np.array([self._coordinate[q].role in ("mode", "axial") for q in self.q_all], dtype=bool)
+            check = check_equilibrium(self._project(np.where(elastic, 0.0, start)), **ev,
+                                      load_accelerations=loads)
+            if not check.ok:
+                raise NoEquilibriumError(
+                    "rest", f"{self.model.name} is not in equilibrium at rest (undeformed, speeds zero): "
+                    f"its generalized accelerations are {check.residual:.6g} (m/s^2 or rad/s^2), not 0; "
+                    "it moves under gravity or loads (--set g=0 removes gravity; --about equilibrium searches "
+                    "for an equilibrium)")
+            return check
+        check = find_equilibrium(start, **ev, load_accelerations=loads)
+        if not check.ok:
+            names = ", ".join(f"{q.name} = {v:.6g}" for q, v in zip(self.q_all, start)) or "none"
+            where = "in the rotating frame of the hub" if self.about == "spin" else "with all speeds zero"
+            raise NoEquilibriumError(
+                self.about, f"{self.model.name} has no equilibrium {where}: from the initial coordinates "
+                f"({names}) the generalized accelerations cannot be brought below {check.residual:.6g} "
+                "(m/s^2 or rad/s^2); a chain in free fall under gravity, or pushed by an unbalanced load, has "
+                "none. Remove the load (e.g. --set g=0 and --about rest), or start the search elsewhere "
+                "(--set on the initial coordinates)")
+        return check
+
+    def at(self, spin: float | None = None, q_start=None) -> LinearModel:
+        """The numeric linear model at the operating point.
+
+        Parameters
+        ----------
+        spin : float, optional
+            Spin rate [rad/s] (``about = "spin"``); the one given at construction by default.
+        q_start : array_like, optional
+            Starting configuration of the equilibrium search, shape (n_all,) or (n,)
+            (:meth:`operating_point`).
+
+        Returns
+        -------
+        LinearModel
+        """
+        check = self.operating_point(spin, q_start)
+        p = self.parameter_values(spin)
+        x = self._numbers(check.q, p)
+        n = len(self.u)
+        independent = [k for k, q in enumerate(self.q_all) if q not in self.dependent]
+        dependent = [k for k, q in enumerate(self.q_all) if q in self.dependent]
+        T = closure_map(x["phi_q"], independent, dependent)
+        fixed = {q.name: float(v) for q, v in zip(self.dropped, self.dropped_values)}
+        fixed.update({self.q_all[k].name: float(check.q[k]) for k in dependent})
+        dropped = {q.name: ("cyclic" if not self._appears(q) else "prescribed, frozen") for q in self.dropped}
+        dropped.update({q.name: "dependent (closed loop)" for q in self.dependent})
+        spin_value = None
+        if self.about == "spin":
+            symbol = self.eom.chain.symbols.parameters[self.prepared.spin_parameter]
+            spin_value = float(p[self.parameters.index(symbol)]) if symbol in self.parameters \
+                else float(self.model.parameters[self.prepared.spin_parameter])
+        return LinearModel(
+            name=self.model.name, about=self.about, spin=spin_value, hub=self.prepared.hub, t0=self.t0,
+            coordinates=[q.name for q in self.q], speeds=[u.name for u in self.u],
+            inputs=list(self.inputs), output_names=list(self.output_names),
+            q0=check.q[independent].copy(), r0=np.array([ch.value for ch in self.inputs], dtype=float),
+            M=x["M"], C=-x["F_u"], K=-x["F_q"] @ T, B=x["F_r"].reshape(n, len(self.r)),
+            W=x["W"][independent], V=(x["V"] @ T)[independent],
+            C_out=np.hstack([x["Y_q"] @ T, x["Y_u"]]), y0=x["y"], dropped=dropped, fixed=fixed,
+            dependent_map=T[dependent], notes=list(self.notes), residual=check.residual, linearization=self)
+
+    # ------------------------------------------------------------------ configurations
+    def configuration(self, linear: LinearModel, q: np.ndarray) -> dict:
+        """Every coordinate of the equations for the linear model's coordinates ``q`` (n,).
+
+        Dependent coordinates of closed loops are first moved along ``dq_d = T_d dq`` and then
+        projected back onto the loop constraints; prescribed coordinates keep their values at t0.
+
+        Returns
+        -------
+        dict of sympy.Symbol to float
+        """
+        q = np.asarray(q, dtype=float)
+        values = dict(zip(self.q, q))
+        guess = {name: v for name, v in linear.fixed.items()}
+        if self.dependent:
+            moved = linear.dependent_map @ (q - linear.q0)
+            for k, d in enumerate(self.dependent):
+                guess[d.name] = linear.fixed[d.name] + moved[k]
+        q_all = np.array([values[s] if s in values else guess[s.name] for s in self.q_all])
+        q_all = self._project(q_all)
+        out = {s: float(v) for s, v in zip(self.q_all, q_all)}
+        out.update({s: float(v) for s, v in zip(self.dropped, self.dropped_values)})
+        return out
+
+    def full_operating_point(self, linear: LinearModel) -> np.ndarray:
+        """All coordinates ``q_all`` of a linear model's operating point, shape (n_all,)."""
+        values = dict(zip(self.q, linear.q0))
+        return np.array([values[s] if s in values else linear.fixed[s.name] for s in self.q_all])
+
+
+def linearize(model: Model, *, about: str = "equilibrium", spin: float | None = None,
+              hub: str | None = None, t0: float = 0.0, q_start=None) -> LinearModel:
+    """Linearize a model's equations of motion about an operating point.
+
+    Parameters
+    ----------
+    model : Model
+        A valid model.
+    about : str
+        ``equilibrium`` (searched from the initial coordinates), ``rest`` (undeformed, at rest) or
+        ``spin`` (a hub turning at the constant rate ``spin``).
+    spin : float, optional
+        Spin rate Omega [rad/s], with ``about = "spin"`` only.
+    hub : str, optional
+        Revolute joint to spin.
+    t0 : float
+        Time of the operating point [s].
+    q_start : array_like, optional
+        Starting configuration of the equilibrium search, shape (n_all,) or (n,) (see
+        :meth:`Linearization.operating_point`).
+
+    Returns
+    -------
+    LinearModel
+        ``M du' + C du + K dq = B dr``, ``dq' = W du + V dq`` and the state-space form.
+
+    Raises
+    ------
+    NoEquilibriumError
+        (a :class:`~flexkane.errors.ModelError`) when the operating point does not exist.
+    """
+    return Linearization(model, about=about, spin=spin, hub=hub, t0=t0).at(q_start=q_start)

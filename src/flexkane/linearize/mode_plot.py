@@ -1,0 +1,185 @@
+"""Drawings of a chain's mode shapes: beams deformed with their shape functions, bodies by outline.
+
+A configuration is drawn from the outputs of the equations of motion (the position ``x_<link>``,
+``y_<link>`` and angle ``theta_<link>`` of every body's mass centre and every beam's root) and, along
+each beam, the deflection ``Y(x) = sum_i Phi_i(x/L) q_i`` of eq. 8.15 (and the axial displacement
+``sum_k Psi_k(x/L) s_k`` of beams with axial modes) evaluated with the beam's shape family; the
+foreshortening of geometric stiffening, second order in q, is not drawn. A mode is drawn at
+``q0 + a dq`` with the amplitude a chosen so that the largest displacement is 15 % of the chain's size.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import sympy as sp
+
+from .eigen import ModalAnalysis, Mode
+
+__all__ = ["ChainDrawing", "plot_mode_shapes"]
+
+#: Largest displacement of a drawn mode, as a fraction of the size of the chain.
+DRAWN_AMPLITUDE = 0.15
+
+
+class ChainDrawing:
+    """Polylines of every link of a linearized chain for any configuration.
+
+    Parameters
+    ----------
+    linear : LinearModel
+        A linear model made by :class:`~flexkane.linearize.linearization.Linearization` (which gives
+        the equations, the model and the constants).
+    points : int
+        Points drawn along each beam.
+    """
+
+    def __init__(self, linear, points: int = 61):
+        from ..expressions import parse_expression, to_float
+        from ..kane.equations import shape_family
+
+        lin = linear.linearization
+        self.linear = linear
+        eom = lin.eom
+        model = lin.model
+        self.linearization = lin
+        values = eom.constant_values(model)
+        values[eom.t] = lin.t0
+        self._state = list(eom.q)
+        names = [*model.bodies, *model.beams]
+        exprs = [[eom.outputs[f"x_{k}"], eom.outputs[f"y_{k}"], eom.outputs[f"theta_{k}"]] for k in names]
+        exprs = [[sp.sympify(e).xreplace(values) for e in row] for row in exprs]
+        self._frames = sp.lambdify(self._state, exprs, modules="numpy")
+        self._names = names
+        psyms = eom.chain.symbols.parameters
+        self._outlines = {}
+        for name, body in model.bodies.items():
+            if body.outline:
+                pts = [[to_float(parse_expression(c, psyms, path=f"bodies.{name}.outline"), values,
+                                 path=f"bodies.{name}.outline") for c in point] for point in body.outline]
+                pts.append(pts[0])
+                self._outlines[name] = np.array(pts, dtype=float)
+            else:
+                self._outlines[name] = None
+        self._beams = {}
+        index = {q: k for k, q in enumerate(self._state)}
+        for name, beam in model.beams.items():
+            path = f"beams.{name}"
+            L = float(sp.sympify(eom.kinematics.value(f"{path}.L", beam.L, f"L_{name}")).xreplace(values))
+            xi = np.linspace(0.0, 1.0, points)
+            modes = [index[q] for q in eom.chain.beam_modes(name)]
+            phi = shape_family(beam.shape, f"{path}.shape").phi(xi, beam.n_modes) if modes else np.zeros((0, points))
+            axial = [index[s] for s in eom.chain.beam_axial(name)]
+            psi = (shape_family(beam.axial_shape, f"{path}.axial_shape").phi(xi, beam.n_axial)
+                   if axial else np.zeros((0, points)))
+            self._beams[name] = (L * xi, modes, phi, axial, psi)
+
+    def full_state(self, q: np.ndarray) -> np.ndarray:
+        """Every coordinate of the equations for the linear model's coordinates ``q`` (n,)."""
+        values = self.linearization.configuration(self.linear, q)
+        return np.array([values[s] for s in self._state], dtype=float)
+
+    def lines(self, q: np.ndarray) -> list[tuple[str, np.ndarray]]:
+        """``(kind, points)`` for every link: kind ``beam``, ``body`` or ``point``; points (N, 2) [m]."""
+        state = self.full_state(q)
+        frames = self._frames(*state)
+        out = []
+        for name, (x, y, theta) in zip(self._names, frames):
+            c, s = np.cos(float(theta)), np.sin(float(theta))
+            if name in self._beams:
+                xs, modes, phi, axial, psi = self._beams[name]
+                X = xs + (state[axial] @ psi if axial else 0.0)
+                Y = state[modes] @ phi if modes else np.zeros_like(xs)
+                local = np.column_stack([X, Y])
+                kind = "beam"
+            elif self._outlines[name] is not None:
+                local, kind = self._outlines[name], "body"
+            else:
+                local, kind = np.zeros((1, 2)), "point"
+            points = np.column_stack([float(x) + c * local[:, 0] - s * local[:, 1],
+                                      float(y) + s * local[:, 0] + c * local[:, 1]])
+            out.append((kind, points))
+        return out
+
+    def amplitude(self, q0: np.ndarray, shape: np.ndarray) -> float:
+        """Amplitude a of ``q0 + a shape`` whose largest displacement is :data:`DRAWN_AMPLITUDE` of
+        the size of the chain."""
+        base = np.vstack([p for _, p in self.lines(q0)])
+        size = float(np.max(np.ptp(base, axis=0))) if base.shape[0] > 1 else 0.0
+        size = size if size > 0 else 1.0
+        eps = 1e-6 / max(float(np.max(np.abs(shape))), 1e-300)
+        moved = np.vstack([p for _, p in self.lines(q0 + eps * shape)])
+        per_unit = float(np.max(np.linalg.norm(moved - base, axis=1))) / eps
+        return DRAWN_AMPLITUDE * size / per_unit if per_unit > 0 else 0.0
+
+
+def _draw(axes, lines, **style) -> None:
+    for kind, points in lines:
+        if kind == "point":
+            axes.plot(points[:, 0], points[:, 1], "o", markersize=4, **style)
+        else:
+            axes.plot(points[:, 0], points[:, 1], "-", **style)
+
+
+def _title(number: int, mode: Mode) -> str:
+    if mode.kind == "rigid":
+        return f"mode {number}: rigid-body"
+    if mode.kind == "oscillatory":
+        return f"mode {number}: {mode.omega:.4g} rad/s, {mode.frequency:.4g} Hz"
+    return f"mode {number}: {mode.kind}, {mode.eigenvalue.real:.4g} 1/s"
+
+
+def plot_mode_shapes(modal: ModalAnalysis, path, count: int = 4) -> Path:
+    """Draw the first ``count`` modes that are not rigid-body modes (or the rigid-body modes of a
+    chain that has no other) to a PNG file.
+
+    Parameters
+    ----------
+    modal : ModalAnalysis
+        Of a linear model made by :class:`~flexkane.linearize.linearization.Linearization`.
+    path : str or pathlib.Path
+        The PNG file (written atomically).
+    count : int
+        Number of modes drawn.
+
+    Returns
+    -------
+    pathlib.Path
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from ..atomic import atomic_writer
+
+    linear = modal.linear
+    drawing = ChainDrawing(linear)
+    numbered = list(enumerate(modal.modes, start=1))
+    chosen = [(k, m) for k, m in numbered if m.kind != "rigid"][:count] or \
+        [(k, m) for k, m in numbered if m.kind == "rigid"][:count]
+    panels = max(len(chosen), 1)
+    columns = min(panels, 2)
+    rows = (panels + columns - 1) // columns
+    figure = Figure(figsize=(5.2 * columns, 3.6 * rows), layout="constrained")
+    FigureCanvasAgg(figure)
+    about = (f"a steady spin, Omega = {linear.spin:g} rad/s (rotating frame)" if linear.spin is not None
+             else linear.about)
+    figure.suptitle(f"{linear.name}: mode shapes about {about}")
+    base = drawing.lines(linear.q0)
+    for panel, (number, mode) in enumerate(chosen):
+        axes = figure.add_subplot(rows, columns, panel + 1)
+        _draw(axes, base, color="0.7", linewidth=1.0)
+        a = drawing.amplitude(linear.q0, mode.shape)
+        _draw(axes, drawing.lines(linear.q0 + a * mode.shape), color="C0", linewidth=1.8)
+        _draw(axes, drawing.lines(linear.q0 - a * mode.shape), color="C0", linewidth=0.8, alpha=0.4)
+        axes.set_title(_title(number, mode), fontsize="medium")
+        axes.set_aspect("equal", adjustable="datalim")
+        axes.set_xlabel("x [m]")
+        axes.set_ylabel("y [m]")
+    if not chosen:
+        axes = figure.add_subplot(1, 1, 1)
+        _draw(axes, base, color="0.3")
+        axes.set_title("no modes (every coordinate is prescribed)")
+    with atomic_writer(path, "path") as temporary:
+        figure.savefig(temporary, format="png", dpi=110)
+    return Path(path)

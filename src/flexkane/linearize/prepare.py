@@ -1,0 +1,214 @@
+"""The model a linearization is derived from: inputs as parameters, a hub spun at a constant rate.
+
+Two changes turn a model into one whose Kane's equations give the linear model directly:
+
+* **Inputs.** Every actuator torque of a joint (``joints.<j>.torque``) and every component of an
+  applied load (``loads.<l>.force``, ``loads.<l>.torque``) is replaced by a new parameter, so that
+  the input matrix ``B`` is a Jacobian of the forcing with respect to parameters. The parameter's
+  value is the load's value at the time ``t0`` of the operating point (the nominal input ``r0``).
+  The inputs ``r`` are therefore *all* the actuator torques and load components of the model, in
+  the order: joints by name, then loads by name (force x, force y, torque); a model with none has
+  no inputs (``B`` with zero columns).
+* **Steady spin.** For ``about = "spin"`` the hub joint (a revolute joint) is given the driver
+  ``speed = Omega``, a new parameter whose value is the spin rate [rad/s]; its actuator torque, if
+  any, is removed (the driver supplies the effort), and so are initial values of its speed.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from ..errors import ModelError
+from ..model import Model
+from ..model.parts import Driver
+
+__all__ = ["ABOUT", "InputChannel", "PreparedModel", "prepare_model", "spin_hub"]
+
+#: Operating points a linearization can be taken about.
+ABOUT = ("equilibrium", "rest", "spin")
+_SAFE = re.compile(r"[^0-9A-Za-z_]")
+
+
+@dataclass(frozen=True)
+class InputChannel:
+    """One input r_k of the linear model.
+
+    Attributes
+    ----------
+    name : str
+        Name of the parameter that stands for it in the derived equations (``tau_shoulder``,
+        ``Fx_push``, ...).
+    path : str
+        Key path of the model field it replaces (``joints.shoulder.torque``).
+    unit : str
+        ``N m`` or ``N``.
+    value : float
+        Nominal value r0, the field at the time ``t0`` of the operating point [N m or N].
+    """
+
+    name: str
+    path: str
+    unit: str
+    value: float
+
+
+@dataclass
+class PreparedModel:
+    """A model rewritten for linearization (see the module docstring).
+
+    Attributes
+    ----------
+    model : Model
+        The rewritten copy.
+    inputs : list of InputChannel
+    about : str
+        One of :data:`ABOUT`.
+    hub : str or None
+        Name of the spun joint (``about = "spin"``).
+    spin_parameter : str or None
+        Name of the parameter holding the spin rate Omega [rad/s].
+    notes : list of str
+        What was changed, in words.
+    """
+
+    model: Model
+    inputs: list[InputChannel] = field(default_factory=list)
+    about: str = "equilibrium"
+    hub: str | None = None
+    spin_parameter: str | None = None
+    notes: list[str] = field(default_factory=list)
+
+
+def _fresh(model: Model, base: str, taken: set[str]) -> str:
+    name = _SAFE.sub("_", base)
+    candidate, k = name, 1
+    while candidate in model.parameters or candidate in taken or candidate in ("t", "pi"):
+        k += 1
+        candidate = f"{name}_{k}"
+    taken.add(candidate)
+    return candidate
+
+
+def _value_at(model: Model, text, t0: float, path: str) -> float:
+    """Numeric value of a field that may depend on t, at t = t0."""
+    from ..expressions import parse_expression, resolve_parameters, to_float
+
+    params = resolve_parameters(model.parameters, path_prefix="parameters")
+    symbols = {k: sp.Symbol(k, real=True) for k in model.parameters}
+    t = sp.Symbol("t", real=True)
+    expr = parse_expression(text, {**symbols, "t": t}, path=path)
+    values = {symbols[k]: v for k, v in params.items()}
+    values[t] = float(t0)
+    return to_float(expr, values, path=path)
+
+
+def spin_hub(model: Model, hub: str | None) -> str:
+    """The revolute joint to spin: ``hub`` if given, else the only driven revolute joint, else the
+    only revolute joint on the ground.
+
+    Raises
+    ------
+    ModelError
+        If ``hub`` is not a revolute joint, or no single joint qualifies.
+    """
+    revolute = sorted(name for name, j in model.joints.items() if j.type == "revolute")
+    if hub is not None:
+        if hub not in revolute:
+            raise ModelError("--hub", f"a revolute joint of the model ({', '.join(revolute) or 'none'})", hub)
+        return hub
+    driven = [name for name in revolute if model.joints[name].driver is not None]
+    if len(driven) == 1:
+        return driven[0]
+    grounded = [name for name in revolute if model.joints[name].parent == "ground"]
+    if len(grounded) == 1 and not driven:
+        return grounded[0]
+    raise ModelError("--hub", "the name of the revolute joint to spin "
+                     f"({', '.join(revolute) or 'the model has none'})", None, show_given=False)
+
+
+def prepare_model(model: Model, *, about: str, spin: float | None = None, hub: str | None = None,
+                  t0: float = 0.0) -> PreparedModel:
+    """Rewrite a model for linearization.
+
+    Parameters
+    ----------
+    model : Model
+        A valid model (not modified).
+    about : str
+        One of :data:`ABOUT`.
+    spin : float, optional
+        Spin rate Omega of the hub [rad/s]; required for ``about = "spin"``, refused otherwise.
+    hub : str, optional
+        Revolute joint to spin (see :func:`spin_hub`).
+    t0 : float
+        Time of the operating point [s]: loads are replaced by their values at t0.
+
+    Returns
+    -------
+    PreparedModel
+    """
+    from ..kane.chain import build_chain
+
+    if about not in ABOUT:
+        raise ModelError("--about", "one of " + ", ".join(ABOUT), about)
+    if about == "spin":
+        if spin is None:
+            raise ModelError("--spin", "a spin rate Omega [rad/s] with --about spin", None, show_given=False)
+    elif spin is not None:
+        raise ModelError("--spin", f"no spin rate unless --about spin (--about is {about})", spin)
+    model.validate()
+    new = model.copy()
+    prepared = PreparedModel(new, about=about)
+    chain = build_chain(model)
+    taken: set[str] = {c.q.name for c in chain.coordinates} | {c.u.name for c in chain.coordinates}
+    if about == "spin":
+        spin = float(spin)
+        if not spin == spin or abs(spin) == float("inf"):
+            raise ModelError("--spin", "a finite spin rate [rad/s]", spin)
+        name = spin_hub(model, hub)
+        coord = chain.of(name)[0]
+        joint = new.joints[name]
+        parameter = _fresh(new, "Omega", taken)
+        new.parameters[parameter] = spin
+        if joint.torque is not None:
+            prepared.notes.append(f"the actuator torque of joint {name} is not an input: the spin is prescribed")
+        joint.torque = None
+        joint.driver = Driver(speed=parameter)
+        new.initial.pop(coord.u.name, None)
+        prepared.hub = name
+        prepared.spin_parameter = parameter
+        prepared.notes.append(f"joint {name} spins at the constant rate {parameter} = {spin:g} rad/s")
+    for jname in sorted(new.joints):
+        joint = new.joints[jname]
+        if joint.torque is None:
+            continue
+        path = f"joints.{jname}.torque"
+        value = _value_at(model, joint.torque, t0, path)
+        pname = _fresh(new, f"tau_{jname}", taken)
+        new.parameters[pname] = value
+        joint.torque = pname
+        unit = "N m" if joint.type == "revolute" else "N"
+        prepared.inputs.append(InputChannel(pname, path, unit, value))
+    for lname in sorted(new.loads):
+        load = new.loads[lname]
+        path = f"loads.{lname}"
+        if load.force is not None:
+            components = []
+            for k, axis in enumerate("xy"):
+                value = _value_at(model, load.force[k], t0, f"{path}.force[{k}]")
+                pname = _fresh(new, f"F{axis}_{lname}", taken)
+                new.parameters[pname] = value
+                components.append(pname)
+                prepared.inputs.append(InputChannel(pname, f"{path}.force[{k}]", "N", value))
+            load.force = (components[0], components[1])
+        if load.torque is not None:
+            value = _value_at(model, load.torque, t0, f"{path}.torque")
+            pname = _fresh(new, f"T_{lname}", taken)
+            new.parameters[pname] = value
+            load.torque = pname
+            prepared.inputs.append(InputChannel(pname, f"{path}.torque", "N m", value))
+    new.validate()
+    return prepared
