@@ -90,10 +90,13 @@ def apply_settings(model: Model, settings: list[str]) -> Model:
 
 def _bare_names(model: Model, settings: list[str]) -> set[str]:
     """Keys of ``--set`` without a dot that are not parameters (taken as initial conditions)."""
+    import dataclasses
+
+    fields = {f.name for f in dataclasses.fields(model)}
     names = set()
     for text in settings:
         key = text.split("=", 1)[0].strip()
-        if "." not in key and "[" not in key and key not in model.parameters:
+        if "." not in key and "[" not in key and key not in model.parameters and key not in fields:
             names.add(key)
     return names
 

@@ -112,8 +112,9 @@ def _assign(container, key, value, path: str):
 def set_value(model: Model, path: str, value) -> None:
     """Set the value at a key path (in place).
 
-    A bare name sets a parameter if the model has one of that name, otherwise an initial condition
-    (the validation then checks that such a coordinate or speed exists). ``parameters.NAME`` and
+    A bare name sets a parameter if the model has one of that name, else the model's ``name``,
+    ``description`` or ``naming``, else an initial condition (the validation then checks that such a
+    coordinate or speed exists). ``parameters.NAME`` and
     ``initial.NAME`` may add entries; every other path must exist. A path to a whole table (a part,
     a list of parts) cannot be replaced by a value.
 
@@ -125,7 +126,8 @@ def set_value(model: Model, path: str, value) -> None:
         The new value, as a model file would give it; checked by :meth:`Model.validate`.
     """
     parts = parse_path(path)
-    if len(parts) == 1:
+    fields = {f.name for f in dataclasses.fields(model)}
+    if len(parts) == 1 and (parts[0] in model.parameters or parts[0] not in fields):
         table = model.parameters if parts[0] in model.parameters else model.initial
         table[parts[0]] = value
         return

@@ -363,9 +363,24 @@ def model_to_dict(model: Model) -> dict:
     return out
 
 
+def _plain(value):
+    """Tables, lists and numbers as TOML writes them (NumPy scalars and tuples converted)."""
+    if isinstance(value, dict):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, bool) or isinstance(value, str):
+        return value
+    if isinstance(value, numbers.Integral):
+        return int(value)
+    if isinstance(value, numbers.Real):
+        return float(value)
+    return value
+
+
 def dumps_model(model: Model) -> str:
     """The model as TOML text; :func:`loads_model` of it gives an equivalent model."""
-    return tomli_w.dumps(model_to_dict(model))
+    return tomli_w.dumps(_plain(model_to_dict(model)))
 
 
 def save_model(model: Model, path: str | Path) -> None:

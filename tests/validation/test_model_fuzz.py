@@ -1,0 +1,195 @@
+"""Mutated model files and mutated models give a clean ModelError or a model that derives.
+
+Starting from built-in model files, hypothesis drops keys, misspells them, replaces values by wrong
+types, negative, huge or non-finite numbers, stray text and random expressions (including attempts
+to reach Python objects), and deletes parts that others refer to. Whatever it produces, reading
+the file raises :class:`~flexkane.errors.ModelError` or gives a model that ``derive`` accepts (or
+refuses with a ModelError); no other exception may escape. The same holds for changes made through
+the Python API (:func:`flexkane.model.paths.set_value`).
+"""
+
+import copy
+import datetime
+import string
+import tomllib
+
+import numpy as np
+import tomli_w
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import flexkane
+from flexkane.builtin import builtin_text
+from flexkane.errors import ModelError
+from flexkane.model.paths import set_value
+
+BASES = ("pendulum-beam", "falling-beam-exact", "flexible-arm", "four-bar")
+DATA = {name: tomllib.loads(builtin_text(name)) for name in BASES}
+SETTINGS = settings(max_examples=80, deadline=datetime.timedelta(seconds=20), database=None,
+                    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+
+
+def _nodes(node, path=()):
+    """Every key path below ``node`` (tables and lists included), as tuples of keys and indices."""
+    items = node.items() if isinstance(node, dict) else enumerate(node) if isinstance(node, list) else ()
+    for key, child in items:
+        yield path + (key,)
+        yield from _nodes(child, path + (key,))
+
+
+PATHS = {name: [p for p in _nodes(data) if p[0] != "sweep"] for name, data in DATA.items()}
+PARTS = {name: [p for p in PATHS[name] if len(p) == 2 and p[0] in
+                ("bodies", "beams", "joints", "loads", "springs", "constraints")] for name in BASES}
+
+# ------------------------------------------------------------------------------- strategies
+_atoms = st.one_of(
+    st.integers(-1000, 1000).map(str), st.floats(-1e6, 1e6, allow_nan=False).map(repr),
+    st.sampled_from(["t", "x", "xi", "pi", "L", "EI", "g", "mR", "a", "nan", "inf", "True", "None",
+                     "__import__", "os", "q1", "u_pivot", "sin", "1e308", "9**9", "'s'", '"text"']))
+
+
+def _combine(inner):
+    return st.one_of(
+        st.tuples(inner, st.sampled_from(["+", "-", "*", "/", "**", "//", "%", "<", "==", " and ", "@"]),
+                  inner).map("".join),
+        st.tuples(st.sampled_from(["sin", "cos", "exp", "log", "sqrt", "abs", "min", "max", "where", "piecewise",
+                                   "eval", "open", "getattr", "__import__", "lambda x:", "not "]),
+                  st.lists(inner, min_size=0, max_size=3)).map(lambda f: f"{f[0]}({', '.join(f[1])})"),
+        st.tuples(inner, st.sampled_from([".__class__", ".real", "[0]", "()", ".mro()"])).map("".join),
+        inner.map(lambda e: f"({e})"), inner.map(lambda e: f"-{e}"),
+        inner.map(lambda e: f"[{e} for _ in (1,)]"), inner.map(lambda e: f"lambda: {e}"))
+
+
+EXPRESSIONS = st.recursive(_atoms, _combine, max_leaves=8)
+
+BAD_VALUES = st.one_of(
+    st.integers(-10**6, 10**6), st.sampled_from([0, -1, 201, 10**18, -(10**18)]),
+    st.floats(allow_nan=True, allow_infinity=True), st.sampled_from([0.0, -1e-300, 1e300, -1e300]),
+    st.booleans(), st.text(max_size=12), st.text(string.printable, max_size=30), EXPRESSIONS,
+    st.lists(st.one_of(st.integers(-5, 5), st.floats(-10, 10), st.text(max_size=3)), max_size=4),
+    st.dictionaries(st.sampled_from(["family", "roots", "x", "coordinate", "speed", "mass_ratio"]),
+                    st.one_of(st.integers(-3, 3), st.text(max_size=5), st.lists(st.floats(0.1, 5), max_size=3)),
+                    max_size=3),
+    st.sampled_from(["clamped-free", "pinned-free", "expression", "axial-fixed-free", "revolute",
+                     "prismatic", "weld", "free", "ground", "RB", "B", "rod", "hub", "Q", "radau", "midpoint"]),
+)
+
+
+NUMBERS = st.one_of(st.floats(1e-6, 1e6), st.floats(-1e6, 1e6), st.integers(-5, 300),
+                    st.sampled_from([0, 0.0, -0.0, 1e-300, 1e12, 1e300, -1e300, 5e-324]))
+
+
+def _typo(key: str, draw) -> str:
+    kind = draw(st.sampled_from(["drop", "insert", "swap", "case", "underscore"]))
+    i = draw(st.integers(0, max(len(key) - 1, 0)))
+    if kind == "drop" and len(key) > 1:
+        return key[:i] + key[i + 1:]
+    if kind == "insert":
+        return key[:i] + draw(st.sampled_from("aeiou_x1")) + key[i:]
+    if kind == "swap" and len(key) > 1 and i + 1 < len(key):
+        return key[:i] + key[i + 1] + key[i] + key[i + 2:]
+    if kind == "case":
+        return key.swapcase()
+    return key + "_"
+
+
+def _parent(data, path):
+    node = data
+    for key in path[:-1]:
+        node = node[key]
+    return node
+
+
+def _mutate(draw, base: str) -> dict:
+    data = copy.deepcopy(DATA[base])
+    for _ in range(draw(st.integers(1, 2))):
+        op = draw(st.sampled_from(["drop", "rename", "replace", "number", "number", "delete_part"]))
+        paths = [p for p in _nodes(data) if p[0] != "sweep"]
+        if op == "delete_part":
+            parts = [p for p in paths if len(p) == 2 and p in PARTS[base]]
+            paths = parts or paths
+        path = draw(st.sampled_from(paths))
+        parent = _parent(data, path)
+        key = path[-1]
+        if op in ("drop", "delete_part"):
+            del parent[key]
+        elif op == "rename" and isinstance(key, str):
+            parent[_typo(key, draw)] = parent.pop(key)
+        elif op == "number":
+            parent[key] = draw(NUMBERS)
+        else:
+            parent[key] = draw(BAD_VALUES)
+    return data
+
+
+def _clean(exc: ModelError) -> None:
+    """A ModelError's message names a key path, then what was expected."""
+    assert exc.path and str(exc).startswith(f"{exc.path}: expected "), str(exc)
+
+
+def _derive_if_valid(model) -> None:
+    """A valid model derives, and saving it gives a file that reads back to the same file."""
+    try:
+        model.validate()
+    except ModelError as exc:
+        _clean(exc)
+        return
+    try:
+        flexkane.derive(model)
+    except ModelError as exc:
+        _clean(exc)
+        return
+    text = flexkane.dumps_model(flexkane.loads_model(flexkane.dumps_model(model)))
+    assert flexkane.dumps_model(flexkane.loads_model(text)) == text
+
+
+# ------------------------------------------------------------------------------------ tests
+@SETTINGS
+@given(st.data())
+def test_mutated_model_files_give_a_model_error_or_a_model_that_derives(data):
+    base = data.draw(st.sampled_from(BASES), label="base")
+    mutated = _mutate(data.draw, base)
+    try:
+        text = tomli_w.dumps(mutated)
+    except (TypeError, ValueError):   # not representable in TOML (e.g. mixed-type arrays)
+        return
+    try:
+        model = flexkane.loads_model(text, source=base)
+    except ModelError as exc:
+        _clean(exc)
+        return
+    _derive_if_valid(model)
+
+
+@SETTINGS
+@given(st.data())
+def test_values_set_through_the_api_give_a_model_error_or_a_model_that_derives(data):
+    base = data.draw(st.sampled_from(BASES), label="base")
+    model = flexkane.builtin_model(base)
+    for _ in range(data.draw(st.integers(1, 2))):
+        path = data.draw(st.sampled_from(PATHS[base]), label="path")
+        text = "".join(f"[{k}]" if isinstance(k, int) else f".{k}" for k in path)[1:]
+        if data.draw(st.booleans(), label="bare"):
+            text = data.draw(st.sampled_from(list(DATA[base].get("parameters", {})) + ["q1", "u_pivot", "zz"]))
+        try:
+            set_value(model, text, data.draw(st.one_of(BAD_VALUES, NUMBERS), label="value"))
+        except ModelError as exc:
+            _clean(exc)
+            return
+    _derive_if_valid(model)
+
+
+@settings(max_examples=100, deadline=datetime.timedelta(seconds=5), database=None)
+@given(EXPRESSIONS)
+def test_random_expressions_in_value_fields_give_a_model_error_or_a_model_that_derives(expression):
+    model = flexkane.builtin_model("pendulum-beam")
+    for path in ("beams.rod.EI", "joints.pivot.angle", "initial.q_pivot", "parameters.g"):
+        trial = model.copy()
+        set_value(trial, path, expression)
+        try:
+            trial.validate()
+        except ModelError as exc:
+            _clean(exc)
+            continue
+        state = flexkane.derive(trial).initial_state(trial)
+        assert np.all(np.isfinite(state))
