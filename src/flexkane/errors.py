@@ -63,7 +63,8 @@ class ModelError(FlexkaneError, ValueError):
         self.hint = hint
         message = f"{path}: expected {expected}"
         if given is not None or show_given:
-            message += f", got {describe_value(given) if not isinstance(given, str) or given == '' else given!r}"
+            shown = describe_value(given) if not isinstance(given, str) or given == "" else repr(given)
+            message += f", got {shown}"
         if hint:
             message += f" ({hint})"
         super().__init__(message)

@@ -113,9 +113,13 @@ def csv_text(results: Results) -> str:
 
 def load_results(path: str | Path) -> Results:
     """Read ``results.npz`` (or the directory that holds it) back into :class:`Results`."""
+    from .errors import ModelError
+
     path = Path(path)
     if path.is_dir():
         path = path / "results.npz"
+    if not path.is_file():
+        raise ModelError("RUN_DIR", "a run directory holding results.npz (or the file itself)", str(path))
     with np.load(path, allow_pickle=False) as data:
         names = [str(n) for n in data["output_names"]]
         outputs = {n: data["outputs"][i] for i, n in enumerate(names)}

@@ -104,6 +104,9 @@ class CompiledModel:
 def compile_model(eom: EquationsOfMotion, cache_dir=None) -> CompiledModel:
     """Generate, build (or load from the cache) the right-hand side of an equation set."""
     from .numerics.codegen import generate_rhs_source
+
+    if not isinstance(eom, EquationsOfMotion):
+        raise ModelError("eom", "EquationsOfMotion from flexkane.derive", type(eom).__name__)
     from .numerics.jit_module import build_module, structure_key
 
     start = time.perf_counter()
@@ -144,11 +147,25 @@ def simulate(compiled: CompiledModel, *, t_end: float, dt_out: float, rtol: floa
     """
     from .numerics.integrate import integrate
 
+    from .model.validate import validate_run_arguments
+
+    if not isinstance(compiled, CompiledModel):
+        raise ModelError("compiled", "a CompiledModel from flexkane.compile_model", type(compiled).__name__)
+    validate_run_arguments(t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol, method=method,
+                           max_steps=max_steps, progress=progress)
     eom = compiled.eom
-    model = model or eom.model
-    for name, value in (("--rtol", rtol), ("--atol", atol)):
-        if not (isinstance(value, (int, float)) and value > 0 and np.isfinite(value)):
-            raise ModelError(name, "a positive tolerance", value)
+    if model is None:
+        model = eom.model
+    elif not isinstance(model, Model):
+        raise ModelError("model", "a flexkane Model (or None for the derived one)", type(model).__name__)
+    else:
+        model.validate()
+        from .kane.chain import build_chain
+
+        names = [c.q.name for c in build_chain(model).coordinates]
+        if names != [c.q.name for c in eom.chain.coordinates]:
+            raise ModelError("model", "a model with the structure of the derived one "
+                             f"(coordinates {', '.join(c.q.name for c in eom.chain.coordinates)})", ", ".join(names))
     values = eom.constant_values(model)
     p = np.array([values[s] for s in eom.constants], dtype=float)
     y0 = eom.initial_state(model)

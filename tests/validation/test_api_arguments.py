@@ -1,8 +1,7 @@
 """Arguments of the Python API are validated: a wrong one raises ModelError naming it, what was
 expected and what was given, before any work is done.
 
-Tests marked ``xfail(strict=True)`` document checks that belong to modules outside the model layer
-(simulation, equations, results); each reason says what is missing. Remove the marker with the fix.
+The pipeline stages (simulate, derive, compile_model, load_results, run) are checked here too.
 """
 
 import math
@@ -206,7 +205,7 @@ def test_simulate_refuses_bad_numbers(torque_pendulum, name, value):
 _SIMULATE = "simulation.simulate should call flexkane.model.validate.validate_run_arguments and check compiled/model"
 
 
-@pytest.mark.xfail(strict=True, reason=_SIMULATE)
+
 @pytest.mark.parametrize("name, value", [("t_end", "1"), ("t_end", None), ("progress", 3), ("model", "x")])
 def test_simulate_refuses_arguments_of_the_wrong_type(torque_pendulum, name, value):
     _, compiled = torque_pendulum
@@ -215,7 +214,7 @@ def test_simulate_refuses_arguments_of_the_wrong_type(torque_pendulum, name, val
         flexkane.simulate(compiled, **arguments)
 
 
-@pytest.mark.xfail(strict=True, reason=_SIMULATE + " (model.validate() on the model it is given)")
+
 def test_simulate_validates_the_model_it_is_given(torque_pendulum):
     model, compiled = torque_pendulum
     invalid = model.copy()
@@ -224,21 +223,19 @@ def test_simulate_validates_the_model_it_is_given(torque_pendulum):
         flexkane.simulate(compiled, t_end=0.1, dt_out=0.01, model=invalid)
 
 
-@pytest.mark.xfail(strict=True, reason="derive and compile_model should check the type of their argument")
+
 @pytest.mark.parametrize("stage", ["derive", "compile_model"])
 def test_pipeline_stages_refuse_an_argument_of_the_wrong_kind(stage):
     with pytest.raises(ModelError):
         getattr(flexkane, stage)("falling-beam")
 
 
-@pytest.mark.xfail(strict=True, reason="results.load_results should turn a missing file into a ModelError")
+
 def test_load_results_of_a_missing_directory(tmp_path):
     with pytest.raises(ModelError):
         flexkane.load_results(tmp_path / "nothing")
 
 
-@pytest.mark.xfail(strict=True, reason="EquationsOfMotion.constant_values raises ValueError/OverflowError for "
-                                       "modal constants that overflow; it should raise ModelError naming the beam")
 def test_values_too_large_for_the_modal_constants_give_a_model_error():
     model = flexkane.builtin_model("pendulum-beam")
     model.parameters["EI"] = 1e308
@@ -253,8 +250,6 @@ def test_run_with_a_negative_end_time_exits_2(torque_pendulum, torque_pendulum_f
     assert "Traceback" not in err and "t-end" in err and "positive" in err
 
 
-@pytest.mark.xfail(strict=True, reason="commands/run.py should call validate_run_arguments before "
-                                       "prepare_output_dir, derive and compile")
 def test_run_with_bad_arguments_creates_no_output_directory(torque_pendulum_file, tmp_path):
     assert main(["run", str(torque_pendulum_file), "--rtol", "10", "--out", str(tmp_path / "o"), "--quiet"]) == 2
     assert not (tmp_path / "o").exists()

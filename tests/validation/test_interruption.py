@@ -23,13 +23,6 @@ from flexkane.cli import main
 
 T_END = 1e6
 
-# KNOWN BUG, outside this test's files: run.py's SIGTERM handler raises KeyboardInterrupt wherever
-# Python code runs, including inside numba's callbacks from the compiled integrator chunk; numba then
-# turns it into "SystemError: CPUDispatcher(<function dop853_chunk>) returned a result with an
-# exception set", which integrate() does not catch: traceback, exit code 1, no files. The handler should
-# only set a flag that integrate() checks between chunks. Remove this marker once that is done.
-interruption_bug = pytest.mark.xfail(reason="SIGTERM inside a compiled chunk escapes as SystemError "
-                                     "(numerics/integrate.py, commands/run.py)", strict=False)
 
 
 def _read_until(fd: int, proc: subprocess.Popen, marker: bytes | None, timeout: float) -> bytes:
@@ -84,7 +77,6 @@ def interrupted_run(torque_pendulum, torque_pendulum_file, tmp_path_factory):
     return code, shown.decode(errors="replace"), out
 
 
-@interruption_bug
 def test_sigterm_exits_130_and_says_where_it_stopped(interrupted_run):
     code, err, out = interrupted_run
     assert code == 130, err
@@ -92,7 +84,6 @@ def test_sigterm_exits_130_and_says_where_it_stopped(interrupted_run):
     assert "interrupted at t = " in err and "the files hold the results up to there (marked partial)" in err
 
 
-@interruption_bug
 def test_results_csv_is_complete_for_the_rows_computed(interrupted_run):
     _, _, out = interrupted_run
     lines = (out / "results.csv").read_text().splitlines()
@@ -106,7 +97,6 @@ def test_results_csv_is_complete_for_the_rows_computed(interrupted_run):
     assert 0 < table[-1, 0] < T_END
 
 
-@interruption_bug
 def test_results_npz_loads_and_is_marked_partial(interrupted_run):
     _, _, out = interrupted_run
     saved = flexkane.load_results(out)

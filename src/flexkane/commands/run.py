@@ -59,8 +59,20 @@ def energy_balance_text(results) -> str:
             " (relative, trapezoidal work on the output grid)")
 
 
-def _terminate(signum, frame):  # SIGTERM behaves as Ctrl-C: partial results are kept
-    raise KeyboardInterrupt
+class _StopRequest:
+    """Records SIGTERM and SIGINT during the integration; the progress callback, which runs between
+    the compiled integrator's chunks, turns the request into KeyboardInterrupt there (raising it from
+    the signal handler itself could land inside compiled code)."""
+
+    def __init__(self):
+        self.requested = False
+
+    def __call__(self, signum, frame):
+        self.requested = True
+
+    def check(self):
+        if self.requested:
+            raise KeyboardInterrupt
 
 
 def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None, method=None,
@@ -86,18 +98,27 @@ def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None
     rtol = rtol if rtol is not None else sim.rtol
     atol = atol if atol is not None else sim.atol
     method = method or sim.method
+    from ..model.validate import validate_run_arguments
+
+    validate_run_arguments(t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol, method=method)
     out = prepare_output_dir(out, force=force)
     started = time.perf_counter()
     eom = derive(model)
     derive_time = time.perf_counter() - started
     compiled = compile_model(eom)
-    previous = signal.signal(signal.SIGTERM, _terminate)
+    stop = _StopRequest()
+    previous = {sig: signal.signal(sig, stop) for sig in (signal.SIGTERM, signal.SIGINT)}
     try:
         with ProgressBar(t_end, enabled=not quiet, unit="s") as bar:
+            def progress(t_reached, t_total):
+                bar.update(t_reached, t_total)
+                stop.check()
+
             results = simulate(compiled, t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol, method=method,
-                               model=model, progress=bar.update)
+                               model=model, progress=progress)
     finally:
-        signal.signal(signal.SIGTERM, previous)
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
     results.solver["derive_time"] = derive_time
     written = results.write(out)
     atomic_write_text(out / "model.toml", dumps_model(model))

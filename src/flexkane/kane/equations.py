@@ -297,14 +297,26 @@ class EquationsOfMotion:
             for spec in consts.used.values():
                 if spec[0] == "station":
                     stations[spec[3]] = to_float(sp.sympify(spec[3]), values, path=f"{path} station")
-            values.update(consts.values(
+            with np.errstate(over="raise", invalid="raise"):
+                try:
+                    beam_values = consts.values(
                 L=number(f"{path}.L", beam.L), rho=number(f"{path}.rho", beam.rho),
                 EI=number(f"{path}.EI", beam.EI), family=family, n=beam.n_modes,
                 EA=number(f"{path}.EA", beam.EA) if beam.EA is not None else None,
-                axial_family=axial, n_axial=beam.n_axial, station_values=stations))
+                axial_family=axial, n_axial=beam.n_axial, station_values=stations)
+                except (OverflowError, FloatingPointError, ValueError) as exc:
+                    from ..errors import ModelError
+
+                    raise ModelError(path, "values of L, rho, EI (and EA) whose modal constants are finite",
+                                     f"{exc}") from None
+            values.update(beam_values)
         for symbol, value in values.items():
             if not math.isfinite(value):
-                raise ValueError(f"constant {symbol} is not finite")
+                from ..errors import ModelError
+
+                owner = next((f"beams.{name}" for name, consts in self.kinematics.constants.items()
+                              if symbol in consts.used), "parameters")
+                raise ModelError(owner, f"values whose modal constants are finite ({symbol.name} is not)", value)
         return values
 
     def parameter_vector(self, model: Model | None = None) -> np.ndarray:
@@ -376,6 +388,11 @@ def derive(model: Model) -> EquationsOfMotion:
     -------
     EquationsOfMotion
     """
+    from ..errors import ModelError
+
+    if not isinstance(model, Model):
+        raise ModelError("model", "a flexkane Model (flexkane.load_model, flexkane.builtin_model)",
+                         type(model).__name__)
     model.validate()
     chain = build_chain(model)
     kin = Kinematics(chain)
