@@ -1,0 +1,335 @@
+"""On-disk cache of derived equations of motion, keyed by the structure of the model.
+
+The derivation keeps every number of a model as a symbol (:mod:`flexkane.model.values`), so two
+models that differ only in numbers have the same equations. :func:`structure_signature` hashes
+what the equations depend on; :func:`cached_derive` stores each
+:class:`~flexkane.kane.EquationsOfMotion` under that hash (with the versions of the derivation
+code) and returns the stored one, bound to the model given, when the hash is known.
+
+What belongs to the structure
+-----------------------------
+* the topology: names and types of bodies, beams, joints, loads, springs, loop constraints, the
+  points and stations they use, ``naming``, the parameters' names;
+* the options that change the equations: ``n_modes``, ``n_axial``, shape families and their
+  options, ``gravity`` and ``elastic_forces`` models, ``geometric_stiffening``, how many damping
+  ratios a beam lists, the gravity direction, the stabilization rate of a loop constraint;
+* for every constant field (a mass, a length, a stiffness, ...) only its class: literal zero,
+  the name of a parameter, or any other value (a symbol of its own);
+* the texts of the laws of time (torques, loads, drivers), and the texts of beam stations and of
+  beam lengths given as numbers, because the derivation names the constants evaluated at a
+  station after that text (``Phi_1(0.8)``).
+
+What does not: parameter values, the values of constant fields, typed roots of eq. 8.6, body
+outlines, initial conditions, simulation settings, the model's name. One exception: a model with
+loop constraints whose dependent speeds are left to the derivation (chosen by pivoting at the
+initial configuration) is keyed on all its numbers; name them (``dependent = [...]``) to share one
+derivation across numeric variants.
+
+Loading is about 10 to 25 times faster than deriving (measured in benchmarks/RESULTS.md): SymPy
+expressions are pickled with their arguments and rebuilt without re-evaluation (they were stored
+in canonical form), which is what makes loading cheap.
+
+The cache directory is ``<default_cache_dir()>/derived`` (``$FLEXKANE_CACHE_DIR`` or
+``~/.cache/flexkane``). Files are written atomically; an unreadable file is derived again and
+replaced. Like any pickle, the files must come from a trusted source: they are only ever written by
+flexkane into the user's own cache.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import io
+import json
+import os
+import pickle
+import re
+import sys
+import tempfile
+from functools import lru_cache
+from pathlib import Path
+
+import sympy as sp
+from sympy.core.function import AppliedUndef
+
+from . import __version__
+from .model import Model
+
+__all__ = ["VALUE_FIELDS", "cache_path", "cached_derive", "cached_rhs_source", "structure_signature"]
+
+# Key paths of the constant fields that the derivation turns into a symbol, a parameter's symbol or
+# a zero (``FieldSymbols.value``): only that class is structure. A field missing here is compared by
+# value, which can only cause a needless re-derivation, never a wrong cache hit.
+VALUE_FIELDS = tuple(re.compile(pattern) for pattern in (
+    r"gravity\.g",
+    r"bodies\.[^.]+\.(mass|inertia)",
+    r"bodies\.[^.]+\.points\.[^.]+\[[01]\]",
+    r"beams\.[^.]+\.(EI|rho|EA)",
+    r"beams\.[^.]+\.damping\[\d+\]",
+    r"joints\.[^.]+\.(angle|axis|stiffness|damping|rest)",
+    r"joints\.[^.]+\.parent_position\[[01]\]",
+    r"springs\.[^.]+\.(stiffness|damping|rest_length)",
+    r"springs\.[^.]+\.position_[ab]\[[01]\]",
+    r"constraints\.[^.]+\.(axis|angle)",
+    r"constraints\.[^.]+\.position_[ab]\[[01]\]",
+))
+# Fields that never enter the equations, and fields that give them numbers only.
+_IGNORED = (re.compile(r"name|description|simulation|sweep"), re.compile(r"bodies\.[^.]+\.outline"))
+_NUMBERS = (re.compile(r"parameters|initial"), re.compile(r"beams\.[^.]+\.(shape|axial_shape)\.roots"))
+# A beam length is a value field, but its text names the constants at the tip (``Phi_1(L)``).
+_BEAM_LENGTH = re.compile(r"beams\.[^.]+\.L")
+_FORMAT = 1  # layout of the cache files
+
+
+# ---------------------------------------------------------------------- structure signature
+def _value_class(value, parameters) -> list:
+    """Class of a constant field as the derivation sees it (see ``FieldSymbols.value``)."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool) and value == 0:
+        return ["zero"]
+    if isinstance(value, str) and value.strip() in parameters:
+        return ["parameter", value.strip()]
+    return ["symbol"]
+
+
+def _canonical(value, path: str, parameters, keep_numbers: bool):
+    """JSON-able structural view of one field (recursively)."""
+    if any(p.fullmatch(path) for p in _IGNORED) \
+            or (not keep_numbers and any(p.fullmatch(path) for p in _NUMBERS)):
+        return None
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return {f.name: _canonical(getattr(value, f.name), f"{path}.{f.name}".lstrip("."),
+                                   parameters, keep_numbers)
+                for f in dataclasses.fields(value)}
+    if isinstance(value, dict):
+        return [[str(k), _canonical(v, f"{path}.{k}", parameters, keep_numbers)]
+                for k, v in value.items()]
+    if isinstance(value, (list, tuple)):
+        return [_canonical(v, f"{path}[{i}]", parameters, keep_numbers) for i, v in enumerate(value)]
+    if not keep_numbers:
+        if any(p.fullmatch(path) for p in VALUE_FIELDS):
+            return _value_class(value, parameters)
+        if _BEAM_LENGTH.fullmatch(path) and isinstance(value, str) and value.strip() in parameters:
+            return ["parameter", value.strip()]
+    if isinstance(value, float):
+        return ["float", repr(value)]
+    if value is None or isinstance(value, (bool, int, str)):
+        return value
+    return ["repr", type(value).__name__, repr(value)]
+
+
+def _needs_numbers(model: Model) -> bool:
+    """Whether the derivation reads numbers: loop constraints with automatic dependent speeds."""
+    return any(not getattr(c, "dependent", None) for c in getattr(model, "constraints", {}).values())
+
+
+def structure_signature(model: Model) -> str:
+    """Return the hash (64 hex digits of a SHA-256) of the structure of ``model``.
+
+    Parameters
+    ----------
+    model : Model
+        A model (not modified).
+
+    Returns
+    -------
+    str
+        Equal for models whose derived equations are equal (see the module docstring for what
+        counts as structure), different otherwise. Parameter values, the values of constant
+        fields and typed roots do not change it; topology, mode counts, shape families, options
+        that change the equations, which fields are zero or name a parameter, and the texts of
+        laws of time do.
+    """
+    keep = _needs_numbers(model)
+    view = {"parameters": sorted(model.parameters),
+            "model": _canonical(model, "", set(model.parameters), keep)}
+    text = json.dumps(view, separators=(",", ":"), sort_keys=False)
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+@lru_cache(maxsize=1)
+def _code_digest() -> str:
+    """Digest of the versions and sources that produce the equations (invalidates old files)."""
+    root = Path(__file__).resolve().parent
+    digest = hashlib.sha256()
+    for text in (__version__, sp.__version__, sys.version.split()[0], str(_FORMAT)):
+        digest.update(text.encode() + b"\0")
+    sources = sorted([*root.glob("kane/*.py"), *root.glob("model/*.py"), root / "expressions.py"])
+    for path in sources:
+        if path.exists():
+            digest.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
+    return digest.hexdigest()
+
+
+def _key(model: Model) -> str:
+    digest = hashlib.sha256((structure_signature(model) + _code_digest()).encode())
+    return digest.hexdigest()[:32]
+
+
+def _cache_root(cache_dir) -> Path:
+    if cache_dir is not None:
+        return Path(cache_dir)
+    from .numerics.jit_module import default_cache_dir
+
+    return default_cache_dir()
+
+
+def cache_path(model: Model, cache_dir=None) -> Path:
+    """Path of the cache file of ``model``'s equations (it may not exist yet).
+
+    Parameters
+    ----------
+    model : Model
+    cache_dir : path-like, optional
+        Root of the cache; default :func:`flexkane.numerics.default_cache_dir`.
+    """
+    return _cache_root(cache_dir) / "derived" / f"{_key(model)}.pkl"
+
+
+# ---------------------------------------------------------------------- fast pickling of SymPy
+def _rebuild_assoc(cls, args):
+    return cls._from_args(args)
+
+
+def _rebuild_pow(base, exp):
+    return sp.Pow(base, exp, evaluate=False)
+
+
+def _rebuild_function(cls, args):
+    return cls(*args, evaluate=False)
+
+
+class _ExpressionPickler(pickle.Pickler):
+    """Pickles Add, Mul, Pow and functions so that loading does not evaluate them again.
+
+    SymPy's default reduction rebuilds ``Add(*args)``, which flattens and sorts its arguments
+    again: the stored arguments are already canonical, so ``_from_args`` is equal and 10 times
+    faster to load.
+    """
+
+    def reducer_override(self, obj):
+        kind = type(obj)
+        if kind is sp.Add or kind is sp.Mul:
+            return _rebuild_assoc, (kind, obj.args)
+        if kind is sp.Pow:
+            return _rebuild_pow, obj.args
+        if isinstance(obj, sp.Function) and not isinstance(obj, (AppliedUndef, sp.Piecewise)) \
+                and type(obj).__module__.startswith("sympy."):
+            return _rebuild_function, (kind, obj.args)
+        return NotImplemented
+
+
+def _dumps(obj) -> bytes:
+    buffer = io.BytesIO()
+    _ExpressionPickler(buffer, protocol=pickle.HIGHEST_PROTOCOL).dump(obj)
+    return buffer.getvalue()
+
+
+def _write_atomically(path: Path, data: bytes) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix="." + path.name, suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as handle:
+            handle.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def _bind(eom, model: Model):
+    """Point the stored equations at ``model``, whose numbers they will use by default."""
+    eom.model = model
+    chain = getattr(eom, "chain", None)
+    if chain is not None:
+        chain.model = model
+        symbols = getattr(chain, "symbols", None)
+        if symbols is not None:
+            symbols.model = model
+            definitions = getattr(symbols, "definitions", None)
+            if definitions:
+                from .model.paths import get_value
+
+                for symbol, (path, value) in list(definitions.items()):
+                    try:
+                        definitions[symbol] = (path, get_value(model, path))
+                    except Exception:  # noqa: BLE001 - keep the stored text
+                        definitions[symbol] = (path, value)
+    return eom
+
+
+# ---------------------------------------------------------------------- public functions
+def cached_derive(model: Model, cache_dir=None):
+    """Derive Kane's equations of ``model``, or load them from the cache of its structure.
+
+    Parameters
+    ----------
+    model : Model
+        A model (validated here).
+    cache_dir : path-like, optional
+        Root of the cache; default :func:`flexkane.numerics.default_cache_dir`.
+
+    Returns
+    -------
+    EquationsOfMotion
+        Equal to ``flexkane.derive(model)``, with ``eom.model`` the model given (so its numbers
+        are the default ones) and ``eom.derivation_key`` the cache key.
+    """
+    from .kane import derive
+
+    model.validate()
+    path = cache_path(model, cache_dir)
+    eom = None
+    try:
+        with open(path, "rb") as handle:
+            stored = pickle.load(handle)
+        if stored.get("format") == _FORMAT:
+            eom = stored["eom"]
+    except FileNotFoundError:
+        pass
+    except Exception:  # noqa: BLE001 - a damaged or incompatible file is derived again
+        eom = None
+    if eom is None:
+        eom = derive(model)
+        try:
+            _write_atomically(path, _dumps({"format": _FORMAT, "eom": eom}))
+        except OSError:
+            pass  # a read-only cache only costs speed
+    eom = _bind(eom, model)
+    eom.derivation_key = path.stem
+    return eom
+
+
+def cached_rhs_source(eom, cache_dir=None) -> str:
+    """Generated right-hand side of ``eom``, from the cache when ``eom`` came from it.
+
+    Parameters
+    ----------
+    eom : EquationsOfMotion
+        Equations; when they carry a ``derivation_key`` (from :func:`cached_derive`) the source
+        is stored under that key and the code generator's digest.
+    cache_dir : path-like, optional
+        Root of the cache.
+
+    Returns
+    -------
+    str
+        :func:`flexkane.numerics.generate_rhs_source` of ``eom``.
+    """
+    from .numerics import codegen
+
+    key = getattr(eom, "derivation_key", None)
+    if not key:
+        return codegen.generate_rhs_source(eom)
+    generator = hashlib.sha256(Path(codegen.__file__).read_bytes()).hexdigest()[:16]
+    path = _cache_root(cache_dir) / "derived" / f"{key}-{generator}.rhs.py"
+    try:
+        return path.read_text(encoding="utf-8")
+    except (FileNotFoundError, UnicodeDecodeError):
+        pass
+    source = codegen.generate_rhs_source(eom)
+    try:
+        _write_atomically(path, source.encode("utf-8"))
+    except OSError:
+        pass
+    return source

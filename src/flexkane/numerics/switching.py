@@ -1,0 +1,139 @@
+"""Automatic choice between DOP853 and Radau IIA during a run, by measured cost.
+
+A planar chain with many modes is stiff in a way that the eigenvalues at the start cannot settle:
+its fast modes oscillate (an explicit method must stay inside its stability region, ``h |lambda|
+<= 6``), but they carry amplitudes so small that an L-stable implicit method may step over them at
+a loose tolerance, damping them, and still meet the tolerance. Whether that pays depends on the
+tolerance and on how much each mode is excited, so it is measured:
+
+1. the run starts with the method of :func:`~flexkane.numerics.integrate.choose_method`;
+2. while DOP853 runs, its stiffness test (the share of accepted steps limited by stability, see
+   :mod:`flexkane.numerics.dop853`) tells whether its steps are held back by the fast modes; if
+   most of them are (over at least 50 accepted steps), the next chunks are a *trial* of Radau;
+3. a trial (``TRIAL_STEPS`` accepted steps or ``TRIAL_SPAN_FRACTION`` of the span, over one or
+   more chunks) compares the simulated
+   time per CPU second of the two methods over neighbouring stretches of the run; the faster one
+   (by a margin ``SWITCH_GAIN`` in favour of the current one) continues;
+4. while Radau runs, DOP853 gets a trial again every ``RECHECK_FRACTION`` of the span if Radau is
+   no longer ``RETRY_MARGIN`` times faster than DOP853 was, since the motion may change (a
+   manoeuvre ends, a mode is excited).
+
+Trials advance the solution like any other chunk (nothing is computed twice); their cost is a few
+per cent of the run. This is the idea of LSODA (switching on a stiffness test) with the decision
+made on measured cost rather than on an estimate.
+"""
+
+from __future__ import annotations
+
+__all__ = ["MethodSwitch", "RECHECK_FRACTION", "RETRY_MARGIN", "STIFF_SHARE", "SWITCH_GAIN",
+           "TRIAL_SPAN_FRACTION", "TRIAL_STEPS"]
+
+# Steps of a trial chunk, by method (enough to pass a start-up, few enough to be cheap).
+TRIAL_STEPS = {"dop853": 200, "radau": 40}
+# A trial also ends after this fraction of the span.
+TRIAL_SPAN_FRACTION = 0.05
+# Share of stability-limited accepted DOP853 steps in a chunk that calls for a trial of Radau.
+STIFF_SHARE = 0.5
+# The other method takes over when its rate exceeds the current one's by this factor.
+SWITCH_GAIN = 1.3
+# Fraction of the span between two trials.
+RECHECK_FRACTION = 0.2
+# Radau gives DOP853 another trial only when it is no longer this many times faster: a DOP853
+# trial at its stability limit leaves tolerance-sized oscillations of the fast modes, which Radau
+# then resolves instead of damping (measured: 80 times slower for the rest of the run).
+RETRY_MARGIN = 2.0
+_MIN_ACCEPTED = 50  # accepted steps of a window before its stiffness share means anything
+
+
+class _Window:
+    """Work of one method since the last decision."""
+
+    def __init__(self, method: str):
+        self.method = method
+        self.advanced = self.cpu = 0.0
+        self.naccept = self.nstiff = 0
+
+    def add(self, advanced: float, cpu: float, naccept: int, nstiff: int) -> None:
+        self.advanced += advanced
+        self.cpu += cpu
+        self.naccept += naccept
+        self.nstiff += nstiff
+
+    @property
+    def rate(self) -> float:
+        """Simulated time per CPU second [s/s]."""
+        return self.advanced / self.cpu if self.cpu > 0.0 else float("inf")
+
+
+class MethodSwitch:
+    """Chooses the method and the step budget of each chunk of an automatic run.
+
+    Parameters
+    ----------
+    method : {"dop853", "radau"}
+        Method to start with.
+    t0, span : float
+        Start and length of the time span [s].
+    """
+
+    def __init__(self, method: str, t0: float, span: float):
+        self.current = method
+        self.span = span
+        self.trial: str | None = None
+        self.rate: dict[str, float] = {}
+        self.next_check = t0 + RECHECK_FRACTION * span if method == "radau" else t0
+        self.covered: dict[str, float] = {"dop853": 0.0, "radau": 0.0}
+        self.switches = 0
+        self._window = _Window(method)
+
+    def next_chunk(self) -> tuple[str, int | None]:
+        """Method of the next chunk and its step limit (None: the usual budget)."""
+        if self.trial is not None:
+            return self.trial, max(TRIAL_STEPS[self.trial] - self._window.naccept, 1)
+        return self.current, None
+
+    def record(self, method: str, t_before: float, t_after: float, cpu: float, naccept: int,
+               nstiff: int) -> None:
+        """Account for a finished chunk and decide on the next one.
+
+        Parameters
+        ----------
+        method : str
+            Method of the chunk.
+        t_before, t_after : float
+            Time at the start and at the end of the chunk [s].
+        cpu : float
+            CPU time of the chunk [s].
+        naccept, nstiff : int
+            Accepted steps, and those of them limited by stability (DOP853 only).
+        """
+        self.covered[method] = self.covered.get(method, 0.0) + (t_after - t_before)
+        window = self._window
+        window.add(t_after - t_before, cpu, naccept, nstiff)
+        if self.trial is not None:
+            if window.naccept < TRIAL_STEPS[self.trial] \
+                    and window.advanced < TRIAL_SPAN_FRACTION * self.span:
+                return
+            self.rate[self.trial] = window.rate
+            if self.rate[self.trial] > SWITCH_GAIN * self.rate.get(self.current, float("inf")):
+                self.current = self.trial
+                self.switches += 1
+            self.trial = None
+            self.next_check = t_after + RECHECK_FRACTION * self.span
+            self._window = _Window(self.current)
+            return
+        if window.naccept < _MIN_ACCEPTED or t_after < self.next_check:
+            return
+        self.rate[self.current] = window.rate
+        if self.current == "dop853":
+            if window.nstiff >= STIFF_SHARE * window.naccept:
+                self.trial = "radau"
+        elif "dop853" not in self.rate or self.rate["radau"] < RETRY_MARGIN * self.rate["dop853"]:
+            self.trial = "dop853"
+        self._window = _Window(self.trial or self.current)
+
+    @property
+    def main_method(self) -> str:
+        """The method that covered most of the span so far."""
+        return max(self.covered, key=self.covered.get) if any(self.covered.values()) \
+            else self.current
