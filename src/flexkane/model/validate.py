@@ -580,7 +580,7 @@ def _family(spec: ShapeSpec, path: str, n: int, kind: str) -> None:
             words = exc.expected[len("options among "):].split(" for family")[0].split(", ")
             hint = _suggest(option, words)
         raise ModelError(exc.path, exc.expected, exc.given, hint) from None
-    if family.kind != kind:
+    if family.kind != kind and spec.family != "expression":   # user expressions serve either use
         raise ModelError(f"{path}.family", f"the name of {'an axial' if kind == 'axial' else 'a transverse'}"
                          " shape-function family", spec.family)
     if family.max_modes is not None and n > family.max_modes:
