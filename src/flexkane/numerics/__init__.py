@@ -1,8 +1,10 @@
 """Numerics: generated right-hand sides compiled by Numba, and their integrators.
 
-Pipeline: :func:`generate_rhs_source` (SymPy equations -> source text),
-:func:`build_module` (source -> compiled, disk-cached module), :func:`integrate`
-(module -> :class:`IntegrationResult` on a grid of output times).
+Pipeline: :func:`generate_rhs_source` (SymPy equations -> source text; large models through
+:mod:`~flexkane.numerics.large_rhs`, term tables and parts), :func:`build_module` (source ->
+compiled, disk-cached module), :func:`integrate` (module -> :class:`IntegrationResult` on a grid
+of output times; ``method="auto"`` switches between DOP853 and Radau IIA by measured cost, see
+:mod:`~flexkane.numerics.switching`).
 """
 
 from flexkane.numerics.codegen import generate_outputs_source, generate_rhs_source

@@ -15,7 +15,9 @@ global, so that one Numba on-disk cache holds the right-hand side and the loop c
 Contract of :func:`dop853_chunk` (also followed by ``radau5_chunk``)
 ------------------------------------------------------------------
 1. It integrates from ``t`` with state ``y`` (n,) to exactly ``t_out[-1]``, forward in time;
-   ``t_out`` (m,) is increasing with ``t_out[0] >= t``.
+   ``t_out`` (m,) is increasing with ``t_out[0] >= t``. With ``t_stop > t`` it returns earlier,
+   at the first step point at or after ``t_stop``: that step is not shortened (only the last one,
+   at ``t_out[-1]``, is), so a run cut into chunks takes the steps of an uncut one.
 2. Row ``Y_out[i]`` (m, n) is filled with the dense output at ``t_out[i]`` once a step passes it
    (a row with ``t_out[i] == t`` receives ``y``); rows are filled in order, so the rows filled are
    exactly those with ``t_out[i] <= t_returned``.
@@ -175,13 +177,15 @@ def dop853_dense_fill(t, h, y, K, rc, t_out, i_out, t_new, Y_out, p, ytmp):
 
 
 @njit(cache=True, error_model="numpy")
-def dop853_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out):
+def dop853_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.inf):
     """Integrate with DOP853 from ``t`` to ``t_out[-1]``, filling ``Y_out`` (see module docstring).
 
     Parameters: ``t`` float, ``y`` (n,), ``h`` float (<= 0: automatic), ``t_out`` (m,),
-    ``p`` (n_p,), ``rtol`` float, ``atol`` (n,), ``max_steps`` int, ``Y_out`` (m, n).
-    Returns ``(t, y, h, status, nfev, naccept, nreject)``.
+    ``p`` (n_p,), ``rtol`` float, ``atol`` (n,), ``max_steps`` int, ``Y_out`` (m, n),
+    ``t_stop`` float (optional soft stop).
+    Returns ``(t, y, h, status, nfev, naccept, nreject, nstiff)``.
     """
+    t_start = t
     n = y.shape[0]
     y = y.copy()
     K = np.empty((16, n))
@@ -305,6 +309,8 @@ def dop853_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out):
                 # The step was shortened to end the chunk: propose the untruncated size next.
                 h_next = max(h_new, h_untruncated) if h < h_untruncated else h_new
                 return t, y, h_next, 0, nfev, naccept, nreject, nstiff
+            if t >= t_stop > t_start:
+                return t, y, h_new, 0, nfev, naccept, nreject, nstiff
             h = h_new
         else:
             h = h / min(1.0 / DOP853_MIN_FACTOR, fac11 / DOP853_SAFETY)

@@ -25,7 +25,8 @@ __all__ = ["METHODS", "IntegrationResult", "Status", "StiffnessEstimate", "choos
 # Method name -> name of the compiled chunk function in a generated module.
 METHODS = {"dop853": "dop853_chunk", "radau": "radau5_chunk"}
 
-# Work per call of a chunk function: at most this fraction of the span, and this wall time [s].
+# Work per call of a chunk function: about this fraction of the span (its last step is not
+# shortened to end there), and at most this wall time [s].
 CHUNK_SPAN_FRACTION = 0.01
 CHUNK_TARGET_SECONDS = 0.1
 
@@ -282,11 +283,9 @@ def integrate(module, y0, t_out, p, *, rtol: float, atol, method: str = "auto",
                 warm.add(name)
             steps = budget[name] if limit is None else limit
             i_row = int(np.searchsorted(t_out, t, side="right")) if started else 0
-            j = int(np.searchsorted(t_out, t + span_step, side="right"))
-            j = min(max(j, i_row + 1), t_out.shape[0])
             tic, cpu = time.perf_counter(), time.thread_time()
-            result = chunk(t, y, h_of[name], t_out[i_row:j], p, rtol, atol,
-                           min(steps, max_steps - naccept - nreject), Y[i_row:j])
+            result = chunk(t, y, h_of[name], t_out[i_row:], p, rtol, atol,
+                           min(steps, max_steps - naccept - nreject), Y[i_row:], t + span_step)
             cpu = time.thread_time() - cpu
             elapsed = time.perf_counter() - tic
             t_new, y, h_of[name], code, fe, na, nr, ns = result
@@ -316,7 +315,7 @@ def integrate(module, y0, t_out, p, *, rtol: float, atol, method: str = "auto",
 
 def _compile(chunk, t, y, p, rtol, atol, Y) -> None:
     """Call ``chunk`` on an empty span so that it is compiled (or loaded) before it is timed."""
-    chunk(t, y, 0.0, np.array([t]), p, rtol, atol, 1, np.empty((1, Y.shape[1])))
+    chunk(t, y, 0.0, np.array([t]), p, rtol, atol, 1, np.empty((1, Y.shape[1])), t)
 
 
 def evaluate_outputs(module, t: np.ndarray, y: np.ndarray, p: np.ndarray,

@@ -121,12 +121,13 @@ def radau_factor(J, h, LUr, pivr, LUc, pivc):
 
 
 @njit(cache=True, error_model="numpy")
-def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out):
+def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.inf):
     """Integrate with Radau IIA (order 5) from ``t`` to ``t_out[-1]``, filling ``Y_out``.
 
     Same arguments and returns as ``dop853_chunk``. Rows between step points come from the
     collocation polynomial (order 3 there, order 5 at the step points).
     """
+    t_start = t
     n = y.shape[0]
     y = y.copy()
     f0 = np.empty(n)
@@ -364,6 +365,8 @@ def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out):
         if last:
             return t, y, max(h_new, h_untruncated) if h < h_untruncated else h_new, 0, nfev, \
                 naccept, nreject, 0
+        if t >= t_stop > t_start:
+            return t, y, h_new, 0, nfev, naccept, nreject, 0
         h = h_new
 # <<< flexkane template <<<
 
