@@ -194,19 +194,19 @@ def markdown(results) -> str:
            "makes later runs start at once); run: the integration, best of 3, `method=\"auto\"`.", ""]
     if modes:
         tols = sorted({k.split("@")[1] for r in modes for k in r if k.startswith("run_s@")}, key=float)
-        md += _table(["modes", "states", "derive", "codegen", "compile"]
+        md += _table(["modes", "states", "derive", "codegen", "compile (of it: rhs)"]
                      + [f"run at rtol {t}" for t in tols],
                      [(r["modes"], r["states"], fmt_time(r["derive_s"]), fmt_time(r["codegen_s"]),
-                       fmt_time(r["compile_s"]))
+                       f"{fmt_time(r['compile_s'])} ({fmt_time(r['rhs_compile_s'])})")
                       + tuple(f"{fmt_time(r[f'run_s@{t}'])} ({r[f'method@{t}']}, {r[f'nfev@{t}']} ev.)"
                               for t in tols) for r in modes])
         md.append("")
     if links:
         md += ["Chains of k flexible links (2 modes each) on hubs driven by torque pulses, a payload "
                "at the end (`benchmarks/scaling.py: chain_model`), t in [0, 1.5] s:", ""]
-        md += _table(["links", "states", "derive", "codegen", "compile", "run at rtol 1e-08"],
+        md += _table(["links", "states", "derive", "codegen", "compile (of it: rhs)", "run at rtol 1e-08"],
                      [(r["links"], r["states"], fmt_time(r["derive_s"]), fmt_time(r["codegen_s"]),
-                       fmt_time(r["compile_s"]),
+                       f"{fmt_time(r['compile_s'])} ({fmt_time(r['rhs_compile_s'])})",
                        f"{fmt_time(r['run_s@1e-08'])} ({r['method@1e-08']}, {r['nfev@1e-08']} ev.)")
                       for r in links])
         md.append("")
@@ -231,17 +231,36 @@ NOTES = """\
   (`flexkane.numerics.large_rhs`). Written out as one function, `falling-beam-exact` with 40
   modes (30,000 operations) took 145 s to compile, 110 s of it in LLVM, which is superlinear in
   the length of a basic block; split into 26 functions it still took 79 s (Numba's typing and
-  lowering cost a few milliseconds per operation); with term tables it compiles in about 7 s
-  and evaluates faster (20 us against 43 us per call).
-* **Automatic method choice.** At rtol = 1e-8 the beam is accuracy-limited and DOP853 wins up to
-  40 modes. At loose tolerances the high modes, whose amplitudes are below the tolerance, hold
-  DOP853 at its stability limit while Radau IIA steps over them; `method="auto"` watches DOP853's
-  stiffness test and runs short trials of the other method, keeping the one measured to be faster
-  (`flexkane.numerics.switching`). Measured on `falling-beam-exact`, 20 modes, t in [0, 1] s:
-  rtol = 1e-3: DOP853 0.44 s, Radau 0.03 s, auto 0.05 s; rtol = 1e-4: 0.66 s, 0.05 s, 0.05 s;
-  rtol = 1e-8: 0.43 s, 2.0 s, 0.43 s.
+  lowering cost a few milliseconds per operation); with term tables the right-hand side compiles
+  in about 7 s and evaluates faster (20 us against 43 us per call). The rest of the compile time
+  in (e), about 8 s for every model, is the two integrator loops, compiled with each model's
+  right-hand side (once per structure; the on-disk cache makes the next run start at once).
+* **Where the 20 us of one evaluation go at 40 modes.** The L D L^T solve of the 43 x 43 mass
+  matrix takes 8.6 us of them; its mode-mode block (G_ij) is constant, so a Schur complement with
+  that block factored once per run would bring the solve to about 1 us. Not done yet.
+* **Automatic method choice.** At rtol = 1e-8 the beam is accuracy-limited and DOP853 wins or
+  ties up to 40 modes. At loose tolerances the high modes, whose amplitudes are below the
+  tolerance, hold DOP853 at its stability limit while Radau IIA steps over them;
+  `method="auto"` watches DOP853's stiffness test and runs short trials of the other method,
+  keeping the one measured to be faster (`flexkane.numerics.switching`). `falling-beam-exact`,
+  t in [0, 1] s (CPU time): 20 modes, rtol = 1e-3: DOP853 0.44 s, Radau 0.03 s, auto 0.05 s;
+  rtol = 1e-4: 0.66 s, 0.05 s, 0.05 s; rtol = 1e-8: 0.43 s, 2.0 s, 0.43 s. 40 modes,
+  rtol = 1e-6: 28.8 s, 1.7 s, 1.8 s; rtol = 1e-8: 13.6 s, 12.5 s, 13.5 s. DOP853 at its
+  stability limit is also inaccurate at loose tolerances (tip error 1.2e-1 at rtol = 1e-4 with
+  10 modes, against 2e-3 for Radau).
+* **Growth with the links.** Derivation time grows steeply with the links (3.8 s for 4, 20 s
+  for 5): the kinematics of link k contain those of links 1 ... k-1, and the profile (4 links)
+  puts 8.9 of 12.3 s in SymPy's `free_symbols`, called by `diff` for every partial velocity and
+  time derivative, which walks repeated subtrees again each time. Code generation had the same
+  problem (renaming symbols before common-subexpression elimination walked the whole trees: 26 s
+  for 5 links); it now eliminates first and renames the reduced expressions.
 * **Derivation cache.** Loading a derivation from `flexkane.derivation_cache` takes a few
   milliseconds (SymPy expressions are pickled with their arguments and rebuilt without
   re-evaluation, 10 times faster than SymPy's own pickling); deriving again is 10 to 25 times
   slower even for one mode, so the cache is always used.
+* **Agreement at n = 4 in (a).** 8e-9 rather than 1e-13: the baseline evaluates closed-form
+  integrals of products of cosh(lambda_i x / L) in floating point (cosh(lambda_4) is about 3e4),
+  losing digits to cancellation; flexkane's modal constants come from Gauss-Legendre quadrature.
+* **Exudyn's torque function** is a Python callback; replacing it by a constant torque changes
+  Exudyn's time by less than 15 %, so it does not explain the ratios of (c).
 """

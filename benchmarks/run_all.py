@@ -104,8 +104,7 @@ def main() -> dict:
     print(f"\nmake bench took {results['total_seconds'] / 60:.1f} min")
     if "--no-write" not in sys.argv and not quick:
         (HERE / "RESULTS.md").write_text(report.markdown(results), encoding="utf-8")
-        (HERE / "results.json").write_text(json.dumps(results, indent=1, default=str), encoding="utf-8")
-        print("written: benchmarks/RESULTS.md, benchmarks/results.json")
+        print("written: benchmarks/RESULTS.md")
     if cache is not None:
         shutil.rmtree(cache, ignore_errors=True)
     return results

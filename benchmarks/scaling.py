@@ -60,7 +60,8 @@ def _measure(model, t_end: float, tolerances, rows: list, label: str, value: int
     built = build(model, ("dop853", "radau"))
     grid = np.linspace(0.0, t_end, 101)
     row = {label: value, "states": len(built.y0), "derive_s": built.derive_time,
-           "codegen_s": built.codegen_time, "compile_s": built.compile_time}
+           "codegen_s": built.codegen_time, "compile_s": built.compile_time,
+           "rhs_compile_s": built.rhs_compile_time}
     text = []
     for rtol in tolerances:
         result = integrate(built.module, built.y0, grid, built.p, rtol=rtol, atol=rtol * 1e-2)
@@ -72,7 +73,8 @@ def _measure(model, t_end: float, tolerances, rows: list, label: str, value: int
         text.append(f"run {fmt_time(wall)} at rtol {rtol:g} ({result.method}, {result.nfev} evaluations)")
     rows.append(row)
     print(f"  {label} = {value:2d} ({row['states']} states): derive {fmt_time(built.derive_time)}, "
-          f"codegen {fmt_time(built.codegen_time)}, compile {fmt_time(built.compile_time)}; "
+          f"codegen {fmt_time(built.codegen_time)}, compile {fmt_time(built.compile_time)} "
+          f"(right-hand side {fmt_time(built.rhs_compile_time)}); "
           + "; ".join(text), flush=True)
 
 
