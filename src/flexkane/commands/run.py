@@ -83,7 +83,7 @@ def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None
     ``trace``) to also write animation.gif, or None. ``pdf``: also render equations.tex to a PDF.
     """
     from ..atomic import atomic_write_text, prepare_output_dir
-    from ..kane import derive
+    from ..derivation_cache import cached_derive
     from ..model import dumps_model
     from ..plots import write_plots
     from ..progress import ProgressBar
@@ -103,7 +103,7 @@ def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None
     validate_run_arguments(t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol, method=method)
     out = prepare_output_dir(out, force=force)
     started = time.perf_counter()
-    eom = derive(model)
+    eom = cached_derive(model)
     derive_time = time.perf_counter() - started
     compiled = compile_model(eom)
     stop = _StopRequest()
