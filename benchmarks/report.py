@@ -232,7 +232,7 @@ NOTES = """\
   modes (30,000 operations) took 145 s to compile, 110 s of it in LLVM, which is superlinear in
   the length of a basic block; split into 26 functions it still took 79 s (Numba's typing and
   lowering cost a few milliseconds per operation); with term tables the right-hand side compiles
-  in about 7 s and evaluates faster (20 us against 43 us per call). The rest of the compile time
+  in about 10 s and evaluates faster (20 us against 43 us per call). The rest of the compile time
   in (e), about 8 s for every model, is the two integrator loops, compiled with each model's
   right-hand side (once per structure; the on-disk cache makes the next run start at once).
 * **Where the 20 us of one evaluation go at 40 modes.** The L D L^T solve of the 43 x 43 mass

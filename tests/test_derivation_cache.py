@@ -8,6 +8,7 @@ import pytest
 import flexkane
 import flexkane.kane
 from flexkane.derivation_cache import cache_path, cached_derive, cached_rhs_source, structure_signature
+from flexkane.model.parts import ShapeSpec
 from flexkane.numerics import generate_rhs_source
 
 
@@ -77,6 +78,14 @@ def test_numeric_changes_hit_the_cache_and_give_their_own_numbers(tmp_path, coun
         "parameter-names"])
 def test_structural_changes_change_the_signature(change):
     assert structure_signature(change(beam())) != structure_signature(beam())
+
+
+def test_tip_mass_ratios_of_a_shape_family_are_numbers():
+    arm = flexkane.builtin_model("flexible-arm")
+    arm.beams["link"].shape = ShapeSpec("clamped-free-tip-mass", options={"mass_ratio": 0.4})
+    heavier = arm.copy()
+    heavier.beams["link"].shape.options["mass_ratio"] = 0.8
+    assert structure_signature(heavier) == structure_signature(arm)
 
 
 def test_structural_change_misses_the_cache(tmp_path, count_derivations):

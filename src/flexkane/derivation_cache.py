@@ -19,8 +19,9 @@ What belongs to the structure
   beam lengths given as numbers, because the derivation names the constants evaluated at a
   station after that text (``Phi_1(0.8)``).
 
-What does not: parameter values, the values of constant fields, typed roots of eq. 8.6, body
-outlines, initial conditions, simulation settings, the model's name. One exception: a model with
+What does not: parameter values, the values of constant fields, typed roots of eq. 8.6, the
+tip-mass ratios of a shape family, body outlines, initial conditions, simulation settings, the
+model's name. One exception: a model with
 loop constraints whose dependent speeds are left to the derivation (chosen by pivoting at the
 initial configuration) is keyed on all its numbers; name them (``dependent = [...]``) to share one
 derivation across numeric variants.
@@ -75,7 +76,8 @@ VALUE_FIELDS = tuple(re.compile(pattern) for pattern in (
 ))
 # Fields that never enter the equations, and fields that give them numbers only.
 _IGNORED = (re.compile(r"name|description|simulation|sweep"), re.compile(r"bodies\.[^.]+\.outline"))
-_NUMBERS = (re.compile(r"parameters|initial"), re.compile(r"beams\.[^.]+\.(shape|axial_shape)\.roots"))
+_NUMBERS = (re.compile(r"parameters|initial"), re.compile(r"beams\.[^.]+\.(shape|axial_shape)\.roots"),
+            re.compile(r"beams\.[^.]+\.(shape|axial_shape)\.options\.(mass_ratio|inertia_ratio)"))
 # A beam length is a value field, but its text names the constants at the tip (``Phi_1(L)``).
 _BEAM_LENGTH = re.compile(r"beams\.[^.]+\.L")
 _FORMAT = 1  # layout of the cache files
