@@ -17,7 +17,10 @@ from .model import Model, dumps_model, load_model, loads_model, save_model  # no
 from .results import Results, load_results  # noqa: E402
 from .simulation import compile_model, simulate  # noqa: E402
 from .linearize import linearize, modal_analysis  # noqa: E402
+from .errors import FlexkaneError, ModelError, SolverFailure  # noqa: E402
+from .extras import MissingExtraError  # noqa: E402
 
 __all__ = ["__version__", "Model", "load_model", "loads_model", "dumps_model", "save_model",
            "builtin_model", "builtin_names", "derive", "EquationsOfMotion", "compile_model", "simulate",
-           "Results", "load_results", "linearize", "modal_analysis"]
+           "Results", "load_results", "linearize", "modal_analysis",
+           "FlexkaneError", "ModelError", "SolverFailure", "MissingExtraError"]

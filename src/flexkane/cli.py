@@ -59,7 +59,9 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return int(args.handler(args) or EXIT_OK)
     except ModelError as exc:
-        print(f"flexkane: error: {exc}", file=sys.stderr)
+        from .commands._common import cli_path
+
+        print(f"flexkane: error: {cli_path(exc)}", file=sys.stderr)
         return EXIT_USAGE
     except SolverFailure as exc:
         print(f"flexkane: solver failure: {exc}", file=sys.stderr)

@@ -34,7 +34,8 @@ class Results:
     t : ndarray, shape (N,)
         Output times [s].
     state : ndarray, shape (N, n)
-        Coordinates then speeds at the output times.
+        Coordinates then speeds at the output times, one row per time (``y`` is its transpose,
+        shape (n, N), as :func:`scipy.integrate.solve_ivp` gives it).
     state_names : list of str
         Names of the state columns.
     outputs : dict of str to ndarray, shape (N,)
@@ -58,6 +59,52 @@ class Results:
     solver: dict = field(default_factory=dict)
     partial: bool = False
     version: str = __version__
+
+    # ------------------------------------------------------- the conventions of scipy.integrate.solve_ivp
+    @property
+    def y(self) -> np.ndarray:
+        """The states as :func:`scipy.integrate.solve_ivp` returns them, shape (n_states, N):
+        ``y[k]`` is the history of ``state_names[k]`` (the transpose of :attr:`state`)."""
+        return self.state.T
+
+    @property
+    def status(self) -> int:
+        """0: the end time was reached; -1: the integration failed (step size, non-finite state, step
+        budget, singular mass matrix); -2: interrupted (Ctrl-C or SIGTERM). As ``solve_ivp``'s
+        ``status`` (which has no interruption); ``solver["status"]`` names the cause."""
+        if not self.partial:
+            return 0
+        return -2 if self.solver.get("status") == "interrupted" else -1
+
+    @property
+    def success(self) -> bool:
+        """True when the integration reached the end time (``status == 0``)."""
+        return self.status == 0
+
+    @property
+    def message(self) -> str:
+        """Why the integration stopped, or that it reached the end time."""
+        return str(self.solver.get("message", ""))
+
+    def to_dataframe(self):
+        """The results as a :class:`pandas.DataFrame` (needs pandas: ``pip install 'flexkane[dataframe]'``).
+
+        Returns
+        -------
+        pandas.DataFrame
+            Index ``t`` [s] (N rows); columns: the states (``state_names``) then every output.
+
+        Raises
+        ------
+        flexkane.extras.MissingExtraError
+            When pandas is not installed (the message says how to install it).
+        """
+        from .extras import require
+
+        pandas = require("pandas")
+        columns = {name: self.state[:, k] for k, name in enumerate(self.state_names)}
+        columns.update((name, values) for name, values in self.outputs.items() if name not in columns)
+        return pandas.DataFrame(columns, index=pandas.Index(self.t, name="t"))
 
     def __getitem__(self, name: str) -> np.ndarray:
         """A state column or an output by name (``res["q3"]``, ``res["energy"]``)."""

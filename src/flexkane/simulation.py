@@ -19,24 +19,129 @@ from .kane import EquationsOfMotion
 from .model import Model, dumps_model
 from .results import Results
 
-__all__ = ["CompiledModel", "compile_model", "simulate", "output_grid", "OutputEvaluator"]
+__all__ = ["CompiledModel", "compile_model", "simulate", "output_grid", "output_times", "initial_state_vector",
+           "OutputEvaluator"]
 
 
 def output_grid(t_end: float, dt_out: float) -> np.ndarray:
     """Output times 0, dt, 2 dt, ..., t_end [s] (t_end included even when not a multiple of dt)."""
     if not (t_end > 0 and np.isfinite(t_end)):
-        raise ModelError("--t-end", "a positive end time [s]", t_end)
+        raise ModelError("t_end", "a positive end time [s]", t_end)
     if not (dt_out > 0 and np.isfinite(dt_out)):
-        raise ModelError("--dt-out", "a positive output interval [s]", dt_out)
+        raise ModelError("dt_out", "a positive output interval [s]", dt_out)
     count = int(np.floor(t_end / dt_out + 1e-9))
     if count > 10_000_000:
-        raise ModelError("--dt-out", "at most 10 million output rows", f"{count} rows")
+        raise ModelError("dt_out", "at most 10 million output rows", f"{count} rows")
     grid = np.arange(count + 1) * dt_out
     if t_end - grid[-1] > 1e-9 * t_end:
         grid = np.append(grid, t_end)
     else:
         grid[-1] = t_end if abs(grid[-1] - t_end) < 1e-9 * t_end else grid[-1]
     return grid
+
+
+def _time(value, name: str) -> float:
+    """A finite time [s] given as an argument."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) \
+            or not np.isfinite(value):
+        raise ModelError(name, "a finite time [s]", value)
+    return float(value)
+
+
+def output_times(*, t_end=None, dt_out=None, t_span=None, t_eval=None, simulation=None):
+    """The integration grid of a run and which of its rows are outputs.
+
+    Parameters
+    ----------
+    t_end, dt_out, t_span, t_eval :
+        As :func:`simulate` takes them (``t_end`` or ``t_span``; ``dt_out`` or ``t_eval``).
+    simulation : Simulation, optional
+        The model's run settings: its ``t_end`` and ``dt_out`` serve when none are given.
+
+    Returns
+    -------
+    grid : ndarray, shape (M,)
+        Strictly increasing times [s] from t0 to t1 the integrator reports at.
+    keep : ndarray of bool, shape (M,), or None
+        With ``t_eval``: the rows of ``grid`` that are output times (t0 and t1 may be added to
+        ``t_eval`` to start and end there); None when every row is an output.
+
+    Raises
+    ------
+    ModelError
+        Naming the argument for a missing, invalid or conflicting time.
+    """
+    if t_span is not None and t_end is not None:
+        raise ModelError("t_span", "either t_span=(t0, t1) or t_end, not both", t_span)
+    if t_eval is not None and dt_out is not None:
+        raise ModelError("t_eval", "either t_eval (output times) or dt_out (an output interval), not both",
+                         None, show_given=False)
+    evaluated = None
+    if t_eval is not None:
+        try:
+            evaluated = np.array(t_eval, dtype=float).reshape(-1) if np.ndim(t_eval) <= 1 else None
+        except (TypeError, ValueError):
+            evaluated = None
+        if evaluated is None or evaluated.size == 0 or not np.all(np.isfinite(evaluated)):
+            raise ModelError("t_eval", "a 1-D array of finite output times [s]", t_eval)
+        if np.any(np.diff(evaluated) <= 0):
+            raise ModelError("t_eval", "strictly increasing output times [s]", t_eval)
+    if t_span is not None:
+        if isinstance(t_span, (str, bytes)) or np.ndim(t_span) != 1 or len(t_span) != 2:
+            raise ModelError("t_span", "a pair (t0, t1) of times [s]", t_span)
+        t0, t1 = _time(t_span[0], "t_span[0]"), _time(t_span[1], "t_span[1]")
+        if not t1 > t0:
+            raise ModelError("t_span", "(t0, t1) with t1 > t0 [s]", t_span)
+    elif evaluated is not None and t_end is None:
+        t0, t1 = float(evaluated[0]), float(evaluated[-1])
+        if not t1 > t0:
+            raise ModelError("t_eval", "at least two output times (or a t_span that holds them)", t_eval)
+    else:
+        if t_end is None and simulation is not None:
+            t_end = simulation.t_end
+        if t_end is None:
+            raise ModelError("t_end", "an end time [s] (or t_span=(t0, t1)); the model has no simulation.t_end",
+                             None, show_given=False)
+        t0, t1 = 0.0, _time(t_end, "t_end")
+    if evaluated is not None:
+        if evaluated[0] < t0 or evaluated[-1] > t1:
+            raise ModelError("t_eval", f"output times within t_span = ({t0:g}, {t1:g}) [s]",
+                             f"times from {evaluated[0]:g} to {evaluated[-1]:g}")
+        grid = np.unique(np.concatenate([[t0], evaluated, [t1]]))
+        keep = np.isin(grid, evaluated)
+        return grid, (None if keep.all() else keep)
+    if dt_out is None:
+        dt_out = (simulation.dt_out if simulation is not None else None) or (t1 - t0) / 100
+    grid = output_grid(t1 - t0, dt_out)
+    if t0 != 0.0:
+        grid = t0 + grid
+        grid[-1] = t1
+    return grid, None
+
+
+def initial_state_vector(y0, state_names: list) -> np.ndarray:
+    """An initial state given as an array, checked against the state's names.
+
+    Parameters
+    ----------
+    y0 : array_like, shape (n,)
+        Coordinates then speeds, in the order of ``state_names``.
+    state_names : list of str, length n
+
+    Returns
+    -------
+    ndarray, shape (n,)
+    """
+    n = len(state_names)
+    try:
+        state = np.array(y0, dtype=float)
+    except (TypeError, ValueError):
+        raise ModelError("y0", f"{n} numbers ({', '.join(state_names)})", y0) from None
+    if state.shape != (n,):
+        raise ModelError("y0", f"{n} numbers ({', '.join(state_names)})", f"an array of shape {state.shape}")
+    if not np.all(np.isfinite(state)):
+        raise ModelError("y0", "finite numbers", y0)
+    return state
 
 
 class OutputEvaluator:
@@ -116,18 +221,24 @@ def compile_model(eom: EquationsOfMotion, cache_dir=None) -> CompiledModel:
     return CompiledModel(eom, module, key, time.perf_counter() - start)
 
 
-def simulate(compiled: CompiledModel, *, t_end: float, dt_out: float, rtol: float = 1e-8,
-             atol: float = 1e-10, method: str = "auto", model: Model | None = None,
-             progress=None, max_steps: int | None = None) -> Results:
+def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: float | None = None,
+             rtol: float = 1e-8, atol: float = 1e-10, method: str = "auto", model: Model | None = None,
+             progress=None, max_steps: int | None = None, t_span=None, t_eval=None, y0=None) -> Results:
     """Integrate a compiled model from its initial state.
+
+    The times are given either as ``t_end`` and ``dt_out`` (rows at 0, dt_out, ..., t_end) or, as
+    :func:`scipy.integrate.solve_ivp` takes them, as ``t_span=(t0, t1)`` with ``t_eval`` (the output
+    times) or ``dt_out`` (rows at t0, t0 + dt_out, ..., t1).
 
     Parameters
     ----------
     compiled : CompiledModel
-    t_end : float
-        End time [s].
-    dt_out : float
-        Output interval [s]; rows at 0, dt, ..., t_end come from dense output.
+    t_end : float, optional
+        End time [s] of a run from t = 0; the model's ``simulation.t_end`` when neither ``t_end``,
+        ``t_span`` nor ``t_eval`` is given.
+    dt_out : float, optional
+        Output interval [s]; rows come from dense output. The model's ``simulation.dt_out``, else
+        a hundredth of the time span, when neither ``dt_out`` nor ``t_eval`` is given.
     rtol, atol : float
         Integrator tolerances.
     method : str
@@ -138,12 +249,27 @@ def simulate(compiled: CompiledModel, *, t_end: float, dt_out: float, rtol: floa
     progress : callable, optional
         ``progress(t_reached, t_end)`` called between chunks.
     max_steps : int, optional
-        Step budget.
+        Step budget; the model's ``simulation.max_steps``, else 1,000,000.
+    t_span : (float, float), optional
+        Start and end time ``(t0, t1)`` [s], ``t0 < t1`` (instead of ``t_end``).
+    t_eval : array_like, shape (N,), optional
+        Output times [s], strictly increasing, within ``t_span`` (instead of ``dt_out``); without
+        ``t_span`` the run goes from ``t_eval[0]`` to ``t_eval[-1]``.
+    y0 : array_like, shape (n,), optional
+        State ``[q, u]`` at ``t0`` in the order of ``Results.state_names`` (instead of the model's
+        ``[initial]`` table); used as given (in a model with loop constraints it must satisfy them).
 
     Returns
     -------
     Results
-        ``partial`` is set when the integration stopped early; ``solver["message"]`` says why.
+        ``partial`` is set (``success`` false) when the integration stopped early;
+        ``message`` says why.
+
+    Raises
+    ------
+    ModelError
+        For invalid or conflicting arguments (``t_end`` with ``t_span``, ``dt_out`` with ``t_eval``,
+        output times outside ``t_span``, a ``y0`` of the wrong size ...), before any integration.
     """
     from .numerics.integrate import integrate
 
@@ -151,9 +277,14 @@ def simulate(compiled: CompiledModel, *, t_end: float, dt_out: float, rtol: floa
 
     if not isinstance(compiled, CompiledModel):
         raise ModelError("compiled", "a CompiledModel from flexkane.compile_model", type(compiled).__name__)
-    validate_run_arguments(t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol, method=method,
-                           max_steps=max_steps, progress=progress)
     eom = compiled.eom
+    sim = (model if isinstance(model, Model) else eom.model).simulation
+    grid, keep = output_times(t_end=t_end, dt_out=dt_out, t_span=t_span, t_eval=t_eval, simulation=sim)
+    if max_steps is None:
+        max_steps = sim.max_steps
+    span = float(grid[-1] - grid[0])   # t_end and dt_out were checked by output_times
+    validate_run_arguments(t_end=span, dt_out=span if dt_out is None else dt_out, rtol=rtol, atol=atol,
+                           method=method, max_steps=max_steps, progress=progress)
     if model is None:
         model = eom.model
     elif not isinstance(model, Model):
@@ -168,15 +299,18 @@ def simulate(compiled: CompiledModel, *, t_end: float, dt_out: float, rtol: floa
                              f"(coordinates {', '.join(c.q.name for c in eom.chain.coordinates)})", ", ".join(names))
     values = eom.constant_values(model)
     p = np.array([values[s] for s in eom.constants], dtype=float)
-    y0 = eom.initial_state(model)
-    grid = output_grid(t_end, dt_out)
+    y0 = eom.initial_state(model) if y0 is None else initial_state_vector(y0, eom.state_names)
     kwargs = {"rtol": rtol, "atol": atol, "method": method, "progress": progress}
     if max_steps is not None:
         kwargs["max_steps"] = max_steps
     result = integrate(compiled.module, y0, grid, p, **kwargs)
     n_valid = result.n_valid
+    partial = n_valid < len(grid) or int(result.status) != 0
     t = grid[:n_valid]
     state = np.asarray(result.y)[:n_valid]
+    if keep is not None:   # t_eval: drop the rows added at t0 and t1
+        t, state = t[keep[:n_valid]], state[keep[:n_valid]]
+        n_valid = len(t)
     ud = None
     if n_valid:
         nq = len(eom.q)
@@ -189,4 +323,4 @@ def simulate(compiled: CompiledModel, *, t_end: float, dt_out: float, rtol: floa
               "compile_time": float(compiled.compile_time)}
     return Results(t=t, state=state, state_names=eom.state_names, outputs=outputs,
                    model_text=dumps_model(model), parameters={s.name: values[s] for s in eom.constants},
-                   solver=solver, partial=n_valid < len(grid) or int(result.status) != 0)
+                   solver=solver, partial=partial)

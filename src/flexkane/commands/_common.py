@@ -1,17 +1,34 @@
-"""Options shared by the commands that take a model: MODEL, --n-modes, --set."""
+"""Options shared by the commands: MODEL, --n-modes, --set, --max-steps, and the --out directory.
+
+Every command that writes files takes its directory through :func:`prepare_out` (refuses a non-empty
+directory without ``--force``, checks that it can be written before anything is computed) and derives
+its default from the model's name with :func:`default_out` (a name is a label, never a path).
+"""
 
 from __future__ import annotations
 
 import argparse
 import difflib
+import errno
 import math
+import os
 import re
+import tempfile
 import tomllib
+from pathlib import Path
 
 from ..errors import ModelError
 from ..model import Model
 
-__all__ = ["add_model_arguments", "model_from_args", "parse_assignment", "apply_settings"]
+__all__ = ["add_model_arguments", "model_from_args", "parse_assignment", "apply_settings", "parse_settings",
+           "add_out_arguments", "add_max_steps_argument", "prepare_out", "default_out", "safe_folder_name",
+           "OUT_ROOT", "cli_path"]
+
+#: Folder under which the default output directories go (``out/<model name>``).
+OUT_ROOT = Path("out")
+#: Longest folder name derived from a model's name [characters].
+_MAX_FOLDER_NAME = 100
+_UNSAFE_CHARACTERS = re.compile(r"[^A-Za-z0-9._+-]+")
 
 _NUMBER = re.compile(r"^[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?$")
 _INT = re.compile(r"^[+-]?\d+$")
@@ -72,20 +89,24 @@ def parse_assignment(text: str) -> tuple[str, object]:
     return key, value
 
 
-def apply_settings(model: Model, settings: list[str]) -> Model:
-    """A copy of the model with ``KEY=VALUE`` overrides applied (validated afterwards)."""
-    from ..model.paths import set_value
+def parse_settings(settings: list[str]) -> dict:
+    """``KEY=VALUE`` texts of ``--set`` as a dict of key paths to values (:func:`parse_assignment`)."""
+    return dict(parse_assignment(text) for text in settings)
 
+
+def apply_settings(model: Model, settings: list[str]) -> Model:
+    """A copy of the model with ``KEY=VALUE`` overrides applied (validated afterwards).
+
+    The values go through :meth:`flexkane.Model.with_values`, the Python form of ``--set``; errors
+    name the option (``--set beams.B.EI``).
+    """
     if not settings:
         return model
-    model = model.copy()
-    for text in settings:
-        key, value = parse_assignment(text)
-        try:
-            set_value(model, key, value)
-        except ModelError as exc:
-            raise ModelError(f"--set {exc.path}", exc.expected, exc.given, exc.hint) from None
-    return model
+    values = parse_settings(settings)
+    try:
+        return model.with_values(values, validate=False)
+    except ModelError as exc:
+        raise ModelError(f"--set {exc.path}", exc.expected, exc.given, exc.hint) from None
 
 
 def _bare_names(model: Model, settings: list[str]) -> set[str]:
@@ -117,7 +138,10 @@ def model_from_args(args) -> Model:
     if n_modes is not None:
         if not model.beams:
             raise ModelError("--n-modes", "a model with beams", n_modes, f"{model.name!r} has no beam")
-        model = model.with_modes(n_modes)
+        try:
+            model = model.with_modes(n_modes)
+        except ModelError as exc:
+            raise cli_path(exc) from None
     _check_bare_names(model, _bare_names(model, settings))
     return model.validate()
 
@@ -140,3 +164,125 @@ def _check_bare_names(model: Model, bare: set[str]) -> None:
             raise ModelError(f"--set {name}", f"a parameter ({', '.join(model.parameters) or 'none'}) or a "
                              f"generalized coordinate or speed ({', '.join(names)})", name,
                              f"did you mean {close[0]!r}?" if close else None)
+
+
+# ------------------------------------------------------------------------------- --max-steps
+def add_max_steps_argument(parser: argparse.ArgumentParser) -> None:
+    """``--max-steps N``: the integrator's step budget (overrides ``[simulation] max_steps``)."""
+    parser.add_argument("--max-steps", type=int, default=None, metavar="N",
+                        help="most integration steps of a run [default: the model's simulation.max_steps, "
+                             "else 1000000]")
+
+
+#: Library parameter names and the command-line options that set them (for messages).
+_CLI_OPTIONS = {"t_end": "--t-end", "dt_out": "--dt-out", "rtol": "--rtol", "atol": "--atol",
+                "method": "--method", "max_steps": "--max-steps", "n_modes": "--n-modes"}
+
+
+def cli_path(error: ModelError) -> ModelError:
+    """The same error with a run argument named by its command-line option (``t_end`` -> ``--t-end``).
+
+    The library names parameters (``t_end``); the command line speaks of the option the user typed.
+    """
+    option = _CLI_OPTIONS.get(error.path)
+    if option is None:
+        return error
+    return ModelError(option, error.expected, error.given, error.hint, show_given=error.given is not None)
+
+
+# ------------------------------------------------------------------------------- --out
+def add_out_arguments(parser: argparse.ArgumentParser, default: str, *, required: bool = False) -> None:
+    """``--out DIR`` and ``--force`` of a command that writes files into a directory."""
+    parser.add_argument("--out", metavar="DIR", default=None, required=required,
+                        help="output directory" + ("" if required else f" [default: {default}]"))
+    parser.add_argument("--force", action="store_true",
+                        help="write into an existing non-empty directory (files of the same name are replaced)")
+
+
+def safe_folder_name(name: str, fallback: str = "model") -> str:
+    """A folder name derived from a label: no separators, no ``..``, never absolute.
+
+    Characters other than letters, digits, ``.``, ``_``, ``+`` and ``-`` become ``-``; leading dots
+    and dashes are dropped (no hidden folders, no ``..``, no option-like names); at most
+    :data:`_MAX_FOLDER_NAME` characters. An empty result gives ``fallback``.
+
+    Examples
+    --------
+    >>> safe_folder_name("../../ESCAPED")
+    'ESCAPED'
+    >>> safe_folder_name("/etc/passwd")
+    'etc-passwd'
+    """
+    text = _UNSAFE_CHARACTERS.sub("-", str(name)).lstrip(".-")[:_MAX_FOLDER_NAME].rstrip(".-")
+    return text or fallback
+
+
+def default_out(name: str, suffix: str = "") -> Path:
+    """The default output directory ``out/<name><suffix>`` of a model (or family) name."""
+    return OUT_ROOT / (safe_folder_name(name) + suffix)
+
+
+def _listing(directory: Path, limit: int = 3) -> str:
+    names = sorted(p.name for p in directory.iterdir())
+    shown = ", ".join(names[:limit]) + (", ..." if len(names) > limit else "")
+    return f"it holds {len(names)} file{'s' if len(names) != 1 else ''}: {shown}"
+
+
+def _check_writable(directory: Path, flag: str) -> None:
+    """Write, sync and remove a small probe file in ``directory``; a read-only, full or otherwise
+    unwritable directory is reported now, before any computing."""
+    try:
+        with tempfile.NamedTemporaryFile(dir=directory, prefix=".flexkane-probe-", suffix=".tmp") as probe:
+            probe.write(b"\0" * 65536)
+            probe.flush()
+            os.fsync(probe.fileno())
+    except OSError as exc:
+        reason = {errno.ENOSPC: "no space left on the device", errno.EDQUOT: "disk quota exceeded",
+                  errno.EROFS: "read-only file system", errno.EACCES: "permission denied"}.get(
+                      exc.errno, exc.strerror or str(exc))
+        raise ModelError(flag, "a directory flexkane can write to", str(directory),
+                         f"{reason}; nothing was computed") from None
+
+
+def prepare_out(directory, *, force: bool, flag: str = "--out", resumable=None) -> Path:
+    """Create or accept the output directory of a command; check it can be written; return it.
+
+    The one place where commands handle ``--out``: called before any computing, so that a refused,
+    read-only or full directory costs nothing and loses nothing.
+
+    Parameters
+    ----------
+    directory : str or os.PathLike
+        The directory (``--out``, or the command's default); missing parents are created.
+    force : bool
+        Accept a non-empty directory (its other files are kept; files of the same name are replaced).
+    flag : str
+        Option named in messages.
+    resumable : callable, optional
+        ``resumable(directory) -> bool``: a non-empty directory this command may continue in without
+        ``force`` (a sweep resumes its own directory).
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    ModelError
+        A non-empty directory without ``force``, a file of that name, a directory that cannot be
+        created or written (read-only, full, no permission).
+    """
+    from ..atomic import OutputExistsError, prepare_output_dir
+
+    directory = Path(directory)
+    if directory.is_dir() and not force and any(directory.iterdir()) and not (resumable and resumable(directory)):
+        raise ModelError(flag, "a new or empty directory (or --force to write into it; files of the same "
+                         "name are replaced, others kept)", str(directory), _listing(directory))
+    try:
+        directory = prepare_output_dir(directory, force=True)
+    except OutputExistsError:  # pragma: no cover - force=True never refuses
+        raise
+    except ModelError as exc:
+        raise ModelError(flag, exc.expected, exc.given, exc.hint) from None
+    _check_writable(directory, flag)
+    return directory

@@ -85,19 +85,59 @@ class Model:
         validate_model(self)
         return self
 
+    def with_values(self, values, *, validate: bool = True) -> "Model":
+        """A copy with values set by key path, as ``flexkane run --set KEY=VALUE`` does.
+
+        Parameters
+        ----------
+        values : mapping of str to value
+            Key paths (``"beams.B.EI"``, ``"bodies.RB.points.Q"``, ``"initial.u3"``) or bare names
+            (a parameter, else an initial condition) to their new values: numbers, expression
+            texts, booleans, lists ``[x, y]`` or tables, as a model file would give them.
+        validate : bool
+            Validate the copy (:meth:`validate`) before returning it.
+
+        Returns
+        -------
+        Model
+            The copy; ``self`` is unchanged.
+
+        Raises
+        ------
+        ModelError
+            Naming the key of an unknown path or an invalid value.
+
+        Examples
+        --------
+        >>> stiff = flexkane.builtin_model("falling-beam").with_values({"beams.B.EI": 40, "u3": 2})  # doctest: +SKIP
+        """
+        from collections.abc import Mapping
+
+        from .paths import set_value
+
+        if not isinstance(values, Mapping):
+            raise ModelError("values", "a mapping of key paths to values, e.g. {'beams.B.EI': 20}",
+                             type(values).__name__)
+        new = self.copy()
+        for key, value in values.items():
+            if not isinstance(key, str) or not key.strip():
+                raise ModelError("values", "key paths as non-empty strings (e.g. 'beams.B.EI')", key)
+            set_value(new, key.strip(), copy.deepcopy(value))
+        return new.validate() if validate else new
+
     def with_modes(self, n_modes: int) -> "Model":
         """A copy in which every beam has ``n_modes`` transverse shape functions.
 
         Beams whose shape roots were typed explicitly keep them only when their count matches.
         """
         if isinstance(n_modes, bool) or not isinstance(n_modes, int) or not 1 <= n_modes <= 200:
-            raise ModelError("--n-modes", "an integer from 1 to 200", n_modes)
+            raise ModelError("n_modes", "an integer from 1 to 200", n_modes)
         new = self.copy()
         for beam in new.beams.values():
             beam.n_modes = n_modes
             if beam.shape.roots is not None and len(beam.shape.roots) != n_modes:
                 raise ModelError(f"beams.{beam.name}.shape.roots",
-                                 f"{n_modes} roots to match --n-modes (or a model without typed roots)",
+                                 f"{n_modes} roots to match n_modes (or a model without typed roots)",
                                  beam.shape.roots)
             if beam.damping and len(beam.damping) != n_modes:
                 beam.damping = (list(beam.damping) + [beam.damping[-1]] * n_modes)[:n_modes]

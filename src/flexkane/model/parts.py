@@ -346,6 +346,8 @@ class Simulation:
         Integrator tolerances [-].
     method : str
         ``auto`` or a method name.
+    max_steps : int, optional
+        Most integration steps of a run; 1,000,000 when omitted.
     """
 
     t_end: float | None = None
@@ -353,3 +355,4 @@ class Simulation:
     rtol: float = 1e-8
     atol: float = 1e-10
     method: str = "auto"
+    max_steps: int | None = None

@@ -11,7 +11,7 @@ The file has one table per kind of part, keyed by name::
     [springs.NAME]          # body_a, point_a | position_a, body_b, ..., stiffness, damping, rest_length
     [constraints.NAME]      # loop-closure joints: type, body_a, point_a | station_a | position_a, ...
     [initial]               # coordinate or speed name = value
-    [simulation]            # t_end, dt_out, rtol, atol, method
+    [simulation]            # t_end, dt_out, rtol, atol, method, max_steps
     [sweep]                 # read by flexkane.sweep, ignored here
 
 Reading checks the layout of the file: tables where tables belong, no unknown key (a typo is
@@ -55,7 +55,7 @@ _SPRING_KEYS = ("body_a", "point_a", "position_a", "body_b", "point_b", "positio
                 "damping", "rest_length")
 _CONSTRAINT_KEYS = ("type", "body_a", "point_a", "station_a", "position_a", "body_b", "point_b", "station_b",
                     "position_b", "axis", "angle", "dependent", "stabilization")
-_SIM_KEYS = ("t_end", "dt_out", "rtol", "atol", "method")
+_SIM_KEYS = ("t_end", "dt_out", "rtol", "atol", "method", "max_steps")
 
 _MISSING = object()
 
@@ -209,7 +209,7 @@ def _model_from_dict(data: dict) -> Model:
     sim = _table(data, "simulation", "", "a table of run settings")
     _check_keys(sim, _SIM_KEYS, "simulation")
     model.simulation = Simulation(_float(sim, "t_end"), _float(sim, "dt_out"), _float(sim, "rtol", 1e-8),
-                                  _float(sim, "atol", 1e-10), sim.get("method", "auto"))
+                                  _float(sim, "atol", 1e-10), sim.get("method", "auto"), sim.get("max_steps"))
     return model
 
 
@@ -358,7 +358,7 @@ def model_to_dict(model: Model) -> dict:
         out["initial"] = dict(model.initial)
     sim = _drop_none({"t_end": model.simulation.t_end, "dt_out": model.simulation.dt_out,
                       "rtol": model.simulation.rtol, "atol": model.simulation.atol,
-                      "method": model.simulation.method})
+                      "method": model.simulation.method, "max_steps": model.simulation.max_steps})
     out["simulation"] = sim
     return out
 

@@ -517,6 +517,9 @@ def _check_simulation(sim) -> None:
     if isinstance(sim.rtol, bool) or not isinstance(sim.rtol, numbers.Real) or not low <= sim.rtol < high:
         raise ModelError("simulation.rtol", f"a relative tolerance from {low:g} to below {high:g} [-]", sim.rtol)
     _choice("simulation.method", sim.method, METHODS)
+    if sim.max_steps is not None and (isinstance(sim.max_steps, bool) or not isinstance(sim.max_steps, numbers.Integral)
+                                      or sim.max_steps < 1):
+        raise ModelError("simulation.max_steps", "a positive integer number of steps", sim.max_steps)
 
 
 def validate_run_arguments(*, t_end, dt_out, rtol, atol, method="auto", max_steps=None, progress=None) -> None:
@@ -542,7 +545,8 @@ def validate_run_arguments(*, t_end, dt_out, rtol, atol, method="auto", max_step
     Raises
     ------
     ModelError
-        Naming the argument (and its command-line option), what was expected and what was given.
+        Naming the argument (``t_end``, ``rtol``, ...), what was expected and what was given; the
+        command line names its option instead (:func:`flexkane.commands._common.cli_path`).
     """
     def real(value) -> bool:
         return not isinstance(value, bool) and isinstance(value, numbers.Real) and math.isfinite(value)
@@ -550,11 +554,11 @@ def validate_run_arguments(*, t_end, dt_out, rtol, atol, method="auto", max_step
     for name, value, what in (("t_end", t_end, "end time [s]"), ("dt_out", dt_out, "output interval [s]"),
                               ("atol", atol, "absolute tolerance [units of each state]")):
         if not (real(value) and value > 0):
-            raise ModelError(f"{name} (--{name.replace('_', '-')})", f"a positive finite {what}", value)
+            raise ModelError(name, f"a positive finite {what}", value)
     low, high = RTOL_RANGE
     if not (real(rtol) and low <= rtol < high):
-        raise ModelError("rtol (--rtol)", f"a relative tolerance from {low:g} to below {high:g} [-]", rtol)
-    _choice("method (--method)", method, METHODS)
+        raise ModelError("rtol", f"a relative tolerance from {low:g} to below {high:g} [-]", rtol)
+    _choice("method", method, METHODS)
     if max_steps is not None and (isinstance(max_steps, bool) or not isinstance(max_steps, numbers.Integral)
                                   or max_steps < 1):
         raise ModelError("max_steps", "a positive integer number of steps", max_steps)
