@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 OUT ?= out
 
-.PHONY: run test bench clean
+.PHONY: run test bench notebook clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -14,8 +14,13 @@ $(VENV)/.installed: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet -e .
 	touch $@
 
+# the test extra includes the sweep, video and dataframe extras the tests use
 $(VENV)/.installed-test: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet -e '.[test]'
+	touch $@ $(VENV)/.installed
+
+$(VENV)/.installed-notebook: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install --quiet -e '.[notebook]'
 	touch $@ $(VENV)/.installed
 
 run: $(VENV)/.installed
@@ -30,6 +35,10 @@ $(VENV)/.installed-bench: pyproject.toml | $(BIN)/python
 
 bench: $(VENV)/.installed-bench
 	$(BIN)/python benchmarks/run_all.py
+
+# executes examples/chapter8.ipynb headless; the executed notebook goes to $(OUT)/notebook/chapter8.ipynb
+notebook: $(VENV)/.installed-notebook
+	$(BIN)/python examples/run_notebook.py $(OUT)/notebook
 
 clean:
 	rm -rf $(VENV) $(OUT) .pytest_cache

@@ -57,7 +57,13 @@ def main(argv: list[str] | None = None) -> int:
         parser.print_help()
         return EXIT_USAGE
     try:
-        return int(args.handler(args) or EXIT_OK)
+        try:
+            return int(args.handler(args) or EXIT_OK)
+        except BaseException:
+            from .commands._common import remove_unused_out
+
+            remove_unused_out()   # a directory made for the outputs of a command that failed before writing
+            raise
     except ModelError as exc:
         from .commands._common import cli_path
 

@@ -31,15 +31,32 @@ def test_modes_prints_roots_and_frequencies_and_writes_the_plot(tmp_path, capsys
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
 
 
-def test_modes_defaults_to_four_cantilever_modes_in_the_current_directory(tmp_path, capsys,
-                                                                          monkeypatch):
+def test_modes_defaults_to_four_cantilever_modes_in_out_and_never_overwrites_silently(tmp_path, capsys,
+                                                                                    monkeypatch):
+    # changed by the --out rules: the default folder is out/modes-<family>, not the current directory
     monkeypatch.chdir(tmp_path)
     code, out, _ = run(capsys, "modes")
     assert code == 0
     rows = [line.split() for line in out.splitlines() if line.strip()[:1].isdigit()]
     assert [row[0] for row in rows] == ["1", "2", "3", "4"]
     assert "p_i" not in out
-    assert (tmp_path / "modes-clamped-free.png").exists()
+    png = tmp_path / "out" / "modes-clamped-free" / "modes-clamped-free.png"
+    assert png.exists() and [p.name for p in tmp_path.iterdir()] == ["out"]
+    before = png.read_bytes()
+    code, _, err = run(capsys, "modes", "--n", "2")
+    assert code == 2 and "--force" in err and "modes-clamped-free" in err
+    assert png.read_bytes() == before
+    assert run(capsys, "modes", "--n", "2", "--force")[0] == 0
+    assert png.read_bytes() != before
+
+
+def test_vibrate_refuses_a_non_empty_directory_before_computing(tmp_path, capsys):
+    (tmp_path / "keep.txt").write_text("precious")
+    code, out, err = run(capsys, *VIBRATE, "--tip-load", "2", "--out", str(tmp_path))
+    assert code == 2 and "--out" in err and "--force" in err and "keep.txt" in err
+    assert out == "" and sorted(p.name for p in tmp_path.iterdir()) == ["keep.txt"]
+    assert run(capsys, *VIBRATE, "--tip-load", "2", "--out", str(tmp_path), "--force")[0] == 0
+    assert (tmp_path / "keep.txt").read_text() == "precious" and (tmp_path / "results.csv").exists()
 
 
 @pytest.mark.parametrize("argv, expected", [

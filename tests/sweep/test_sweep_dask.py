@@ -68,3 +68,14 @@ def test_default_local_cluster_started_by_the_sweep_gives_the_serial_table(tmp_p
     outcome = run_sweep(MODEL, SPEC, out=tmp_path, workers=2)
     assert outcome.workers == 2
     assert stable(read_table(tmp_path, as_rows=True)) == serial
+
+
+def test_the_scratch_space_of_local_workers_is_in_the_sweep_directory_and_removed(tmp_path):
+    from flexkane.sweep.execute import SCRATCH_NAME, dask_client
+
+    scratch = tmp_path / SCRATCH_NAME
+    with dask_client(workers=1, scratch=scratch) as client:
+        places = client.run(lambda dask_worker: dask_worker.local_directory)
+        assert places and all(str(place).startswith(str(scratch)) for place in places.values())
+        assert scratch.is_dir()
+    assert not scratch.exists()

@@ -15,8 +15,8 @@ import numpy as np
 __all__ = ["ffmpeg_executable", "MP4_MISSING", "GifWriter", "Mp4Writer"]
 
 #: Message shown when no MP4 can be written.
-MP4_MISSING = ("MP4 skipped: no ffmpeg found; install the PyPI package imageio-ffmpeg "
-               "(pip install imageio-ffmpeg) to get one. The GIF is written.")
+MP4_MISSING = ("MP4 skipped: no ffmpeg found; install the extra flexkane[video] "
+               "(pip install 'flexkane[video]', or pip install imageio-ffmpeg) to get one. The GIF is written.")
 
 
 def ffmpeg_executable() -> str | None:

@@ -22,7 +22,7 @@ from ..model import Model
 
 __all__ = ["add_model_arguments", "model_from_args", "parse_assignment", "apply_settings", "parse_settings",
            "add_out_arguments", "add_max_steps_argument", "prepare_out", "default_out", "safe_folder_name",
-           "OUT_ROOT", "cli_path"]
+           "OUT_ROOT", "cli_path", "remove_unused_out"]
 
 #: Folder under which the default output directories go (``out/<model name>``).
 OUT_ROOT = Path("out")
@@ -275,6 +275,7 @@ def prepare_out(directory, *, force: bool, flag: str = "--out", resumable=None) 
     from ..atomic import OutputExistsError, prepare_output_dir
 
     directory = Path(directory)
+    missing = [d for d in (directory, *directory.parents) if not d.exists()]
     if directory.is_dir() and not force and any(directory.iterdir()) and not (resumable and resumable(directory)):
         raise ModelError(flag, "a new or empty directory (or --force to write into it; files of the same "
                          "name are replaced, others kept)", str(directory), _listing(directory))
@@ -284,5 +285,25 @@ def prepare_out(directory, *, force: bool, flag: str = "--out", resumable=None) 
         raise
     except ModelError as exc:
         raise ModelError(flag, exc.expected, exc.given, exc.hint) from None
+    if missing:
+        _CREATED.append((directory, missing[-1]))
     _check_writable(directory, flag)
     return directory
+
+
+#: Directories created by :func:`prepare_out` in this process, with the top-most one created.
+_CREATED: list[tuple[Path, Path]] = []
+
+
+def remove_unused_out() -> None:
+    """Remove the directories :func:`prepare_out` created that are still empty (the command failed
+    before writing anything: bad input found after the directory was checked)."""
+    while _CREATED:
+        directory, top = _CREATED.pop()
+        for folder in (directory, *directory.parents):
+            try:
+                folder.rmdir()     # only an empty directory
+            except OSError:
+                break
+            if folder == top:
+                break

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ._common import add_model_arguments, model_from_args
+from ._common import add_model_arguments, add_out_arguments, model_from_args
 
 __all__ = ["register"]
 
@@ -29,22 +29,21 @@ def register(subparsers) -> None:
                    help="spin rates [rad/s]: COUNT values from START to STOP (e.g. 0:8:33), or a list A,B,C")
     p.add_argument("--hub", default=None, metavar="JOINT",
                    help="revolute joint that spins [default: the driven one, else the one on the ground]")
-    p.add_argument("--out", metavar="DIR", default=None, help="output directory [default: out/MODEL_NAME-campbell]")
-    p.add_argument("--force", action="store_true", help="write into an existing non-empty directory")
+    add_out_arguments(p, "out/MODEL_NAME-campbell")
     p.add_argument("--quiet", action="store_true", help="print nothing but errors")
     p.set_defaults(handler=_handle)
 
 
 def _handle(args) -> int:
-    from ..atomic import atomic_write_text, prepare_output_dir
+    from ..atomic import atomic_write_text
+    from ._common import default_out, prepare_out
     from ..linearize import campbell_diagram
     from ..linearize.campbell import parse_spin_range
 
     spins = parse_spin_range(args.spin)
     model = model_from_args(args)
+    out = prepare_out(Path(args.out) if args.out else default_out(model.name, "-campbell"), force=args.force)
     diagram = campbell_diagram(model, spins, hub=args.hub)
-    out = prepare_output_dir(Path(args.out) if args.out else Path("out") / f"{model.name}-campbell",
-                             force=args.force)
     atomic_write_text(out / "campbell.csv", diagram.csv_text())
     diagram.plot(out / "campbell.png")
     if not args.quiet:

@@ -15,6 +15,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from .linearize import add_operating_point_arguments, operating_point
+from ._common import add_out_arguments
 
 __all__ = ["register"]
 
@@ -34,28 +35,26 @@ def register(subparsers) -> None:
     p.add_argument("--count", type=int, default=4, metavar="K", help="number of frequencies tabulated [default: 4]")
     p.add_argument("--output", default=None, metavar="NAME", help="output to follow, e.g. tip_link (with --at)")
     p.add_argument("--at", type=float, default=None, metavar="T", help="time of the output [s]")
-    p.add_argument("--out", metavar="DIR", default=None, help="output directory [default: out/MODEL_NAME-converge]")
-    p.add_argument("--force", action="store_true", help="write into an existing non-empty directory")
+    add_out_arguments(p, "out/MODEL_NAME-converge")
     p.add_argument("--quiet", action="store_true", help="print nothing but errors")
     p.set_defaults(handler=_handle)
 
 
 def _handle(args) -> int:
-    from ..atomic import atomic_write_text, prepare_output_dir
+    from ..atomic import atomic_write_text
     from ..errors import ModelError
     from ..linearize import convergence_study
     from ..linearize.convergence import parse_mode_counts
-    from ._common import model_from_args
+    from ._common import default_out, model_from_args, prepare_out
 
     counts = parse_mode_counts(args.n_modes_range)
     if args.count < 1:
         raise ModelError("--count", "a positive number of frequencies", args.count)
     model = model_from_args(args)          # MODEL and --set (--n-modes is the range here)
     about, spin = operating_point(args)
+    out = prepare_out(Path(args.out) if args.out else default_out(model.name, "-converge"), force=args.force)
     study = convergence_study(model, counts, about=about, spin=spin, hub=args.hub, count=args.count,
                               output=args.output, at=args.at)
-    out = prepare_output_dir(Path(args.out) if args.out else Path("out") / f"{model.name}-converge",
-                             force=args.force)
     atomic_write_text(out / "convergence.csv", study.csv_text())
     if not args.quiet:
         print(f"{model.name}: convergence with the number of modes per beam, linearized about {about}")

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ._common import add_model_arguments, model_from_args
+from ._common import add_model_arguments, add_out_arguments, model_from_args
 
 __all__ = ["register", "add_operating_point_arguments"]
 
@@ -56,8 +56,7 @@ def register(subparsers) -> None:
     p.add_argument("--t0", type=float, default=0.0, metavar="T",
                    help="time of the operating point [s]: loads and drivers are taken there [default: 0]")
     p.add_argument("--plot-modes", type=int, default=4, metavar="K", help="number of mode shapes drawn [default: 4]")
-    p.add_argument("--out", metavar="DIR", default=None, help="output directory [default: out/MODEL_NAME-linearized]")
-    p.add_argument("--force", action="store_true", help="write into an existing non-empty directory")
+    add_out_arguments(p, "out/MODEL_NAME-linearized")
     p.add_argument("--quiet", action="store_true", help="print nothing but errors")
     p.set_defaults(handler=_handle)
 
@@ -78,18 +77,18 @@ def describe(linear) -> list[str]:
 
 
 def _handle(args) -> int:
-    from ..atomic import atomic_write_text, prepare_output_dir
+    from ..atomic import atomic_write_text
     from ..errors import ModelError
     from ..linearize import Linearization, modal_analysis, plot_mode_shapes
+    from ._common import default_out, prepare_out
 
     model = model_from_args(args)
     about, spin = operating_point(args)
     if args.plot_modes < 1:
         raise ModelError("--plot-modes", "a positive number of modes", args.plot_modes)
+    out = prepare_out(Path(args.out) if args.out else default_out(model.name, "-linearized"), force=args.force)
     linear = Linearization(model, about=about, spin=spin, hub=args.hub, t0=args.t0).at()
     modal = modal_analysis(linear)
-    out = prepare_output_dir(Path(args.out) if args.out else Path("out") / f"{model.name}-linearized",
-                             force=args.force)
     linear.save_npz(out / "linear_model.npz")
     linear.save_mat(out / "linear_model.mat")
     atomic_write_text(out / "modes.csv", modal.csv_text())

@@ -6,7 +6,8 @@ Example::
 
 prints ``i, lambda_i`` and, when ``--L``, ``--EI`` (``--EA`` for an axial family) and ``--rho``
 are all given, ``p_i`` [rad/s] (eq. 8.7) and ``f_i = p_i / (2 pi)`` [Hz]; it writes
-``modes-<family>.png``. For ``polynomial`` and ``expression`` families, which have no
+``modes-<family>.png`` to ``--out DIR`` (default ``out/modes-<family>``; a non-empty directory needs
+``--force``). For ``polynomial`` and ``expression`` families, which have no
 eigenvalues, the table shows the Rayleigh-Ritz values (``H v = p^2 G v``).
 """
 
@@ -21,6 +22,7 @@ import numpy as np
 
 from ..atomic import atomic_writer
 from ..errors import ModelError
+from ._common import add_out_arguments, default_out, prepare_out
 
 __all__ = ["register", "run", "family_from_args", "add_family_arguments", "output_directory",
            "parse_xi_expressions", "plot_family"]
@@ -30,14 +32,11 @@ _OPTION_FLAGS = {"mass_ratio": "--mass-ratio", "inertia_ratio": "--inertia-ratio
                  "expressions": "--expression", "boundary": "--boundary"}
 
 
-def output_directory(value: str | None) -> Path:
-    """The ``--out`` directory (created if missing), the current directory by default."""
-    directory = Path(value) if value else Path.cwd()
-    try:
-        directory.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise ModelError("--out", "a writable directory", str(directory), hint=exc.strerror) from None
-    return directory
+def output_directory(args: argparse.Namespace, command: str, family: str) -> Path:
+    """The ``--out`` directory of ``modes`` and ``vibrate``, ``out/<command>-<family>`` by default,
+    prepared by :func:`~flexkane.commands._common.prepare_out` (empty or ``--force``, writable)."""
+    directory = Path(args.out) if args.out else default_out(f"{command}-{family}")
+    return prepare_out(directory, force=args.force)
 
 
 def parse_xi_expressions(texts: list[str], flag: str) -> list[Any]:
@@ -122,8 +121,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--EI", type=float, default=None, help="flexural rigidity [N m^2]")
     parser.add_argument("--EA", type=float, default=None, help="axial rigidity [N] (axial families)")
     parser.add_argument("--rho", type=float, default=None, help="mass per unit length [kg/m]")
-    parser.add_argument("--out", default=None, metavar="DIR",
-                        help="directory of modes-<family>.png (default: current directory)")
+    add_out_arguments(parser, "out/modes-FAMILY")
     parser.set_defaults(handler=run)
 
 
@@ -206,8 +204,9 @@ def run(args: argparse.Namespace) -> int:
     if family.max_modes is not None and n > family.max_modes:
         raise ModelError("--n", f"at most {family.max_modes} modes for this family", n)
     physical = _physical(args, family.kind == "axial")
+    directory = output_directory(args, "modes", family.name)
     for line in _table(family, n, physical):
         print(line)
-    path = plot_family(family, n, output_directory(args.out) / f"modes-{family.name}.png")
+    path = plot_family(family, n, directory / f"modes-{family.name}.png")
     print(f"wrote {path}")
     return 0

@@ -8,7 +8,7 @@ import time
 from pathlib import Path
 
 from ..errors import ModelError, SolverFailure
-from ._common import add_model_arguments, model_from_args
+from ._common import add_max_steps_argument, add_model_arguments, default_out, model_from_args
 from .animate import add_animation_arguments
 
 __all__ = ["register", "run_model"]
@@ -26,6 +26,7 @@ def register(subparsers) -> None:
     p.add_argument("--atol", type=float, default=None, metavar="A", help="absolute tolerance")
     p.add_argument("--method", default=None, choices=("auto", "dop853", "radau"),
                    help="integration method [default: the model's, else auto]")
+    add_max_steps_argument(p)
     p.add_argument("--force", action="store_true", help="write into an existing non-empty directory")
     p.add_argument("--animate", action="store_true",
                    help="also write animation.gif (and animation.mp4 where ffmpeg exists), as 'flexkane animate'")
@@ -38,9 +39,9 @@ def register(subparsers) -> None:
 
 def _handle(args) -> int:
     model = model_from_args(args)
-    out = Path(args.out) if args.out else Path("out") / model.name
+    out = Path(args.out) if args.out else default_out(model.name)
     return run_model(model, out, t_end=args.t_end, dt_out=args.dt_out, rtol=args.rtol, atol=args.atol,
-                     method=args.method, force=args.force, quiet=args.quiet,
+                     method=args.method, max_steps=args.max_steps, force=args.force, quiet=args.quiet,
                      animation=args if args.animate else None, pdf=args.pdf)
 
 
@@ -75,14 +76,14 @@ class _StopRequest:
             raise KeyboardInterrupt
 
 
-def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None, method=None,
+def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None, method=None, max_steps=None,
               force=False, quiet=False, animation=None, pdf=False) -> int:
     """Run a validated model into directory ``out``; return the exit code (0 ok, 3 solver failure).
 
     ``animation``: options of :func:`~flexkane.commands.animate.add_animation_arguments` (``magnify``,
     ``trace``) to also write animation.gif, or None. ``pdf``: also render equations.tex to a PDF.
     """
-    from ..atomic import atomic_write_text, prepare_output_dir
+    from ..atomic import atomic_write_text
     from ..derivation_cache import cached_derive
     from ..model import dumps_model
     from ..plots import write_plots
@@ -98,10 +99,12 @@ def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None
     rtol = rtol if rtol is not None else sim.rtol
     atol = atol if atol is not None else sim.atol
     method = method or sim.method
+    max_steps = max_steps if max_steps is not None else sim.max_steps
     from ..model.validate import validate_run_arguments
+    from ._common import prepare_out
 
-    validate_run_arguments(t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol, method=method)
-    out = prepare_output_dir(out, force=force)
+    validate_run_arguments(t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol, method=method, max_steps=max_steps)
+    out = prepare_out(out, force=force)
     started = time.perf_counter()
     eom = cached_derive(model)
     derive_time = time.perf_counter() - started
@@ -115,7 +118,7 @@ def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None
                 stop.check()
 
             results = simulate(compiled, t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol, method=method,
-                               model=model, progress=progress)
+                               model=model, progress=progress, max_steps=max_steps)
     finally:
         for sig, handler in previous.items():
             signal.signal(sig, handler)

@@ -8,7 +8,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from ..errors import ModelError
-from ._common import add_model_arguments, model_from_args
+from ._common import add_max_steps_argument, add_model_arguments, add_out_arguments, model_from_args, prepare_out
 
 __all__ = ["register"]
 
@@ -20,12 +20,14 @@ values of --vary:
   With --random N a range is the interval the N values are drawn from (COUNT may be left out).
 
 The model file may hold a [sweep] table (vary, sampling, samples, seed, t_end, dt_out, rtol, atol,
-method, save_trajectories, metric); the command line adds to it and overrides it.
+method, max_steps, save_trajectories, metric); the command line adds to it and overrides it.
 
 DIR receives sweep.parquet and sweep.csv (one row per variant: its values, status, error message,
 max |tip| of each beam, final state, energy drift or power-balance error, solver steps, wall time),
 sweep-log.jsonl (appended as each variant finishes), sweep.json and, with --save-trajectories,
-variants/<id>/results.npz. Running the same command again computes only the missing variants.
+variants/<id>/results.npz. Running the same command again computes only the missing variants; a
+directory holding something else (another sweep, other files) needs --force. Local Dask workers keep
+their scratch space in DIR/.dask-scratch while they run; it is removed when they stop.
 Exit codes: 0 done (failed variants are rows with status "failed"), 2 invalid arguments,
 130 interrupted (the table holds the variants finished so far).
 
@@ -57,7 +59,7 @@ def register(subparsers) -> None:
                             "or this process when the sweep would take under 10 s]")
     where.add_argument("--scheduler", default=None, metavar="ADDRESS",
                        help="address of an existing Dask scheduler, e.g. tcp://host:8786")
-    p.add_argument("--out", required=True, metavar="DIR", help="sweep directory (created, or resumed)")
+    add_out_arguments(p, "", required=True)
     p.add_argument("--save-trajectories", action="store_true",
                    help="keep each variant's results.npz and results.csv under DIR/variants/<id>/")
     p.add_argument("--t-end", type=float, default=None, metavar="T", help="end time [s]")
@@ -65,6 +67,7 @@ def register(subparsers) -> None:
     p.add_argument("--rtol", type=float, default=None, metavar="R", help="relative tolerance")
     p.add_argument("--atol", type=float, default=None, metavar="A", help="absolute tolerance")
     p.add_argument("--method", default=None, choices=("auto", "dop853", "radau"), help="integration method")
+    add_max_steps_argument(p)
     p.add_argument("--batch-size", type=int, default=None, metavar="K",
                    help="variants per Dask task [default: adaptive, about 0.25 s of work per task]")
     p.add_argument("--retry-failed", action="store_true", help="run again the variants recorded as failed")
@@ -94,7 +97,7 @@ def sweep_spec_from_args(args):
     text = _model_text(args.model)
     base = (sweep_spec_from_toml(text) if text else None) or SweepSpec()
     cli = SweepSpec(vary=tuple(Vary.parse(v) for v in args.vary), t_end=args.t_end, dt_out=args.dt_out,
-                    rtol=args.rtol, atol=args.atol, method=args.method,
+                    rtol=args.rtol, atol=args.atol, method=args.method, max_steps=args.max_steps,
                     save_trajectories=args.save_trajectories, metric=args.metric)
     spec = base.merged(cli)
     if args.random is not None:
@@ -110,6 +113,13 @@ def sweep_spec_from_args(args):
     return spec
 
 
+def _is_sweep_directory(directory: Path) -> bool:
+    """A directory a sweep wrote (resumed without --force; run_sweep checks it is the same sweep)."""
+    from ..sweep.store import LOG_NAME, SPEC_NAME
+
+    return (directory / SPEC_NAME).is_file() or (directory / LOG_NAME).is_file()
+
+
 def _terminate(signum, frame):  # SIGTERM behaves as Ctrl-C: the table keeps what is finished
     raise KeyboardInterrupt
 
@@ -119,11 +129,17 @@ def _handle(args) -> int:
 
     model = model_from_args(args)
     spec = sweep_spec_from_args(args)
+    out = prepare_out(args.out, force=args.force, resumable=_is_sweep_directory)
     previous = signal.signal(signal.SIGTERM, _terminate)
     try:
-        outcome = run_sweep(model, spec, out=args.out, workers=args.workers, scheduler=args.scheduler,
+        outcome = run_sweep(model, spec, out=out, workers=args.workers, scheduler=args.scheduler,
                             batch_size=args.batch_size, retry_failed=args.retry_failed,
-                            progress=not args.quiet)
+                            progress=not args.quiet, force=args.force)
+    except ModelError as exc:
+        if exc.path != "out":
+            raise
+        raise ModelError("--out", exc.expected, exc.given,
+                         exc.hint.replace("or force to", "or --force to") if exc.hint else None) from None
     except SweepInterrupted as exc:
         done = len(exc.outcome.rows)
         print(f"flexkane: sweep interrupted; {exc.outcome.directory / 'sweep.parquet'} holds {done} of "

@@ -8,7 +8,8 @@ Example::
 releases the cantilever from its static shape under a tip load of 2 N. ``--initial EXPR`` gives
 instead the initial deflection [m] as an expression of ``xi = x/L`` (and ``--initial-velocity``
 the initial velocity [m/s]; at rest if omitted). Writes ``results.csv`` (columns ``t`` [s],
-``tip`` = y(L, t) [m], ``mid`` = y(L/2, t) [m]) and ``vibration.png``.
+``tip`` = y(L, t) [m], ``mid`` = y(L/2, t) [m]) and ``vibration.png`` to ``--out DIR`` (default
+``out/vibrate-<family>``; a non-empty directory needs ``--force``).
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ import numpy as np
 
 from ..atomic import atomic_writer
 from ..errors import ModelError
+from ._common import add_out_arguments
 from .modes import add_family_arguments, family_from_args, output_directory, parse_xi_expressions
 
 __all__ = ["register", "run"]
@@ -50,8 +52,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="initial velocity [m/s] as an expression of xi (default: at rest)")
     parser.add_argument("--t-end", type=float, required=True, help="end time [s]")
     parser.add_argument("--dt-out", type=float, required=True, help="output interval [s]")
-    parser.add_argument("--out", default=None, metavar="DIR",
-                        help="directory of results.csv and vibration.png (default: current directory)")
+    add_out_arguments(parser, "out/vibrate-FAMILY")
     parser.set_defaults(handler=run)
 
 
@@ -124,18 +125,19 @@ def run(args: argparse.Namespace) -> int:
                              "that of a cantilever)", family.name, hint="use --initial")
         if not math.isfinite(args.tip_load):
             raise ModelError("--tip-load", "a finite tip load [N]", args.tip_load)
+        directory = output_directory(args, "vibrate", family.name)
         vibration = FreeVibration.from_tip_load(family, args.n, L, EI, rho, args.tip_load)
         start = f"tip load {args.tip_load:g} N released"
     else:
         deflection = _function_of_xi(args.initial, "--initial")
         velocity = None if args.initial_velocity is None else \
             _function_of_xi(args.initial_velocity, "--initial-velocity")
+        directory = output_directory(args, "vibrate", family.name)
         vibration = FreeVibration(family, args.n, L, EI, rho, deflection, velocity)
         start = f"y0 = {args.initial}"
 
     fields = vibration.deflection(np.array([L, 0.5 * L]), times)
     tip, mid = fields[:, 0], fields[:, 1]
-    directory = output_directory(args.out)
     csv_path, png_path = directory / "results.csv", directory / "vibration.png"
     with atomic_writer(csv_path, "path") as temporary:
         _write_csv(temporary, times, tip, mid)

@@ -19,9 +19,12 @@ from __future__ import annotations
 import contextlib
 import logging
 import os
+import shutil
 from collections import deque
+from pathlib import Path
 
-from ..errors import FlexkaneError, ModelError
+from ..errors import ModelError
+from ..extras import require
 from .worker import run_batch, run_variant
 
 __all__ = ["run_serial", "run_on_dask", "dask_client", "default_worker_count", "BatchSizer",
@@ -61,8 +64,12 @@ def run_serial(jobs, on_record) -> None:
         on_record(record)
 
 
+#: Folder of a sweep directory that holds the scratch space of the local Dask workers while they run.
+SCRATCH_NAME = ".dask-scratch"
+
+
 @contextlib.contextmanager
-def dask_client(*, workers: int | None = None, scheduler: str | None = None):
+def dask_client(*, workers: int | None = None, scheduler: str | None = None, scratch=None):
     """A :class:`distributed.Client` of an existing cluster, or of a LocalCluster started here.
 
     Parameters
@@ -71,16 +78,17 @@ def dask_client(*, workers: int | None = None, scheduler: str | None = None):
         Worker processes of the local cluster (one thread each); all cores by default.
     scheduler : str, optional
         Address of an existing scheduler, e.g. ``tcp://10.0.0.5:8786``; its workers need flexkane.
+    scratch : str or os.PathLike, optional
+        Directory for the local workers' scratch space (Dask's ``dask-scratch-space``), removed
+        when the cluster closes; Dask's temporary directory by default.
 
     Yields
     ------
     distributed.Client
         Closed on exit, with the local cluster if one was started.
     """
-    try:
-        from distributed import Client, LocalCluster
-    except ImportError:  # pragma: no cover - dask is a dependency
-        raise FlexkaneError("parallel sweeps need dask.distributed: pip install 'dask[distributed]'") from None
+    distributed = require("distributed", "dask[distributed]")
+    Client, LocalCluster = distributed.Client, distributed.LocalCluster
     if scheduler:
         try:
             client = Client(scheduler, timeout="30s")
@@ -92,18 +100,30 @@ def dask_client(*, workers: int | None = None, scheduler: str | None = None):
         finally:
             client.close()
         return
-    cluster = LocalCluster(n_workers=workers or default_worker_count(), threads_per_worker=1, processes=True,
-                           dashboard_address=":0", silence_logs=logging.ERROR)
-    client = Client(cluster)
-    with contextlib.suppress(Exception):
-        client.run(_ignore_interrupts)
+    import dask
+
+    options = {}
+    if scratch is not None:
+        scratch = Path(scratch)
+        scratch.mkdir(parents=True, exist_ok=True)
+        options["local_directory"] = str(scratch)
     try:
-        yield client
+        with dask.config.set({"temporary-directory": str(scratch)} if scratch is not None else {}):
+            cluster = LocalCluster(n_workers=workers or default_worker_count(), threads_per_worker=1, processes=True,
+                                   dashboard_address=":0", silence_logs=logging.ERROR, **options)
+            client = Client(cluster)
+            with contextlib.suppress(Exception):
+                client.run(_ignore_interrupts)
+            try:
+                yield client
+            finally:
+                with contextlib.suppress(Exception):
+                    client.close()
+                with contextlib.suppress(Exception):
+                    cluster.close()
     finally:
-        with contextlib.suppress(Exception):
-            client.close()
-        with contextlib.suppress(Exception):
-            cluster.close()
+        if scratch is not None:
+            shutil.rmtree(scratch, ignore_errors=True)
 
 
 def _ignore_interrupts() -> None:

@@ -182,9 +182,49 @@ def _resolve_model(model) -> Model:
     raise ModelError("model", "a Model, a built-in model name or a model file path", model)
 
 
+def _check_same_sweep(store: SweepStore, variants: list, description: dict, force: bool) -> None:
+    """Refuse to run into a directory whose table holds variants this sweep does not have: its table
+    would be replaced by one without them. A sweep that only adds variants (more values) extends it."""
+    if force:
+        return
+    previous = _table_variants(store)
+    dropped = previous - {v.id for v in variants}
+    if not dropped:
+        return
+    before = store.read_spec() or {}
+    changes = [f"{k}: {_shown(before.get(k))} there, {_shown(description.get(k))} here"
+               for k in ("model", "vary", "sampling", "samples", "seed", "settings")
+               if k in before and before.get(k) != description.get(k)]
+    if before.get("model_text") not in (None, description.get("model_text")):
+        changes.append("another base model (file or overrides)")
+    raise ModelError("out", "a new directory or one holding this sweep (to resume or extend it)",
+                     str(store.directory),
+                     f"it holds a different sweep whose table has {len(dropped)} variant(s) this one lacks"
+                     + (f" ({'; '.join(changes)})" if changes else "")
+                     + "; choose another directory, or force to replace its table (its log keeps every "
+                     "finished variant)")
+
+
+def _shown(value) -> str:
+    return ", ".join(map(str, value)) if isinstance(value, list) else str(value)
+
+
+def _table_variants(store: SweepStore) -> set:
+    """Ids of the variants in the directory's table (else in its log)."""
+    import csv
+
+    if store.csv_path.exists():
+        try:
+            with open(store.csv_path, newline="", encoding="utf-8") as handle:
+                return {row["variant"] for row in csv.DictReader(handle) if row.get("variant")}
+        except (OSError, KeyError, csv.Error, UnicodeDecodeError):
+            pass
+    return set(store.read_log())
+
+
 def run_sweep(model, spec: SweepSpec, *, out, workers: int | None = None, scheduler: str | None = None,
               client=None, batch_size: int | None = None, retry_failed: bool = False, progress: bool = False,
-              on_result=None, table_interval: float = 1.0) -> SweepOutcome:
+              on_result=None, table_interval: float = 1.0, force: bool = False) -> SweepOutcome:
     """Run every variant of a sweep that the output directory does not hold yet.
 
     Parameters
@@ -215,6 +255,10 @@ def run_sweep(model, spec: SweepSpec, *, out, workers: int | None = None, schedu
         Called with each finished variant's log record (plus its ``index``) as it arrives.
     table_interval : float
         Shortest time between two rewrites of the table while the sweep runs [s].
+    force : bool
+        Run into a directory that holds a different sweep (its table has variants this one lacks:
+        other varied keys or values, sampling, settings or base model), replacing its table; without
+        it that is refused. A sweep that only adds variants extends the table without it.
 
     Returns
     -------
@@ -233,8 +277,10 @@ def run_sweep(model, spec: SweepSpec, *, out, workers: int | None = None, schedu
     >>> spec = SweepSpec(vary=(Vary.parse("beams.B.EI=20:80:4"),), t_end=0.5)      # doctest: +SKIP
     >>> outcome = run_sweep("falling-beam-exact", spec, out="out/ei-sweep")         # doctest: +SKIP
     """
+    from ..extras import require
     from ..progress import ProgressBar
 
+    require("pyarrow.parquet")   # the table needs it: say so before anything is computed
     started = time.perf_counter()
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise ModelError("--workers", "a positive number of worker processes", workers)
@@ -254,8 +300,10 @@ def run_sweep(model, spec: SweepSpec, *, out, workers: int | None = None, schedu
     metadata = {"flexkane": __version__, "model": base.name, "vary": [v.describe() for v in spec.vary],
                 "sampling": spec.sampling, "samples": spec.samples, "seed": spec.seed,
                 "settings": settings.as_dict(), "variants": len(variants)}
-    store.write_spec({**metadata, "save_trajectories": spec.save_trajectories, "metric": spec.metric,
-                      "model_text": dumps_model(base)})
+    description = {**metadata, "save_trajectories": spec.save_trajectories, "metric": spec.metric,
+                   "model_text": dumps_model(base)}
+    _check_same_sweep(store, variants, description, force)
+    store.write_spec(description)
     records = store.read_log()
     records = {k: r for k, r in records.items()
                if _is_done(r, store, spec.save_trajectories, retry_failed)}
@@ -364,7 +412,9 @@ def _execute(jobs, recorder, outcome, *, workers, scheduler, client, batch_size)
             outcome.workers = 1
             run_serial(jobs, recorder)
             return
-    with dask_client(workers=workers, scheduler=scheduler) as dask:
+    from .execute import SCRATCH_NAME
+
+    with dask_client(workers=workers, scheduler=scheduler, scratch=recorder.store.directory / SCRATCH_NAME) as dask:
         outcome.workers = len(dask.nthreads())
         run_on_dask(dask, jobs, recorder, recorder.lost, batch_size=batch_size)
 

@@ -41,7 +41,7 @@ SAMPLINGS = ("grid", "random")
 _SCALES = ("linear", "log")
 _NUMBER = re.compile(r"^[+-]?(\d+(\.\d*)?|\.\d+)([eE][+-]?\d+)?$")
 _INT = re.compile(r"^[+-]?\d+$")
-_SPEC_KEYS = ("sampling", "samples", "seed", "t_end", "dt_out", "rtol", "atol", "method",
+_SPEC_KEYS = ("sampling", "samples", "seed", "t_end", "dt_out", "rtol", "atol", "method", "max_steps",
               "save_trajectories", "metric", "vary")
 _RANGE_KEYS = ("start", "stop", "count", "scale")
 
@@ -261,6 +261,8 @@ class SweepSpec:
         Integrator tolerances [-]; the model's when omitted.
     method : str, optional
         ``auto``, ``dop853`` or ``radau``; the model's when omitted.
+    max_steps : int, optional
+        Most integration steps of each variant; the model's ``simulation.max_steps`` when omitted.
     save_trajectories : bool
         Keep each variant's results (``variants/<id>/results.npz`` and ``results.csv``).
     metric : str, optional
@@ -276,6 +278,7 @@ class SweepSpec:
     rtol: float | None = None
     atol: float | None = None
     method: str | None = None
+    max_steps: int | None = None
     save_trajectories: bool = False
     metric: str | None = None
 
@@ -301,8 +304,11 @@ class SweepSpec:
             value = getattr(self, name)
             if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float))
                                       or not math.isfinite(value) or value <= 0):
-                raise ModelError(f"--{name.replace('_', '-')}", "a positive number"
-                                 + (" [s]" if name in ("t_end", "dt_out") else ""), value)
+                raise ModelError(name, "a positive number" + (" [s]" if name in ("t_end", "dt_out") else ""),
+                                 value)
+        if self.max_steps is not None and (isinstance(self.max_steps, bool) or not isinstance(self.max_steps, int)
+                                           or self.max_steps < 1):
+            raise ModelError("max_steps", "a positive integer number of steps", self.max_steps)
 
     def merged(self, other: "SweepSpec") -> "SweepSpec":
         """This spec (from a model file) overridden by ``other`` (from the command line).
@@ -315,7 +321,7 @@ class SweepSpec:
         vary = {v.key: v for v in self.vary}
         vary.update({v.key: v for v in other.vary})
         changes = {"vary": tuple(vary.values())}
-        for name in ("t_end", "dt_out", "rtol", "atol", "method", "metric"):
+        for name in ("t_end", "dt_out", "rtol", "atol", "method", "max_steps", "metric"):
             if getattr(other, name) is not None:
                 changes[name] = getattr(other, name)
         if other.save_trajectories:
@@ -341,8 +347,8 @@ def _vary_from_toml(key: str, value) -> Vary:
 
 
 #: Command-line names of the settings in errors raised by SweepSpec, and their [sweep] keys.
-_FILE_PATHS = {"--random": "sweep.samples", "--seed": "sweep.seed", "--t-end": "sweep.t_end",
-               "--dt-out": "sweep.dt_out", "--rtol": "sweep.rtol", "--atol": "sweep.atol"}
+_FILE_PATHS = {"--random": "sweep.samples", "--seed": "sweep.seed", "t_end": "sweep.t_end",
+               "dt_out": "sweep.dt_out", "rtol": "sweep.rtol", "atol": "sweep.atol", "max_steps": "sweep.max_steps"}
 
 
 def sweep_spec_from_toml(text: str) -> SweepSpec | None:

@@ -120,6 +120,14 @@ class SweepStore:
         path.mkdir(parents=True, exist_ok=True)
         return path
 
+    def read_spec(self) -> dict | None:
+        """The description in ``sweep.json``, or None when there is none (or it cannot be read)."""
+        try:
+            description = json.loads((self.directory / SPEC_NAME).read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            return None
+        return description if isinstance(description, dict) else None
+
     def write_spec(self, description: dict) -> None:
         """Write ``sweep.json`` atomically."""
         atomic_write_text(self.directory / SPEC_NAME,
@@ -138,9 +146,10 @@ class SweepStore:
         metadata : dict
             Stored as JSON under the key ``flexkane.sweep`` of the Parquet schema metadata.
         """
-        import pyarrow as pa
-        import pyarrow.parquet as pq
+        from ..extras import require
 
+        pa = require("pyarrow")
+        pq = require("pyarrow.parquet")
         arrays = []
         for column in columns:
             values = [row.get(column) for row in rows]
@@ -165,7 +174,9 @@ def _json_default(value):
 
 def _arrow_type(values: list):
     """Arrow type of a column: bool, int64, float64 or string (mixed values become text)."""
-    import pyarrow as pa
+    from ..extras import require
+
+    pa = require("pyarrow")
 
     present = [v for v in values if v is not None]
     if not present:

@@ -77,8 +77,9 @@ def read_table(directory, *, as_rows: bool = False):
     -------
     pyarrow.Table or list of dict
     """
-    import pyarrow.parquet as pq
+    from ..extras import require
 
+    pq = require("pyarrow.parquet")
     path = Path(directory)
     if path.is_dir():
         path = path / TABLE_NAME

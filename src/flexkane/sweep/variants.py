@@ -43,6 +43,9 @@ class RunSettings:
         Integrator tolerances [-].
     method : str
         ``auto``, ``dop853`` or ``radau``.
+    max_steps : int, optional
+        Most integration steps of a variant (the variant's ``simulation.max_steps``, else 1,000,000,
+        when None).
     """
 
     t_end: float
@@ -50,6 +53,7 @@ class RunSettings:
     rtol: float
     atol: float
     method: str
+    max_steps: int | None = None
 
     @classmethod
     def resolve(cls, spec: SweepSpec, model: Model) -> "RunSettings":
@@ -57,21 +61,25 @@ class RunSettings:
         sim = model.simulation
         t_end = spec.t_end if spec.t_end is not None else sim.t_end
         if t_end is None:
-            raise ModelError("--t-end", "an end time [s] (the model has no simulation.t_end)", None,
+            raise ModelError("t_end", "an end time [s] (the model has no simulation.t_end)", None,
                              show_given=False)
         dt_out = spec.dt_out if spec.dt_out is not None else (sim.dt_out or t_end / 100)
         method = str(spec.method or sim.method)
         if method != "auto" and method not in METHODS:
-            raise ModelError("--method", f"one of auto, {', '.join(METHODS)}", method)
+            raise ModelError("method", f"one of auto, {', '.join(METHODS)}", method)
         return cls(t_end=float(t_end), dt_out=float(dt_out),
                    rtol=float(spec.rtol if spec.rtol is not None else sim.rtol),
                    atol=float(spec.atol if spec.atol is not None else sim.atol),
-                   method=method)
+                   method=method, max_steps=spec.max_steps if spec.max_steps is not None else sim.max_steps)
 
     def as_dict(self) -> dict:
-        """The settings by name."""
-        return {"t_end": self.t_end, "dt_out": self.dt_out, "rtol": self.rtol, "atol": self.atol,
-                "method": self.method}
+        """The settings by name (``max_steps`` only when set, so that the ids of sweeps without it
+        stay those they had)."""
+        settings = {"t_end": self.t_end, "dt_out": self.dt_out, "rtol": self.rtol, "atol": self.atol,
+                    "method": self.method}
+        if self.max_steps is not None:
+            settings["max_steps"] = self.max_steps
+        return settings
 
 
 @dataclass(frozen=True)

@@ -103,7 +103,7 @@ def run_variant(structure: Structure, task: Task) -> dict:
         model = apply_assignments(structure.base, task.assignments).validate()
         compiled = compiled_model(structure.eom, structure.key)
         results = simulate(compiled, t_end=s.t_end, dt_out=s.dt_out, rtol=s.rtol, atol=s.atol,
-                           method=s.method, model=model)
+                           method=s.method, model=model, max_steps=s.max_steps)
         metrics = summary_metrics(results)
     except Exception as exc:  # the variant fails, the sweep goes on
         record["error"] = _message(exc)
