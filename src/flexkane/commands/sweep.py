@@ -157,7 +157,10 @@ def _handle(args) -> int:
         metric = spec.metric or default_metric(outcome.rows)
         keys = args.plot_against.split(",") if args.plot_against else _plotted_keys(spec, outcome.rows)
         keys = [k.strip() for k in keys]
-        path = plot_metric(outcome.rows, metric, keys, outcome.directory / f"{metric}_vs_{'_'.join(keys)}.png")
+        from ..sweep.plot import column_units
+
+        path = plot_metric(outcome.rows, metric, keys, outcome.directory / f"{metric}_vs_{'_'.join(keys)}.png",
+                           units=column_units(model, keys))
         if not args.quiet:
             print(f"wrote {path}")
     return 0

@@ -15,7 +15,7 @@ Re-running the same sweep into the same directory computes only the variants it 
 """
 
 from .metrics import energy_error, summary_metrics
-from .plot import default_metric, plot_metric
+from .plot import column_units, default_metric, plot_metric
 from .runner import SweepInterrupted, SweepOutcome, describe_outcome, run_sweep
 from .spec import SAMPLINGS, SweepSpec, Vary, sweep_spec_from_toml
 from .table import read_table
@@ -23,4 +23,4 @@ from .variants import RunSettings, Variant, make_variants
 
 __all__ = ["run_sweep", "SweepSpec", "Vary", "SweepOutcome", "SweepInterrupted", "read_table", "plot_metric",
            "sweep_spec_from_toml", "make_variants", "Variant", "RunSettings", "summary_metrics", "energy_error",
-           "default_metric", "describe_outcome", "SAMPLINGS"]
+           "default_metric", "describe_outcome", "SAMPLINGS", "column_units"]

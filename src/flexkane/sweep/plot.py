@@ -7,7 +7,14 @@ from pathlib import Path
 
 from ..errors import ModelError
 
-__all__ = ["plot_metric", "default_metric"]
+__all__ = ["plot_metric", "default_metric", "column_units"]
+
+#: Units of model fields by (table, field) key path ends.
+_FIELD_UNITS = {("beams", "L"): "m", ("beams", "EI"): "N m^2", ("beams", "rho"): "kg/m", ("beams", "EA"): "N",
+                ("beams", "damping"): "-", ("bodies", "mass"): "kg", ("bodies", "inertia"): "kg m^2",
+                ("springs", "stiffness"): "N/m", ("springs", "damping"): "N s/m", ("springs", "rest_length"): "m",
+                ("loads", "torque"): "N m", ("loads", "force"): "N", ("gravity", "g"): "m/s^2",
+                ("joints", "angle"): "rad", ("joints", "axis"): "rad"}
 
 
 def default_metric(rows: list[dict]) -> str:
@@ -19,8 +26,88 @@ def default_metric(rows: list[dict]) -> str:
     return "energy_error"
 
 
-def _label(column: str) -> str:
+def _field_unit(model, parts: list) -> str | None:
+    if parts[0] == "gravity" and parts[-1] == "g":
+        return "m/s^2"
+    if len(parts) == 3 and parts[0] == "joints" and parts[2] == "torque" and parts[1] in model.joints:
+        return "N m" if model.joints[parts[1]].type == "revolute" else "N"
+    if len(parts) >= 3 and isinstance(parts[2], str):
+        return _FIELD_UNITS.get((parts[0], parts[2]))
+    return None
+
+
+def column_units(model, keys) -> dict:
+    """Units of the varied keys and of the ``final_<state>`` columns of a sweep of ``model``.
+
+    A field's unit comes from its key (``beams.B.EI``: N m^2), an initial condition's from its
+    coordinate (an angle: rad, a deflection: m; speeds per second), a parameter's from the field it is
+    given to (``beams.link.EI = "EI"``: N m^2); a key whose unit cannot be told is left out.
+
+    Parameters
+    ----------
+    model : Model
+    keys : iterable of str
+
+    Returns
+    -------
+    dict of str to str
+    """
+    import dataclasses
+
+    from ..kane.chain import build_chain
+    from ..model.paths import get_value, parse_path
+
+    roles = {"x": "m", "y": "m", "angle": "rad", "slide": "m", "mode": "m", "axial": "m"}
+    states = {}
+    try:
+        for coord in build_chain(model).coordinates:
+            unit = roles.get(coord.role)
+            if unit:
+                states[coord.q.name], states[coord.u.name] = unit, f"{unit}/s"
+    except Exception:  # noqa: BLE001 - a label is not worth a failure
+        pass
+    uses = {}   # parameter name -> unit of a field whose value is exactly that name
+    for (table, name), unit in _FIELD_UNITS.items():
+        parts = getattr(model, table, None)
+        if not isinstance(parts, dict):
+            continue
+        for part in parts:
+            try:
+                value = get_value(model, f"{table}.{part}.{name}")
+            except Exception:  # noqa: BLE001
+                continue
+            if isinstance(value, str):
+                uses.setdefault(value.strip(), unit)
+    for joint in model.joints.values():   # a joint's torque is a force on a prismatic joint
+        if isinstance(joint.torque, str):
+            uses.setdefault(joint.torque.strip(), "N m" if joint.type == "revolute" else "N")
+    if model.gravity is not None and isinstance(model.gravity.g, str):
+        uses.setdefault(model.gravity.g.strip(), "m/s^2")
+    fields = {f.name for f in dataclasses.fields(model)}
+    units = {f"final_{name}": unit for name, unit in states.items()}
+    for key in keys:
+        try:
+            parts = parse_path(key)
+        except Exception:  # noqa: BLE001
+            continue
+        unit = None
+        if parts[0] == "initial" and len(parts) == 2:
+            unit = states.get(parts[1])
+        elif parts[0] == "parameters" and len(parts) == 2:
+            unit = uses.get(parts[1])
+        elif len(parts) == 1 and parts[0] not in fields:
+            unit = uses.get(parts[0]) if parts[0] in model.parameters else states.get(parts[0])
+        else:
+            unit = _field_unit(model, parts)
+        if unit:
+            units[key] = unit
+    return units
+
+
+def _label(column: str, units: dict | None = None) -> str:
     """Axis label of a table column, with its unit where the column has one."""
+    if units and column in units:
+        return f"{column} [{units[column]}]"
     if column.startswith("max_abs_tip_"):
         return f"{column} [m]"
     if column in ("t_reached", "wall_time", "run_time"):
@@ -42,7 +129,7 @@ def _log_axis(values: list[float]) -> bool:
     return bool(finite) and min(finite) > 0 and max(finite) / min(finite) > 20
 
 
-def plot_metric(rows: list[dict], metric: str, keys: list[str], path) -> Path:
+def plot_metric(rows: list[dict], metric: str, keys: list[str], path, units: dict | None = None) -> Path:
     """Plot ``metric`` of the successful variants against one or two varied keys; write a PNG.
 
     With one key, one line per combination of the other varied keys (at most 12, else points).
@@ -58,6 +145,8 @@ def plot_metric(rows: list[dict], metric: str, keys: list[str], path) -> Path:
         One or two varied keys for the axes.
     path : str or os.PathLike
         The PNG file to write (atomically).
+    units : dict of str to str, optional
+        Units of the keys and columns (:func:`column_units`), shown on the axes.
 
     Returns
     -------
@@ -98,7 +187,7 @@ def plot_metric(rows: list[dict], metric: str, keys: list[str], path) -> Path:
             axes.plot([p[0] for p in points], [p[1] for p in points], style, ms=4, label=text)
         if others and len(series) <= 12:
             axes.legend(fontsize="small")
-        axes.set_ylabel(_label(metric))
+        axes.set_ylabel(_label(metric, units))
         if _log_axis(z):
             axes.set_yscale("log")
     else:
@@ -113,11 +202,11 @@ def plot_metric(rows: list[dict], metric: str, keys: list[str], path) -> Path:
             mesh = axes.pcolormesh(xs, ys, grid, shading="nearest")
         else:
             mesh = axes.scatter(x, y, c=z, s=25)
-        figure.colorbar(mesh, ax=axes, label=_label(metric))
-        axes.set_ylabel(keys[1])
+        figure.colorbar(mesh, ax=axes, label=_label(metric, units))
+        axes.set_ylabel(_label(keys[1], units))
         if _log_axis(y):
             axes.set_yscale("log")
-    axes.set_xlabel(keys[0])
+    axes.set_xlabel(_label(keys[0], units))
     if _log_axis(x):
         axes.set_xscale("log")
     failed = sum(r.get("status") == "failed" for r in rows)
