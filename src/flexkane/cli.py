@@ -70,7 +70,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"flexkane: error: {cli_path(exc)}", file=sys.stderr)
         return EXIT_USAGE
     except SolverFailure as exc:
-        print(f"flexkane: solver failure: {exc}", file=sys.stderr)
+        text = str(exc).replace("`max_steps`", "`max_steps` (--max-steps N, or max_steps in the model's [simulation])")
+        print(f"flexkane: solver failure: {text}", file=sys.stderr)
         return EXIT_SOLVER
     except FlexkaneError as exc:
         print(f"flexkane: error: {exc}", file=sys.stderr)

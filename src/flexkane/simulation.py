@@ -97,8 +97,8 @@ def output_times(*, t_end=None, dt_out=None, t_span=None, t_eval=None, simulatio
         if not t1 > t0:
             raise ModelError("t_eval", "at least two output times (or a t_span that holds them)", t_eval)
     else:
-        if t_end is None and simulation is not None:
-            t_end = simulation.t_end
+        if t_end is None:
+            t_end = getattr(simulation, "t_end", None)
         if t_end is None:
             raise ModelError("t_end", "an end time [s] (or t_span=(t0, t1)); the model has no simulation.t_end",
                              None, show_given=False)
@@ -111,7 +111,7 @@ def output_times(*, t_end=None, dt_out=None, t_span=None, t_eval=None, simulatio
         keep = np.isin(grid, evaluated)
         return grid, (None if keep.all() else keep)
     if dt_out is None:
-        dt_out = (simulation.dt_out if simulation is not None else None) or (t1 - t0) / 100
+        dt_out = getattr(simulation, "dt_out", None) or (t1 - t0) / 100
     grid = output_grid(t1 - t0, dt_out)
     if t0 != 0.0:
         grid = t0 + grid
@@ -281,7 +281,7 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
     sim = (model if isinstance(model, Model) else eom.model).simulation
     grid, keep = output_times(t_end=t_end, dt_out=dt_out, t_span=t_span, t_eval=t_eval, simulation=sim)
     if max_steps is None:
-        max_steps = sim.max_steps
+        max_steps = getattr(sim, "max_steps", None)
     span = float(grid[-1] - grid[0])   # t_end and dt_out were checked by output_times
     validate_run_arguments(t_end=span, dt_out=span if dt_out is None else dt_out, rtol=rtol, atol=atol,
                            method=method, max_steps=max_steps, progress=progress)

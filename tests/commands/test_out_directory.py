@@ -124,7 +124,7 @@ def test_run_accepts_max_steps_and_a_too_small_budget_says_how_to_raise_it(tmp_p
     code = main(["run", "falling-beam", "--out", str(tmp_path / "o"), "--max-steps", "3", "--t-end", "0.5",
                  "--quiet"])
     err = capsys.readouterr().err
-    assert code == 3 and "max_steps" in err and "(3)" in err
+    assert code == 3 and "max_steps" in err and "(3)" in err and "--max-steps" in err
     assert main(["run", "falling-beam", "--out", str(tmp_path / "p"), "--max-steps", "0", *SMALL_RUN]) == 2
     assert "--max-steps" in capsys.readouterr().err
 
@@ -160,3 +160,17 @@ def test_cli_errors_name_options_and_the_library_names_parameters(tmp_path):
         with pytest.raises(ModelError) as info:
             call()
         assert info.value.path == name and "--" not in str(info.value)
+
+
+def test_sweep_library_errors_name_parameters_and_the_cli_names_options(tmp_path, capsys):
+    from flexkane.sweep import SweepSpec, Vary
+
+    with pytest.raises(ModelError) as info:
+        Vary.parse("EI=1:2:0")
+    assert info.value.path == "vary EI" and "--" not in str(info.value)
+    with pytest.raises(ModelError) as info:
+        SweepSpec(vary=("EI=1:2",), sampling="random", samples=5)
+    assert info.value.path == "seed" and "--" not in str(info.value)
+    assert main(["sweep", "falling-beam-exact", "--vary", "EI=1:2:0", "--out", str(tmp_path / "never")]) == 2
+    assert "--vary EI" in capsys.readouterr().err
+    assert not (tmp_path / "never").exists()

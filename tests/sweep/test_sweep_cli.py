@@ -118,5 +118,5 @@ def test_plot_against_one_key_draws_one_line_per_value_of_the_other(model_file, 
     rows = read_table(out, as_rows=True)
     path = plot_metric(rows, "final_q3", ["beams.B.EI"], tmp_path / "q3.png")
     assert path.stat().st_size > 5000
-    with pytest.raises(flexkane.errors.ModelError, match="--metric"):
+    with pytest.raises(flexkane.errors.ModelError, match="metric"):
         plot_metric(rows, "no_such_column", ["beams.B.EI"], tmp_path / "x.png")

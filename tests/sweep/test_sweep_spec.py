@@ -36,7 +36,7 @@ def test_integer_range_of_a_count_gives_integers_and_rejects_fractions():
 def test_malformed_vary_names_the_option_and_key(text, message):
     with pytest.raises(ModelError, match=message) as exc:
         Vary.parse(text)
-    assert exc.value.path.startswith("--vary")
+    assert exc.value.path.startswith("vary")    # the library names the parameter; the CLI says --vary
 
 
 def test_grid_of_a_range_without_count_asks_for_count():
@@ -47,7 +47,7 @@ def test_grid_of_a_range_without_count_asks_for_count():
 def test_random_sampling_requires_a_seed_so_that_a_rerun_regenerates_the_variants():
     with pytest.raises(ModelError, match="seed") as exc:
         SweepSpec(vary=("EI=1:2",), sampling="random", samples=5)
-    assert exc.value.path == "--seed"
+    assert exc.value.path == "seed"
 
 
 def test_a_key_varied_twice_is_rejected():

@@ -61,8 +61,8 @@ def test_grid_listing_a_value_twice_is_rejected(model):
         variants(model, "beams.B.EI=20,20.0")
 
 
-@pytest.mark.parametrize("key, path", [("beams.X.EI", "beams.X.EI"), ("parameters.nope", "--vary parameters.nope"),
-                                       ("status", "--vary status")])
+@pytest.mark.parametrize("key, path", [("beams.X.EI", "beams.X.EI"), ("parameters.nope", "vary parameters.nope"),
+                                       ("status", "vary status")])
 def test_unknown_or_reserved_keys_are_rejected_before_running(model, key, path):
     with pytest.raises(ModelError) as exc:
         variants(model, f"{key}=1,2")

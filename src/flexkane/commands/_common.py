@@ -176,17 +176,25 @@ def add_max_steps_argument(parser: argparse.ArgumentParser) -> None:
 
 #: Library parameter names and the command-line options that set them (for messages).
 _CLI_OPTIONS = {"t_end": "--t-end", "dt_out": "--dt-out", "rtol": "--rtol", "atol": "--atol",
-                "method": "--method", "max_steps": "--max-steps", "n_modes": "--n-modes"}
+                "method": "--method", "max_steps": "--max-steps", "n_modes": "--n-modes",
+                # parameters of flexkane.sweep
+                "vary": "--vary", "samples": "--random", "seed": "--seed", "workers": "--workers",
+                "batch_size": "--batch-size", "scheduler": "--scheduler", "keys": "--plot-against",
+                "metric": "--metric", "out": "--out"}
 
 
 def cli_path(error: ModelError) -> ModelError:
-    """The same error with a run argument named by its command-line option (``t_end`` -> ``--t-end``).
+    """The same error with an argument named by its command-line option (``t_end`` -> ``--t-end``,
+    ``vary beams.B.EI`` -> ``--vary beams.B.EI``).
 
     The library names parameters (``t_end``); the command line speaks of the option the user typed.
     """
-    option = _CLI_OPTIONS.get(error.path)
+    head, _, rest = error.path.partition(" ")
+    option = _CLI_OPTIONS.get(head)
     if option is None:
         return error
+    if rest:
+        option = f"{option} {rest}"
     return ModelError(option, error.expected, error.given, error.hint, show_given=error.given is not None)
 
 
@@ -272,7 +280,7 @@ def prepare_out(directory, *, force: bool, flag: str = "--out", resumable=None) 
         A non-empty directory without ``force``, a file of that name, a directory that cannot be
         created or written (read-only, full, no permission).
     """
-    from ..atomic import OutputExistsError, prepare_output_dir
+    from ..atomic import prepare_output_dir
 
     directory = Path(directory)
     missing = [d for d in (directory, *directory.parents) if not d.exists()]
@@ -280,9 +288,7 @@ def prepare_out(directory, *, force: bool, flag: str = "--out", resumable=None) 
         raise ModelError(flag, "a new or empty directory (or --force to write into it; files of the same "
                          "name are replaced, others kept)", str(directory), _listing(directory))
     try:
-        directory = prepare_output_dir(directory, force=True)
-    except OutputExistsError:  # pragma: no cover - force=True never refuses
-        raise
+        directory = prepare_output_dir(directory, force=True)   # creates it (and its parents)
     except ModelError as exc:
         raise ModelError(flag, exc.expected, exc.given, exc.hint) from None
     if missing:

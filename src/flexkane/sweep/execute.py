@@ -93,7 +93,7 @@ def dask_client(*, workers: int | None = None, scheduler: str | None = None, scr
         try:
             client = Client(scheduler, timeout="30s")
         except (OSError, TimeoutError, ValueError) as exc:
-            raise ModelError("--scheduler", "the address of a running Dask scheduler (tcp://host:port)",
+            raise ModelError("scheduler", "the address of a running Dask scheduler (tcp://host:port)",
                              scheduler, f"{type(exc).__name__}: {exc}") from None
         try:
             yield client

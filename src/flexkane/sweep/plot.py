@@ -160,18 +160,18 @@ def plot_metric(rows: list[dict], metric: str, keys: list[str], path, units: dic
     from ..atomic import atomic_writer
 
     if not 1 <= len(keys) <= 2:
-        raise ModelError("--plot", "one or two varied keys to plot against", keys)
+        raise ModelError("keys", "one or two varied keys to plot against", keys)
     columns = set().union(*(row.keys() for row in rows)) if rows else set()
     for key in keys:
         if key not in columns:
-            raise ModelError("--plot", f"a varied key ({', '.join(c for c in columns if '.' in c) or 'none'})",
+            raise ModelError("keys", f"a varied key ({', '.join(c for c in columns if '.' in c) or 'none'})",
                              key)
     if metric not in columns:
         numeric = sorted(c for c in columns if any(isinstance(r.get(c), float) for r in rows))
-        raise ModelError("--metric", f"a numeric column of the table ({', '.join(numeric)})", metric)
+        raise ModelError("metric", f"a numeric column of the table ({', '.join(numeric)})", metric)
     ok = [r for r in rows if r.get("status") == "ok" and math.isfinite(_number(r.get(metric)))]
     if not ok:
-        raise ModelError("--metric", "a column with values for at least one successful variant", metric)
+        raise ModelError("metric", "a column with values for at least one successful variant", metric)
     figure, axes = plt.subplots(figsize=(6.4, 4.4), layout="constrained")
     x = [_number(r[keys[0]]) for r in ok]
     z = [_number(r[metric]) for r in ok]

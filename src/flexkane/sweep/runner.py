@@ -117,7 +117,7 @@ def _check_initial_keys(spec: SweepSpec, base: Model) -> None:
         if key_kind(base, vary.key) == "initial":
             name = parse_path(vary.key)[-1]
             if name not in names:
-                raise ModelError(f"--vary {vary.key}", "a parameter of the model, or one of its coordinates "
+                raise ModelError(f"vary {vary.key}", "a parameter of the model, or one of its coordinates "
                                  f"and speeds ({', '.join(names)})", name)
 
 
@@ -283,14 +283,14 @@ def run_sweep(model, spec: SweepSpec, *, out, workers: int | None = None, schedu
     require("pyarrow.parquet")   # the table needs it: say so before anything is computed
     started = time.perf_counter()
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
-        raise ModelError("--workers", "a positive number of worker processes", workers)
+        raise ModelError("workers", "a positive number of worker processes", workers)
     if scheduler is not None and client is not None:
         raise ModelError("client", "either a scheduler address or a client, not both", scheduler)
     if workers is not None and (scheduler is not None or client is not None):
-        raise ModelError("--workers", "either --workers N or --scheduler ADDRESS, not both", workers)
+        raise ModelError("workers", "either a number of workers or a scheduler address, not both", workers)
     if batch_size is not None and (isinstance(batch_size, bool) or not isinstance(batch_size, int)
                                    or batch_size < 1):
-        raise ModelError("--batch-size", "a positive number of variants per task", batch_size)
+        raise ModelError("batch_size", "a positive number of variants per task", batch_size)
     base = _resolve_model(model)
     settings = RunSettings.resolve(spec, base)
     variants = make_variants(base, spec, settings)

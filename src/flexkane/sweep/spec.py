@@ -114,9 +114,9 @@ class Vary:
     scale: str = "linear"
 
     def __post_init__(self):
-        where = f"--vary {self.key}"
+        where = f"vary {self.key}"
         if not isinstance(self.key, str) or not self.key.strip():
-            raise ModelError("--vary", "KEY=VALUES with a non-empty key", self.key)
+            raise ModelError("vary", "KEY=VALUES with a non-empty key", self.key)
         if self.values is not None:
             if self.start is not None or self.stop is not None or self.count is not None:
                 raise ModelError(where, "either a list of values or a range START:STOP:COUNT, not both",
@@ -161,16 +161,16 @@ class Vary:
         Vary
         """
         if "=" not in text:
-            raise ModelError("--vary", "KEY=START:STOP:COUNT or KEY=v1,v2,...", text)
+            raise ModelError("vary", "KEY=START:STOP:COUNT or KEY=v1,v2,...", text)
         key, spec = (part.strip() for part in text.split("=", 1))
         if not key or not spec:
-            raise ModelError("--vary", "KEY=VALUES with a non-empty key and values", text)
+            raise ModelError("vary", "KEY=VALUES with a non-empty key and values", text)
         return cls.from_text(key, spec)
 
     @classmethod
     def from_text(cls, key: str, spec: str) -> "Vary":
         """The values of ``key`` from the text after ``=`` (see :meth:`parse`)."""
-        where = f"--vary {key}"
+        where = f"vary {key}"
         if ":" in spec and "(" not in spec:
             parts = [p.strip() for p in spec.split(":")]
             scale = "linear"
@@ -202,7 +202,7 @@ class Vary:
         if not self.is_range:
             return list(self.values)
         if self.count is None:
-            raise ModelError(f"--vary {self.key}", "START:STOP:COUNT (a grid needs COUNT)",
+            raise ModelError(f"vary {self.key}", "START:STOP:COUNT (a grid needs COUNT)",
                              f"{self.start}:{self.stop}")
         if self.scale == "log":
             values = np.geomspace(self.start, self.stop, self.count)
@@ -210,7 +210,7 @@ class Vary:
             values = np.linspace(self.start, self.stop, self.count)
         if integer:
             if not np.allclose(values, np.round(values), rtol=0, atol=1e-9):
-                raise ModelError(f"--vary {self.key}", "a range of whole numbers (the key is an integer)",
+                raise ModelError(f"vary {self.key}", "a range of whole numbers (the key is an integer)",
                                  f"{self.start}:{self.stop}:{self.count}")
             return [int(round(v)) for v in values]
         return [float(v) for v in values]
@@ -291,14 +291,14 @@ class SweepSpec:
         keys = [v.key for v in vary]
         for key in keys:
             if keys.count(key) > 1:
-                raise ModelError(f"--vary {key}", "each key varied once", f"{keys.count(key)} times")
+                raise ModelError(f"vary {key}", "each key varied once", f"{keys.count(key)} times")
         if self.sampling not in SAMPLINGS:
             raise ModelError("sweep.sampling", f"one of {', '.join(SAMPLINGS)}", self.sampling)
         if self.sampling == "random":
             if isinstance(self.samples, bool) or not isinstance(self.samples, int) or self.samples < 1:
-                raise ModelError("--random", "a positive number of random variants N", self.samples)
+                raise ModelError("samples", "a positive number of random variants N", self.samples)
             if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
-                raise ModelError("--seed", "a non-negative integer seed with --random (the same seed "
+                raise ModelError("seed", "a non-negative integer seed with random sampling (the same seed "
                                  "regenerates the same variants, which is what resuming needs)", self.seed)
         for name in ("t_end", "dt_out", "rtol", "atol"):
             value = getattr(self, name)
@@ -347,7 +347,7 @@ def _vary_from_toml(key: str, value) -> Vary:
 
 
 #: Command-line names of the settings in errors raised by SweepSpec, and their [sweep] keys.
-_FILE_PATHS = {"--random": "sweep.samples", "--seed": "sweep.seed", "t_end": "sweep.t_end",
+_FILE_PATHS = {"samples": "sweep.samples", "seed": "sweep.seed", "t_end": "sweep.t_end",
                "dt_out": "sweep.dt_out", "rtol": "sweep.rtol", "atol": "sweep.atol", "max_steps": "sweep.max_steps"}
 
 

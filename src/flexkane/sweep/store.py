@@ -51,11 +51,11 @@ class SweepStore:
     def __init__(self, directory):
         self.directory = Path(directory)
         if self.directory.exists() and not self.directory.is_dir():
-            raise ModelError("--out", "a directory", str(self.directory), "a file of that name exists")
+            raise ModelError("out", "a directory", str(self.directory), "a file of that name exists")
         try:
             self.directory.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
-            raise ModelError("--out", "a directory that can be created", str(self.directory),
+            raise ModelError("out", "a directory that can be created", str(self.directory),
                              exc.strerror or str(exc)) from None
         self.log_path = self.directory / LOG_NAME
         self.table_path = self.directory / TABLE_NAME

@@ -85,6 +85,6 @@ def read_table(directory, *, as_rows: bool = False):
         path = path / TABLE_NAME
     if not path.exists():
         from ..errors import ModelError
-        raise ModelError("--out", f"a sweep directory holding {TABLE_NAME} (or {CSV_NAME})", str(directory))
+        raise ModelError("out", f"a sweep directory holding {TABLE_NAME} (or {CSV_NAME})", str(directory))
     table = pq.read_table(path)
     return table.to_pylist() if as_rows else table

@@ -141,13 +141,13 @@ def check_keys(model: Model, spec: SweepSpec) -> set[str]:
     integer = set()
     for vary in spec.vary:
         if vary.key in reserved or vary.key.startswith(("max_abs_", "final_")):
-            raise ModelError(f"--vary {vary.key}", "a key that is not the name of a table column",
+            raise ModelError(f"vary {vary.key}", "a key that is not the name of a table column",
                              vary.key, f"write parameters.{vary.key} or initial.{vary.key}")
         kind = key_kind(model, vary.key)
         if kind == "parameter":
             name = parse_path(vary.key)[-1]
             if name not in model.parameters:
-                raise ModelError(f"--vary {vary.key}", f"a parameter of the model "
+                raise ModelError(f"vary {vary.key}", f"a parameter of the model "
                                  f"({', '.join(model.parameters) or 'none'})", name)
         elif kind == "field":
             value = get_value(model, vary.key)
@@ -222,7 +222,7 @@ def make_variants(model: Model, spec: SweepSpec, settings: RunSettings) -> list[
                              and not isinstance(value, bool) else value) for key, value in assignments)
         vid = variant_id(base_text, assignments, settings)
         if vid in seen and spec.sampling == "grid":
-            raise ModelError("--vary", "distinct variants (no value listed twice)",
+            raise ModelError("vary", "distinct variants (no value listed twice)",
                              ", ".join(f"{k}={v}" for k, v in assignments),
                              f"the same as variant {seen[vid]}")
         if vid in seen:
