@@ -34,8 +34,13 @@ def gravity_vector(kin: Kinematics):
     if grav is None:
         return None
     g = kin.value("gravity.g", grav.g, "g")
-    # the direction is part of the model's structure: literal numbers, normalised exactly
-    dx, dy = (sp.Integer(c) if isinstance(c, int) else sp.nsimplify(c, rational=True) for c in grav.direction)
+    if any(isinstance(c, str) for c in grav.direction):
+        # expressions of the parameters: symbols of their own, normalised in the equations
+        dx, dy = (kin.value(f"gravity.direction[{k}]", c, f"g_direction_{'xy'[k]}")
+                  for k, c in enumerate(grav.direction))
+    else:
+        # literal numbers are part of the model's structure, normalised exactly
+        dx, dy = (sp.Integer(c) if isinstance(c, int) else sp.nsimplify(c, rational=True) for c in grav.direction)
     norm = sp.sqrt(dx ** 2 + dy ** 2)
     return (g * dx / norm, g * dy / norm)
 

@@ -231,15 +231,20 @@ def _check_body(body: RigidBody, values: _Values) -> None:
         values.pair(f"{path}.outline[{k}]", xy, "vertex coordinates from the mass centre", "m")
 
 
-def _check_shape_spec(path: str, spec) -> None:
+def _check_shape_spec(path: str, spec, values: _Values) -> None:
     if not isinstance(spec, ShapeSpec):
         raise ModelError(path, "a shape family name or a table { family = ... }", spec)
     if not isinstance(spec.family, str):
         raise ModelError(f"{path}.family", "the name of a shape-function family", spec.family)
     if spec.roots is not None:
-        if not isinstance(spec.roots, (list, tuple)) or not spec.roots or any(
-                not _is_value(r) or isinstance(r, str) or not (math.isfinite(r) and r > 0) for r in spec.roots):
-            raise ModelError(f"{path}.roots", "a non-empty list of positive finite numbers lambda_i [-]", spec.roots)
+        expected = "a non-empty list of positive finite values lambda_i [-] (numbers or expressions of the parameters)"
+        if not isinstance(spec.roots, (list, tuple)) or not spec.roots:
+            raise ModelError(f"{path}.roots", expected, spec.roots)
+        for i, root in enumerate(spec.roots):
+            number = values.number(f"{path}.roots[{i}]", root, "eigenvalue parameter lambda_i", "-")
+            if not number > 0:
+                raise ModelError(f"{path}.roots", expected, list(spec.roots),
+                                 f"roots[{i}] = {values.shown(root, number)}")
     if not isinstance(spec.options, dict):
         raise ModelError(path, "family options as a table", spec.options)
 
@@ -250,7 +255,7 @@ def _check_beam(beam: Beam, values: _Values) -> float:
     values.positive(f"{path}.EI", beam.EI, "flexural rigidity", "N m^2")
     values.positive(f"{path}.rho", beam.rho, "mass per unit length", "kg/m")
     n = _integer(f"{path}.n_modes", beam.n_modes, 1, MAX_MODES, "number of shape functions")
-    _check_shape_spec(f"{path}.shape", beam.shape)
+    _check_shape_spec(f"{path}.shape", beam.shape, values)
     if beam.shape.roots is not None and len(beam.shape.roots) != n:
         raise ModelError(f"{path}.shape.roots", f"{n} roots lambda_i (one per mode, n_modes = {n})",
                          list(beam.shape.roots))
@@ -275,7 +280,7 @@ def _check_beam(beam: Beam, values: _Values) -> float:
         if beam.axial_shape is None:
             raise ModelError(f"{path}.axial_shape", "an axial shape family (required with n_axial > 0)",
                              None, show_given=False)
-        _check_shape_spec(f"{path}.axial_shape", beam.axial_shape)
+        _check_shape_spec(f"{path}.axial_shape", beam.axial_shape, values)
     if beam.elastic_forces == "shear-moment" and (beam.geometric_stiffening or n_axial):
         raise ModelError(f"{path}.elastic_forces", "'strain-energy' with geometric_stiffening or axial modes",
                          beam.elastic_forces)
@@ -495,11 +500,11 @@ def _check_gravity(gravity, values: _Values) -> None:
         raise ModelError("gravity", "a table { g = ..., direction = [x, y] }", gravity)
     values.non_negative("gravity.g", gravity.g, "gravitational acceleration", "m/s^2")
     direction = gravity.direction
-    if not _is_pair(direction) or any(not _is_value(c) or isinstance(c, str) or not math.isfinite(c)
-                                       for c in direction):
-        raise ModelError("gravity.direction", "two finite numbers [x, y] (a direction in the ground frame)",
+    if not _is_pair(direction):
+        raise ModelError("gravity.direction", "two finite values [x, y] (a direction in the ground frame)",
                          direction)
-    if direction[0] == 0 and direction[1] == 0:
+    components = values.pair("gravity.direction", direction, "direction components in the ground frame", "-")
+    if components[0] == 0 and components[1] == 0:
         raise ModelError("gravity.direction", "a non-zero direction [x, y]", list(direction))
 
 
@@ -563,12 +568,12 @@ def validate_run_arguments(*, t_end, dt_out, rtol, atol, method="auto", max_step
 
 
 # ------------------------------------------------------------------------------------ structure
-def _family(spec: ShapeSpec, path: str, n: int, kind: str) -> None:
+def _family(spec: ShapeSpec, path: str, n: int, kind: str, values: _Values) -> None:
     """Build the shape family, check that it is of ``kind`` and provides ``n`` functions."""
     from ..kane.equations import shape_family
 
     try:
-        family = shape_family(spec, path)
+        family = shape_family(spec, path, {name: values.numbers[s] for name, s in values.names.items()})
     except ModelError as exc:
         hint = exc.hint
         option = exc.path.rsplit(".", 1)[-1]
@@ -595,9 +600,9 @@ def _check_structure(model: Model, values: _Values) -> None:
 
     for beam in model.beams.values():
         path = f"beams.{beam.name}"
-        _family(beam.shape, f"{path}.shape", beam.n_modes, "transverse")
+        _family(beam.shape, f"{path}.shape", beam.n_modes, "transverse", values)
         if beam.n_axial:
-            _family(beam.axial_shape, f"{path}.axial_shape", beam.n_axial, "axial")
+            _family(beam.axial_shape, f"{path}.axial_shape", beam.n_axial, "axial", values)
     chain = build_chain(model)   # coordinate names; initial conditions name existing coordinates
     units = {}
     for coord in chain.coordinates:
