@@ -18,6 +18,7 @@ from ..model.paths import get_value
 from .active import generalized_active_forces
 from .chain import Chain, build_chain
 from .inertia import InertiaForces, generalized_inertia_forces
+from .distributed_loads import load_profile
 from .kinematics import Kinematics
 from .outputs import output_expressions
 
@@ -293,17 +294,19 @@ class EquationsOfMotion:
             path = f"beams.{name}"
             family = shape_family(beam.shape, f"{path}.shape", params)
             axial = shape_family(beam.axial_shape, f"{path}.axial_shape", params) if beam.n_axial else None
-            stations = {}
+            stations, profiles = {}, {}
             for spec in consts.used.values():
                 if spec[0] == "station":
                     stations[spec[3]] = to_float(sp.sympify(spec[3]), values, path=f"{path} station")
+                elif spec[0] == "load":
+                    profiles[spec[2]] = load_profile(spec[2], values)
             with np.errstate(over="raise", invalid="raise"):
                 try:
                     beam_values = consts.values(
                 L=number(f"{path}.L", beam.L), rho=number(f"{path}.rho", beam.rho),
                 EI=number(f"{path}.EI", beam.EI), family=family, n=beam.n_modes,
                 EA=number(f"{path}.EA", beam.EA) if beam.EA is not None else None,
-                axial_family=axial, n_axial=beam.n_axial, station_values=stations)
+                axial_family=axial, n_axial=beam.n_axial, station_values=stations, profiles=profiles)
                 except (OverflowError, FloatingPointError, ValueError) as exc:
                     from ..errors import ModelError
 

@@ -29,8 +29,9 @@ import sympy as sp
 
 from ..errors import ModelError
 from .model import NAMING_STYLES, Model
-from .parts import (ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES, Beam, Driver,
-                    Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody, ShapeSpec, Simulation)
+from .parts import (DISTRIBUTED_FRAMES, ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES, Beam,
+                    DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody, ShapeSpec,
+                    Simulation)
 
 __all__ = ["validate_model", "validate_run_arguments", "MAX_MODES", "METHODS", "is_name"]
 
@@ -184,7 +185,7 @@ def validate_model(model: Model) -> None:
     values = _Values(model)
     bodies = _table(model, "bodies", RigidBody)
     beams = _table(model, "beams", Beam)
-    for kind, cls in (("joints", Joint), ("loads", Load), ("springs", PointSpring),
+    for kind, cls in (("joints", Joint), ("loads", Load), ("distributed_loads", DistributedLoad), ("springs", PointSpring),
                       ("constraints", LoopConstraint)):
         _table(model, kind, cls)
     for name in beams:
@@ -204,8 +205,10 @@ def validate_model(model: Model) -> None:
     _check_tree(model)
     for load in model.loads.values():
         _check_load(model, load, values, lengths)
+    for load in model.distributed_loads.values():
+        _check_distributed_load(model, load, values, lengths)
     for spring in model.springs.values():
-        _check_spring(model, spring, values)
+        _check_spring(model, spring, values, lengths)
     for con in model.constraints.values():
         _check_constraint(model, con, values, lengths)
     _check_gravity(model.gravity, values)
@@ -433,23 +436,50 @@ def _check_load(model: Model, load: Load, values: _Values, lengths: dict) -> Non
     _choice(f"{path}.frame", load.frame, FRAMES)
 
 
-def _check_end(model: Model, path: str, part, end: str, values: _Values, lengths: dict | None) -> None:
-    """One end of a spring (lengths None: no beams) or of a loop constraint."""
+def _check_distributed_load(model: Model, load: DistributedLoad, values: _Values, lengths: dict) -> None:
+    from ..expressions import parse_expression, to_float
+    from ..kane.distributed_loads import POSITION
+
+    path = f"distributed_loads.{load.name}"
+    beams = list(model.beams)
+    if not isinstance(load.beam, str) or load.beam not in model.beams:
+        raise ModelError(f"{path}.beam", f"the name of a beam ({', '.join(beams) or 'the model has none'})",
+                         load.beam, _suggest(load.beam, beams) if isinstance(load.beam, str) else None)
+    _choice(f"{path}.frame", load.frame, DISTRIBUTED_FRAMES)
+    _integer(f"{path}.quadrature_nodes", load.quadrature_nodes, 1, 200, "number of Gauss-Legendre nodes")
+    if "x" in values.names:
+        raise ModelError("parameters.x", "parameter names other than 'x' in a model with distributed loads "
+                         "(x is the position along the beam)", "x")
+    kind = "force per unit length [N/m], a number or an expression of x [m], t [s] and the parameters"
+    length = lengths[load.beam]
+    for key in ("fx", "fy"):
+        value = getattr(load, key)
+        if not _is_value(value):
+            raise ModelError(f"{path}.{key}", kind, value)
+        expr = parse_expression(value, {**values.names, "t": values.t, "x": POSITION}, path=f"{path}.{key}")
+        for x in (0.0, 0.5 * length, length):
+            try:
+                to_float(expr, {**values.numbers, values.t: 0.0, POSITION: x}, path=f"{path}.{key}")
+            except ModelError as exc:
+                raise ModelError(f"{path}.{key}", f"{kind}, finite at t = 0 along the beam", value,
+                                 f"at x = {x:g} m: {exc.hint or exc.expected}") from None
+    if all(isinstance(v, (int, float)) and v == 0 for v in (load.fx, load.fy)):
+        raise ModelError(path, "a non-zero component fx or fy [N/m]", None, show_given=False)
+
+
+def _check_end(model: Model, path: str, part, end: str, values: _Values, lengths: dict) -> None:
+    """One end of a spring or of a loop constraint."""
     body = getattr(part, f"body_{end}")
     given = {key: getattr(part, f"{key}_{end}", None) for key in ("point", "station", "position")}
     if body == "ground":
         allowed = "position"
     elif isinstance(body, str) and body in model.bodies:
         allowed = "point"
-    elif lengths is not None and isinstance(body, str) and body in model.beams:
+    elif isinstance(body, str) and body in model.beams:
         allowed = "station"
-    elif lengths is None and isinstance(body, str) and body in model.beams:
-        raise ModelError(f"{path}.body_{end}", "'ground' or a body (a spring does not attach to a beam: "
-                         "weld a small body to the beam's station and attach the spring to it)", body)
     else:
-        options = ["ground"] + (model.link_names() if lengths is not None else list(model.bodies))
-        what = "a body or a beam" if lengths is not None else "a body"
-        raise ModelError(f"{path}.body_{end}", f"'ground' or {what} ({', '.join(options)})", body,
+        options = ["ground"] + model.link_names()
+        raise ModelError(f"{path}.body_{end}", f"'ground' or a body or a beam ({', '.join(options)})", body,
                          _suggest(body, options) if isinstance(body, str) else None)
     for key, value in given.items():
         if value is not None and key != allowed:
@@ -465,10 +495,10 @@ def _check_end(model: Model, path: str, part, end: str, values: _Values, lengths
         values.pair(f"{path}.position_{end}", given["position"], "ground coordinates", "m")
 
 
-def _check_spring(model: Model, spring: PointSpring, values: _Values) -> None:
+def _check_spring(model: Model, spring: PointSpring, values: _Values, lengths: dict) -> None:
     path = f"springs.{spring.name}"
     for end in ("a", "b"):
-        _check_end(model, path, spring, end, values, None)
+        _check_end(model, path, spring, end, values, lengths)
     if spring.body_a == "ground" and spring.body_b == "ground":
         raise ModelError(f"{path}.body_b", "a body at one end at least", spring.body_b)
     values.non_negative(f"{path}.stiffness", spring.stiffness, "spring stiffness", "N/m")
