@@ -124,3 +124,25 @@ def test_distributed_load_fields_are_checked():
         flexkane.loads_model(text + 'fz = "1"\n')
     model = flexkane.loads_model(text)
     assert flexkane.loads_model(flexkane.dumps_model(model)) == model
+
+
+@pytest.mark.slow
+def test_slowly_applied_uniform_load_settles_at_the_static_tip_deflection():
+    """A damped cantilever under a load ramped up over 2 s ends at q0 L^4 / (8 EI) (4 modes)."""
+    text = CANTILEVER.format(n=4, fy="-q0*min(t/2, 1)").replace("n_modes = 4", "n_modes = 4\ndamping = [0.7]")
+    model = flexkane.loads_model(text)
+    res = flexkane.simulate(flexkane.compile_model(flexkane.derive(model)), t_end=6.0, dt_out=0.05,
+                            rtol=1e-10, atol=1e-12)
+    assert res["tip_beam"][-1] == pytest.approx(-0.3 / 16, rel=1e-4)
+
+
+@pytest.mark.slow
+def test_work_of_a_time_varying_distributed_load_equals_the_change_of_energy():
+    model = flexkane.loads_model(PENDULUM.format(frame="ground"))
+    res = flexkane.simulate(flexkane.compile_model(flexkane.derive(model)), t_end=2.0, dt_out=1e-4,
+                            rtol=1e-11, atol=1e-12)
+    power = res["power_nonconservative"]
+    work = np.concatenate([[0.0], np.cumsum(0.5 * (power[1:] + power[:-1]) * np.diff(res.t))])
+    change = res["energy"] - res["energy"][0]
+    assert np.max(np.abs(work)) > 0.1                              # the load does work
+    assert np.max(np.abs(change - work)) < 1e-6 * np.max(np.abs(work)) + 1e-9
