@@ -143,7 +143,8 @@ def simulate(compiled: CompiledModel, *, t_end: float, dt_out: float, rtol: floa
     Returns
     -------
     Results
-        ``partial`` is set when the integration stopped early; ``solver["message"]`` says why.
+        ``partial`` is set when the integration stopped early; ``solver["message"]`` says why;
+        ``warnings`` lists where the run left the validity of its model (:mod:`flexkane.validity`).
     """
     from .numerics.integrate import integrate
 
@@ -187,6 +188,9 @@ def simulate(compiled: CompiledModel, *, t_end: float, dt_out: float, rtol: floa
               "naccept": int(getattr(result, "naccept", 0)), "nreject": int(getattr(result, "nreject", 0)),
               "wall_time": float(result.wall_time), "t_reached": float(result.t_reached),
               "compile_time": float(compiled.compile_time)}
+    from .validity import validity_warnings
+
     return Results(t=t, state=state, state_names=eom.state_names, outputs=outputs,
                    model_text=dumps_model(model), parameters={s.name: values[s] for s in eom.constants},
-                   solver=solver, partial=n_valid < len(grid) or int(result.status) != 0)
+                   solver=solver, partial=n_valid < len(grid) or int(result.status) != 0,
+                   warnings=validity_warnings(eom, model, t, state, values))

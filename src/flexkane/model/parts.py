@@ -389,6 +389,12 @@ class Simulation:
         Integrator tolerances [-].
     method : str
         ``auto`` or a method name.
+    deflection_warning : float
+        A run warns when a beam's transverse deflection exceeds this fraction of its length [-]
+        (the assumed modes of eq. 8.15 describe small deflections).
+    spin_warning : float
+        A run warns when a beam without ``geometric_stiffening`` turns faster than this fraction
+        of its first bending frequency [-] (the linear modes then miss the centrifugal stiffening).
     """
 
     t_end: float | None = None
@@ -396,3 +402,5 @@ class Simulation:
     rtol: float = 1e-8
     atol: float = 1e-10
     method: str = "auto"
+    deflection_warning: float = 0.1
+    spin_warning: float = 0.1

@@ -12,7 +12,7 @@ The file has one table per kind of part, keyed by name::
     [springs.NAME]          # body_a, point_a | station_a | position_a, body_b, ..., stiffness, damping, rest_length
     [constraints.NAME]      # loop-closure joints: type, body_a, point_a | station_a | position_a, ...
     [initial]               # coordinate or speed name = value
-    [simulation]            # t_end, dt_out, rtol, atol, method
+    [simulation]            # t_end, dt_out, rtol, atol, method, deflection_warning, spin_warning
     [sweep]                 # read by flexkane.sweep, ignored here
 
 Reading checks the layout of the file: tables where tables belong, no unknown key (a typo is
@@ -57,7 +57,7 @@ _SPRING_KEYS = ("body_a", "point_a", "station_a", "position_a", "body_b", "point
                 "stiffness", "damping", "rest_length")
 _CONSTRAINT_KEYS = ("type", "body_a", "point_a", "station_a", "position_a", "body_b", "point_b", "station_b",
                     "position_b", "axis", "angle", "dependent", "stabilization")
-_SIM_KEYS = ("t_end", "dt_out", "rtol", "atol", "method")
+_SIM_KEYS = ("t_end", "dt_out", "rtol", "atol", "method", "deflection_warning", "spin_warning")
 
 _MISSING = object()
 
@@ -219,7 +219,9 @@ def _model_from_dict(data: dict) -> Model:
     sim = _table(data, "simulation", "", "a table of run settings")
     _check_keys(sim, _SIM_KEYS, "simulation")
     model.simulation = Simulation(_float(sim, "t_end"), _float(sim, "dt_out"), _float(sim, "rtol", 1e-8),
-                                  _float(sim, "atol", 1e-10), sim.get("method", "auto"))
+                                  _float(sim, "atol", 1e-10), sim.get("method", "auto"),
+                                  _float(sim, "deflection_warning", Simulation.deflection_warning),
+                                  _float(sim, "spin_warning", Simulation.spin_warning))
     return model
 
 
@@ -374,6 +376,9 @@ def model_to_dict(model: Model) -> dict:
     sim = _drop_none({"t_end": model.simulation.t_end, "dt_out": model.simulation.dt_out,
                       "rtol": model.simulation.rtol, "atol": model.simulation.atol,
                       "method": model.simulation.method})
+    for key in ("deflection_warning", "spin_warning"):
+        if getattr(model.simulation, key) != getattr(Simulation, key):
+            sim[key] = getattr(model.simulation, key)
     out["simulation"] = sim
     return out
 

@@ -542,7 +542,9 @@ def _check_simulation(sim) -> None:
     if not isinstance(sim, Simulation):
         raise ModelError("simulation", "a table of run settings", sim)
     for key, what in (("t_end", "end time [s]"), ("dt_out", "output interval [s]"),
-                      ("atol", "absolute tolerance [units of each state]")):
+                      ("atol", "absolute tolerance [units of each state]"),
+                      ("deflection_warning", "fraction of a beam's length [-] above which a run warns"),
+                      ("spin_warning", "fraction of a beam's first bending frequency [-] above which a run warns")):
         value = getattr(sim, key)
         if value is None and key != "atol":
             continue
