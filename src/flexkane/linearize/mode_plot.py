@@ -70,7 +70,8 @@ class ChainDrawing:
             L = float(sp.sympify(eom.kinematics.value(f"{path}.L", beam.L, f"L_{name}")).xreplace(values))
             xi = np.linspace(0.0, 1.0, points)
             modes = [index[q] for q in eom.chain.beam_modes(name)]
-            phi = shape_family(beam.shape, f"{path}.shape", params).phi(xi, beam.n_modes) if modes else np.zeros((0, points))
+            phi = (shape_family(beam.shape, f"{path}.shape", params).phi(xi, beam.n_modes) if modes
+                   else np.zeros((0, points)))
             axial = [index[s] for s in eom.chain.beam_axial(name)]
             psi = (shape_family(beam.axial_shape, f"{path}.axial_shape", params).phi(xi, beam.n_axial)
                    if axial else np.zeros((0, points)))

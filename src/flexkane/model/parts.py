@@ -354,7 +354,7 @@ class LoopConstraint:
     dependent : list of str, optional
         Names of the generalized speeds made dependent by this constraint (chosen automatically,
         by pivoting on the constraint matrix at the initial configuration, when omitted).
-    stabilization : float
+    stabilization : Value
         Rate [1/s] at which a drift of the constraint is driven back to zero (Baumgarte-type
         velocity stabilization, ``Phi' = -rate * Phi``); 0 keeps the exact velocity constraint.
     """
@@ -372,7 +372,7 @@ class LoopConstraint:
     axis: Value = 0
     angle: Value = 0
     dependent: list[str] | None = None
-    stabilization: float = 0.0
+    stabilization: Value = 0.0
 
 
 @dataclass

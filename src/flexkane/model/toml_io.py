@@ -347,10 +347,14 @@ def model_to_dict(model: Model) -> dict:
                                              "force": ld.force, "torque": ld.torque,
                                              "frame": ld.frame}) for ld in model.loads.values()}
     if model.distributed_loads:
-        out["distributed_loads"] = {
-            d.name: {"beam": d.beam, **({"fx": d.fx} if d.fx != 0 else {}), **({"fy": d.fy} if d.fy != 0 else {}),
-                     "frame": d.frame, **({"quadrature_nodes": d.quadrature_nodes} if d.quadrature_nodes != DistributedLoad.quadrature_nodes else {})}
-            for d in model.distributed_loads.values()}
+        loads = {}
+        for d in model.distributed_loads.values():
+            t = {"beam": d.beam, "fx": d.fx, "fy": d.fy, "frame": d.frame, "quadrature_nodes": d.quadrature_nodes}
+            for key in ("fx", "fy", "quadrature_nodes"):
+                if t[key] == getattr(DistributedLoad, key):
+                    del t[key]
+            loads[d.name] = t
+        out["distributed_loads"] = loads
     if model.springs:
         out["springs"] = {s.name: _drop_none({
             "body_a": s.body_a, "point_a": s.point_a, "station_a": s.station_a, "position_a": s.position_a,

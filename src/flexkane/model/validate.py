@@ -185,7 +185,8 @@ def validate_model(model: Model) -> None:
     values = _Values(model)
     bodies = _table(model, "bodies", RigidBody)
     beams = _table(model, "beams", Beam)
-    for kind, cls in (("joints", Joint), ("loads", Load), ("distributed_loads", DistributedLoad), ("springs", PointSpring),
+    for kind, cls in (("joints", Joint), ("loads", Load), ("distributed_loads", DistributedLoad),
+                      ("springs", PointSpring),
                       ("constraints", LoopConstraint)):
         _table(model, kind, cls)
     for name in beams:
@@ -518,9 +519,7 @@ def _check_constraint(model: Model, con: LoopConstraint, values: _Values, length
     values.number(f"{path}.axis", con.axis, "slide direction angle in frame a", "rad")
     values.number(f"{path}.angle", con.angle, "angle of frame b relative to frame a", "rad")
     _names_list(f"{path}.dependent", con.dependent, 2, "dependent speed")
-    rate = con.stabilization
-    if isinstance(rate, bool) or not isinstance(rate, numbers.Real) or not (math.isfinite(rate) and rate >= 0):
-        raise ModelError(f"{path}.stabilization", "a non-negative finite rate [1/s]", rate)
+    values.non_negative(f"{path}.stabilization", con.stabilization, "constraint stabilization rate", "1/s")
 
 
 def _check_gravity(gravity, values: _Values) -> None:
