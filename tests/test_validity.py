@@ -39,6 +39,21 @@ def test_a_fast_spin_without_geometric_stiffening_is_warned_about_naming_the_opt
     assert _warnings(stiffened, [0.0, 10.0, 20.0], {}) == []
 
 
+def test_warnings_of_a_variant_use_its_numbers_and_leave_the_equations_alone():
+    """A sweep variant (EI given as a number instead of a parameter) with the base model's equations."""
+    base = flexkane.builtin_model("falling-beam-exact")
+    eom = flexkane.derive(base)
+    variant = base.copy()
+    variant.beams["B"].EI = 20.0
+    variant.validate()
+    constants = list(eom.constants)
+    state = np.zeros((2, len(eom.state_names)))
+    state[1, eom.state_names.index("q4")] = 0.2                  # Phi_1(L) q4 = 0.4 m on a 1 m beam
+    (warning,) = validity_warnings(eom, variant, np.array([0.0, 1.0]), state, eom.constant_values(variant))
+    assert "beam 'B'" in warning and "0.4 m" in warning
+    assert list(eom.constants) == constants
+
+
 def test_the_chapters_example_runs_without_warning(tmp_path):
     assert main(["run", "falling-beam", "--out", str(tmp_path / "run"), "--quiet", "--t-end", "1"]) == 0
     assert flexkane.load_results(tmp_path / "run").warnings == []

@@ -77,7 +77,7 @@ def validity_warnings(eom, model, t: np.ndarray, state: np.ndarray, values: dict
     list of str
         One sentence per warning, naming the beam, the measured value and the limit.
     """
-    from .expressions import resolve_parameters
+    from .expressions import parse_expression, resolve_parameters, to_float
     from .kane.equations import shape_family
 
     if len(t) == 0:
@@ -86,6 +86,8 @@ def validity_warnings(eom, model, t: np.ndarray, state: np.ndarray, values: dict
     sim = model.simulation
     names = eom.state_names
     params = resolve_parameters(model.parameters, path_prefix="parameters")
+    symbols = {name: sp.Symbol(name, real=True) for name in params}
+    numbers = {symbols[name]: value for name, value in params.items()}
     kin = eom.kinematics
     for name, beam in model.beams.items():
         modes = [q.name for q in eom.chain.beam_modes(name)]
@@ -94,7 +96,8 @@ def validity_warnings(eom, model, t: np.ndarray, state: np.ndarray, values: dict
         path = f"beams.{name}"
 
         def number(key, value):
-            return float(sp.sympify(kin.value(f"{path}.{key}", value, f"{key}_{name}")).xreplace(values))
+            where = f"{path}.{key}"
+            return to_float(parse_expression(value, symbols, path=where), numbers, path=where)
 
         L, EI, rho = number("L", beam.L), number("EI", beam.EI), number("rho", beam.rho)
         family = shape_family(beam.shape, f"{path}.shape", params)
