@@ -113,3 +113,20 @@ def test_results_with_an_expression_ratio_equal_those_with_the_literal_ratio():
     light = flexkane.simulate(compiled, model=flexkane.loads_model(TEXT), **kwargs)
     np.testing.assert_allclose(res["tip_beam"], lit["tip_beam"], rtol=0, atol=1e-12)
     assert np.max(np.abs(res["tip_beam"] - light["tip_beam"])) > 1e-4
+
+
+@pytest.mark.slow
+def test_a_sweep_over_the_tip_mass_updates_the_modes(tmp_path):
+    from flexkane.sweep import SweepSpec, read_table, run_sweep
+
+    spec = SweepSpec(vary=("M=0.3,0.6",), t_end=0.5, dt_out=0.05, rtol=1e-10, atol=1e-12, save_trajectories=True)
+    outcome = run_sweep(flexkane.loads_model(TEXT), spec, out=tmp_path / "sweep", workers=1)
+    assert outcome.structures == 1
+    rows = {row["M"]: row for row in read_table(tmp_path / "sweep", as_rows=True)}
+    tips = {M: flexkane.load_results(tmp_path / "sweep" / "variants" / rows[M]["variant"])["tip_beam"]
+            for M in (0.3, 0.6)}
+    literal = _literal(0.6)
+    expected = flexkane.simulate(flexkane.compile_model(flexkane.derive(literal)), model=literal, t_end=0.5,
+                                 dt_out=0.05, rtol=1e-10, atol=1e-12)["tip_beam"]
+    np.testing.assert_allclose(tips[0.6], expected, rtol=0, atol=1e-12)
+    assert np.max(np.abs(tips[0.6] - tips[0.3])) > 1e-4
