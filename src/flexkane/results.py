@@ -2,8 +2,8 @@
 
 ``results.csv``: header ``t``, the generalized coordinates, the generalized speeds (by name), then the
 outputs of :mod:`flexkane.kane.outputs` (tip deflections, energy, ...), one row per output time.
-``results.npz``: the same arrays, the model file text, the parameter values, solver statistics and the
-flexkane version; :func:`load_results` reads it back.
+``results.npz``: the same arrays, the model file text, the parameter values, solver statistics, the
+validity warnings and the flexkane version; :func:`load_results` reads it back.
 """
 
 from __future__ import annotations
@@ -48,6 +48,10 @@ class Results:
         Method, tolerances, number of steps and evaluations, wall time, status and message.
     partial : bool
         True when the run stopped before the end time (failure or interruption).
+    warnings : list of str
+        Where the run left the validity of its model (a beam deflected by more than a stated
+        fraction of its length, a beam spun fast without geometric stiffening), see
+        :mod:`flexkane.validity`; empty when none.
     """
 
     t: np.ndarray
@@ -59,6 +63,7 @@ class Results:
     solver: dict = field(default_factory=dict)
     partial: bool = False
     version: str = __version__
+    warnings: list = field(default_factory=list)
 
     # ------------------------------------------------------- the conventions of scipy.integrate.solve_ivp
     @property
@@ -137,7 +142,8 @@ class Results:
                   "model_text": np.array(self.model_text),
                   "parameters": np.array(json.dumps(self.parameters, sort_keys=True)),
                   "solver": np.array(json.dumps(self.solver, sort_keys=True, default=str)),
-                  "partial": np.array(self.partial), "version": np.array(self.version)}
+                  "partial": np.array(self.partial), "version": np.array(self.version),
+                  "warnings": np.array(json.dumps(list(self.warnings)))}
         np.savez(buffer, **arrays)
         atomic_write_bytes(npz_path, buffer.getvalue())
         return [csv_path, npz_path]
@@ -173,4 +179,5 @@ def load_results(path: str | Path) -> Results:
         return Results(t=data["t"], state=data["state"], state_names=[str(n) for n in data["state_names"]],
                        outputs=outputs, model_text=str(data["model_text"]),
                        parameters=json.loads(str(data["parameters"])), solver=json.loads(str(data["solver"])),
-                       partial=bool(data["partial"]), version=str(data["version"]))
+                       partial=bool(data["partial"]), version=str(data["version"]),
+                       warnings=json.loads(str(data["warnings"])) if "warnings" in data.files else [])

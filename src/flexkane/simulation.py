@@ -263,7 +263,8 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
     -------
     Results
         ``partial`` is set (``success`` false) when the integration stopped early;
-        ``message`` says why.
+        ``message`` says why; ``warnings`` lists where the run left the validity of its model
+        (:mod:`flexkane.validity`).
 
     Raises
     ------
@@ -321,6 +322,9 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
               "naccept": int(getattr(result, "naccept", 0)), "nreject": int(getattr(result, "nreject", 0)),
               "wall_time": float(result.wall_time), "t_reached": float(result.t_reached),
               "compile_time": float(compiled.compile_time)}
+    from .validity import validity_warnings
+
     return Results(t=t, state=state, state_names=eom.state_names, outputs=outputs,
                    model_text=dumps_model(model), parameters={s.name: values[s] for s in eom.constants},
-                   solver=solver, partial=partial)
+                   solver=solver, partial=partial,
+                   warnings=validity_warnings(eom, model, t, state, values))

@@ -120,6 +120,7 @@ class Scene:
                                     for i, (px, py) in enumerate(body.outline)])
             self.bodies.append(BodyShape(name, outline))
         chain = build_chain(model)
+        self._parameters = params
         self.beams = [self._beam_shape(model, chain, name, number) for name in model.beams]
 
     # ------------------------------------------------------------------ construction
@@ -134,7 +135,7 @@ class Scene:
         transverse = np.zeros((N, len(xi)))
         axial = np.zeros((N, len(xi)))
         if modes:
-            family = shape_family(beam.shape, f"beams.{name}.shape")
+            family = shape_family(beam.shape, f"beams.{name}.shape", self._parameters)
             q = np.column_stack([self._column(m) for m in modes])              # (N, n)
             transverse = q @ family.phi(xi, len(modes))                        # (N, s)
             if beam.geometric_stiffening:
@@ -142,7 +143,7 @@ class Scene:
                 axial -= 0.5 * _cumulative_integral(slope ** 2, xi * L)
         stretch = [s.name for s in chain.beam_axial(name)]
         if stretch:
-            family = shape_family(beam.axial_shape, f"beams.{name}.axial_shape")
+            family = shape_family(beam.axial_shape, f"beams.{name}.axial_shape", self._parameters)
             s = np.column_stack([self._column(m) for m in stretch])
             axial += s @ family.phi(xi, len(stretch))
         return BeamShape(name, L, xi * L, transverse, axial)

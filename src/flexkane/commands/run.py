@@ -151,6 +151,8 @@ def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None
               f"derive {derive_time:.2f} s, compile {s['compile_time']:.2f} s, integrate {s['wall_time']:.3f} s"
               f"{drift}", file=stream)
         print(f"wrote {len(written) + 2} files to {out}", file=stream)
+    for warning in results.warnings:
+        print(f"flexkane: warning: {warning}", file=sys.stderr)
     if results.partial:
         if s.get("status") == "interrupted":
             print(f"flexkane: interrupted at t = {s['t_reached']:.6g} s; the files hold the results up to "

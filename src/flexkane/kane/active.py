@@ -8,7 +8,8 @@
   deformed midpoint (eq. 8.19, the notebook).
 * ``damping``: modal damping of the beams, ``-2 zeta_i sqrt(H_ii G_ii) u_i``.
 * ``joints``: springs and dampers on joint coordinates.
-* ``loads``: applied forces and torques, constant or functions of t, and actuator torques of joints.
+* ``loads``: applied forces and torques, constant or functions of t, actuator torques of joints, and
+  distributed loads on beams (``int v_P,r . f dx``, :mod:`flexkane.kane.distributed_loads`).
 * ``springs``: linear springs and dampers between points.
 
 Each source is a list of n expressions (one per speed).
@@ -18,6 +19,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from .distributed_loads import distributed_load_forces
 from .kinematics import Kinematics, rot
 from .modal_field import ONE, X, phi
 
@@ -34,8 +36,13 @@ def gravity_vector(kin: Kinematics):
     if grav is None:
         return None
     g = kin.value("gravity.g", grav.g, "g")
-    # the direction is part of the model's structure: literal numbers, normalised exactly
-    dx, dy = (sp.Integer(c) if isinstance(c, int) else sp.nsimplify(c, rational=True) for c in grav.direction)
+    if any(isinstance(c, str) for c in grav.direction):
+        # expressions of the parameters: symbols of their own, normalised in the equations
+        dx, dy = (kin.value(f"gravity.direction[{k}]", c, f"g_direction_{'xy'[k]}")
+                  for k, c in enumerate(grav.direction))
+    else:
+        # literal numbers are part of the model's structure, normalised exactly
+        dx, dy = (sp.Integer(c) if isinstance(c, int) else sp.nsimplify(c, rational=True) for c in grav.direction)
     norm = sp.sqrt(dx ** 2 + dy ** 2)
     return (g * dx / norm, g * dy / norm)
 
@@ -170,6 +177,11 @@ def generalized_active_forces(kin: Kinematics) -> dict[str, list]:
         if load.torque is not None:
             torque = kin.symbols.time_function(f"{path}.torque", load.torque)
         add("loads", frame.v, force, frame.omega, torque)
+
+    # ---------------------------------------------------------------- distributed loads on beams
+    for load in model.distributed_loads.values():
+        for r, term in enumerate(distributed_load_forces(kin, load, speeds)):
+            parts["loads"][r] += term
 
     # ---------------------------------------------------------------- springs between points
     for spring in model.springs.values():

@@ -138,6 +138,22 @@ class BeamConstants:
         name = f"{self._modal(stem, *atom[1:])}({text})"
         return self._symbol(("station", atom, deriv, x), name)
 
+    def load_integral(self, atom: Atom, profile: sp.Expr, label: str) -> sp.Symbol:
+        """``int_0^L a(x) h(x) dx`` for the x-profile ``h`` of a distributed load [m * units of a * h].
+
+        Parameters
+        ----------
+        atom : Atom
+        profile : sympy.Expr
+            ``h(x)``, an expression of ``x`` (:data:`flexkane.kane.distributed_loads.POSITION`) and
+            parameter symbols, evaluated numerically for each parameter set.
+        label : str
+            Names the load and its profile in the symbol (``K_wind_y1_Phi1``).
+        """
+        stem = {"1": "1", "x": "x", "phi": "Phi", "psi": "Psi", "d": "d"}[atom[0]]
+        name = f"K_{label}_{stem}{_idx(*atom[1:]) if len(atom) > 1 else ''}"
+        return self._symbol(("load", atom, profile), name)
+
     def shear_moment(self, kind: str, i: int, j: int = 0) -> sp.Symbol:
         """Constants of eq. 8.28 evaluated with the shape functions as given (notebook variant).
 
@@ -150,7 +166,8 @@ class BeamConstants:
 
     # ------------------------------------------------------------------ numbers
     def values(self, *, L: float, rho: float, EI: float, family, n: int, EA: float | None = None,
-               axial_family=None, n_axial: int = 0, station_values: dict | None = None) -> dict:
+               axial_family=None, n_axial: int = 0, station_values: dict | None = None,
+               profiles: dict | None = None) -> dict:
         """Numeric value of every constant used.
 
         Parameters
@@ -167,6 +184,9 @@ class BeamConstants:
         n_axial : int
         station_values : dict, optional
             Numeric value [m] of each station expression used.
+        profiles : dict, optional
+            For each x-profile of a distributed load used, a function of x [m] (array (m,) to
+            array (m,)) with the parameters' values substituted.
 
         Returns
         -------
@@ -186,6 +206,8 @@ class BeamConstants:
                 out[symbol] = EA * ev.derivative_integral(("psi", spec[1]), ("psi", spec[2]), 1)
             elif kind == "station":
                 out[symbol] = ev.at(spec[1], float(station_values[spec[3]]), spec[2])
+            elif kind == "load":
+                out[symbol] = ev.profile_integral(spec[1], profiles[spec[2]])
             elif kind == "shear":
                 out[symbol] = ev.shear_moment(spec[1], spec[2], spec[3])
             else:  # pragma: no cover - specs are made above

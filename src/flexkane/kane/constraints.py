@@ -66,7 +66,8 @@ def loop_constraints(kin: Kinematics) -> ConstraintSet:
         for k, eq in enumerate(eqs):
             names.append(f"{con.name}_{k + 1}")
             phi.append(eq)
-            rates.append(float(con.stabilization))
+            rates.append(kin.value(f"{path}.stabilization", con.stabilization, f"beta_{con.name}")
+                         if isinstance(con.stabilization, str) else float(con.stabilization))
         given = list(con.dependent or [])
         if given and len(given) != len(eqs):
             raise ModelError(f"{path}.dependent", f"{len(eqs)} speed names (one per scalar constraint)", given)

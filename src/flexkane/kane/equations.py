@@ -18,6 +18,7 @@ from ..model.paths import get_value
 from .active import generalized_active_forces
 from .chain import Chain, build_chain
 from .inertia import InertiaForces, generalized_inertia_forces
+from .distributed_loads import load_profile
 from .kinematics import Kinematics
 from .outputs import output_expressions
 
@@ -291,19 +292,21 @@ class EquationsOfMotion:
                 continue
             beam = model.beams[name]
             path = f"beams.{name}"
-            family = shape_family(beam.shape, f"{path}.shape")
-            axial = shape_family(beam.axial_shape, f"{path}.axial_shape") if beam.n_axial else None
-            stations = {}
+            family = shape_family(beam.shape, f"{path}.shape", params)
+            axial = shape_family(beam.axial_shape, f"{path}.axial_shape", params) if beam.n_axial else None
+            stations, profiles = {}, {}
             for spec in consts.used.values():
                 if spec[0] == "station":
                     stations[spec[3]] = to_float(sp.sympify(spec[3]), values, path=f"{path} station")
+                elif spec[0] == "load":
+                    profiles[spec[2]] = load_profile(spec[2], values)
             with np.errstate(over="raise", invalid="raise"):
                 try:
                     beam_values = consts.values(
                 L=number(f"{path}.L", beam.L), rho=number(f"{path}.rho", beam.rho),
                 EI=number(f"{path}.EI", beam.EI), family=family, n=beam.n_modes,
                 EA=number(f"{path}.EA", beam.EA) if beam.EA is not None else None,
-                axial_family=axial, n_axial=beam.n_axial, station_values=stations)
+                axial_family=axial, n_axial=beam.n_axial, station_values=stations, profiles=profiles)
                 except (OverflowError, FloatingPointError, ValueError) as exc:
                     from ..errors import ModelError
 
@@ -350,25 +353,58 @@ class EquationsOfMotion:
         return state
 
 
-def shape_family(spec, path: str):
+def shape_family(spec, path: str, parameters=None):
     """The :class:`~flexkane.modes.ShapeFamily` of a beam's shape specification.
 
-    Expressions of ``xi`` given in a model file (family ``expression``) are parsed with the safe
-    expression language; errors name the key path.
+    Numeric options (typed ``roots``, the family's :attr:`~flexkane.modes.ShapeFamily.numeric_options`
+    such as ``mass_ratio``) are numbers or expressions of the model's parameters, evaluated here
+    with ``parameters``; they give numbers only, never structure, so one derivation serves every
+    value (a sweep over a tip mass updates the modes through the modal constants). Expressions of
+    ``xi`` given in a model file (family ``expression``) are parsed with the safe expression
+    language and may use parameters too. Errors name the key path.
+
+    Parameters
+    ----------
+    spec : ShapeSpec
+        The beam's ``shape`` or ``axial_shape``.
+    path : str
+        Its key path (``beams.B.shape``).
+    parameters : dict of str to float, optional
+        Values of the model's parameters by name; without them only literal numbers are accepted.
     """
     from ..errors import ModelError
-    from ..expressions import parse_expression
-    from ..modes import XI, get_family
+    from ..expressions import parse_expression, to_float
+    from ..modes import XI, get_family, numeric_option_names
+
+    parameters = dict(parameters or {})
+    symbols = {name: sp.Symbol(name, real=True) for name in parameters}
+    numbers = {symbols[name]: float(value) for name, value in parameters.items()}
+
+    def number(value, where):
+        if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+            return value   # the family reports what it expected
+        if not isinstance(value, str):
+            return value
+        return to_float(parse_expression(value, symbols, path=where), numbers, path=where)
 
     options = dict(spec.options)
     if spec.roots is not None:
-        options["roots"] = list(spec.roots)
+        roots = spec.roots
+        options["roots"] = ([number(r, f"{path}.roots[{i}]") for i, r in enumerate(roots)]
+                            if isinstance(roots, (list, tuple)) else roots)
+    for option in numeric_option_names(spec.family):
+        if option in options and option != "roots":
+            options[option] = number(options[option], f"{path}.{option}")
     if spec.family == "expression" and "expressions" in options:
         texts = options["expressions"]
         if not isinstance(texts, list) or not texts:
             raise ModelError(f"{path}.expressions", "a non-empty list of expressions of xi", texts)
-        options["expressions"] = [parse_expression(text, {"xi": XI}, path=f"{path}.expressions[{i}]")
-                                  for i, text in enumerate(texts)]
+        exprs = []
+        for i, text in enumerate(texts):
+            where = f"{path}.expressions[{i}]"
+            expr = parse_expression(text, {**symbols, "xi": XI}, path=where)
+            exprs.append(expr.xreplace({s: sp.Float(numbers[s]) for s in expr.free_symbols if s in numbers}))
+        options["expressions"] = exprs
     try:
         return get_family(spec.family, **options)
     except ModelError as exc:

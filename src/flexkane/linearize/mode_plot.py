@@ -36,7 +36,7 @@ class ChainDrawing:
     """
 
     def __init__(self, linear, points: int = 61):
-        from ..expressions import parse_expression, to_float
+        from ..expressions import parse_expression, resolve_parameters, to_float
         from ..kane.equations import shape_family
 
         lin = linear.linearization
@@ -63,15 +63,17 @@ class ChainDrawing:
             else:
                 self._outlines[name] = None
         self._beams = {}
+        params = resolve_parameters(model.parameters, path_prefix="parameters")
         index = {q: k for k, q in enumerate(self._state)}
         for name, beam in model.beams.items():
             path = f"beams.{name}"
             L = float(sp.sympify(eom.kinematics.value(f"{path}.L", beam.L, f"L_{name}")).xreplace(values))
             xi = np.linspace(0.0, 1.0, points)
             modes = [index[q] for q in eom.chain.beam_modes(name)]
-            phi = shape_family(beam.shape, f"{path}.shape").phi(xi, beam.n_modes) if modes else np.zeros((0, points))
+            phi = (shape_family(beam.shape, f"{path}.shape", params).phi(xi, beam.n_modes) if modes
+                   else np.zeros((0, points)))
             axial = [index[s] for s in eom.chain.beam_axial(name)]
-            psi = (shape_family(beam.axial_shape, f"{path}.axial_shape").phi(xi, beam.n_axial)
+            psi = (shape_family(beam.axial_shape, f"{path}.axial_shape", params).phi(xi, beam.n_axial)
                    if axial else np.zeros((0, points)))
             self._beams[name] = (L * xi, modes, phi, axial, psi)
 

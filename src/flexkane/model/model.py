@@ -6,7 +6,8 @@ import copy
 from dataclasses import dataclass, field
 
 from ..errors import ModelError
-from .parts import Beam, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody, Simulation, Value
+from .parts import (Beam, DistributedLoad, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody,
+                    Simulation, Value)
 
 __all__ = ["Model", "NAMING_STYLES"]
 
@@ -34,6 +35,8 @@ class Model:
     joints : dict of str to Joint
     gravity : Gravity, optional
     loads : dict of str to Load
+    distributed_loads : dict of str to DistributedLoad
+        Forces per unit length along beams.
     springs : dict of str to PointSpring
     constraints : dict of str to LoopConstraint
         Joints that close kinematic loops.
@@ -54,6 +57,7 @@ class Model:
     joints: dict[str, Joint] = field(default_factory=dict)
     gravity: Gravity | None = None
     loads: dict[str, Load] = field(default_factory=dict)
+    distributed_loads: dict[str, DistributedLoad] = field(default_factory=dict)
     springs: dict[str, PointSpring] = field(default_factory=dict)
     constraints: dict[str, LoopConstraint] = field(default_factory=dict)
     initial: dict[str, Value] = field(default_factory=dict)

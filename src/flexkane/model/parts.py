@@ -23,6 +23,8 @@ JOINT_DOFS = {"free": ("x", "y", "angle"), "revolute": ("angle",), "prismatic": 
 GRAVITY_MODELS = ("distributed", "midpoint")
 ELASTIC_MODELS = ("strain-energy", "shear-moment")
 FRAMES = ("ground", "local")
+#: Frames in which the components of a distributed load are given.
+DISTRIBUTED_FRAMES = ("beam", "ground")
 
 
 @dataclass
@@ -253,6 +255,39 @@ class Load:
 
 
 @dataclass
+class DistributedLoad:
+    """A force per unit length along a beam, an expression of x, t and the parameters.
+
+    Its generalized active forces are ``F_r = int_0^L v_P,r . f(x, t) dx`` (the distributed
+    analogue of eq. 8.24, as in eq. 8.28), with ``v_P,r`` the partial velocities of the beam point
+    at x (eq. 8.18); see :mod:`flexkane.kane.distributed_loads` for how the integral over x is done.
+
+    Parameters
+    ----------
+    name : str
+        Unique name.
+    beam : str
+        Name of the loaded beam.
+    fx, fy : Value
+        Components of the force per unit length [N/m], expressions of ``x`` (distance from the
+        beam's root [m]), ``t`` [s] and the parameters; an omitted component is zero.
+    frame : str
+        ``beam`` (components along the axes of the undeformed beam's frame, which turn with the
+        beam's root) or ``ground`` (along i0, j0).
+    quadrature_nodes : int
+        Gauss-Legendre nodes along the beam for the terms of the load that do not separate into a
+        function of t times a function of x.
+    """
+
+    name: str
+    beam: str
+    fx: Value = 0
+    fy: Value = 0
+    frame: str = "beam"
+    quadrature_nodes: int = 16
+
+
+@dataclass
 class PointSpring:
     """A linear spring and damper between two points.
 
@@ -260,8 +295,14 @@ class PointSpring:
     ----------
     name : str
         Unique name.
-    a, b : tuple of (str, str or None)
-        End points as (body, point name) or ("ground", None) with ``a_position``/``b_position``.
+    body_a, body_b : str
+        ``ground``, a body or a beam at each end.
+    point_a, point_b : str, optional
+        Points of bodies (the mass centre when omitted).
+    station_a, station_b : Value, optional
+        Stations x on beams [m]: the end follows the beam's deflected position there (eq. 8.18).
+    position_a, position_b : (Value, Value), optional
+        Positions on the ground [m].
     stiffness : Value
         [N/m].
     damping : Value
@@ -280,6 +321,8 @@ class PointSpring:
     stiffness: Value = 0
     damping: Value = 0
     rest_length: Value = 0
+    station_a: Value | None = None
+    station_b: Value | None = None
 
 
 @dataclass
@@ -311,7 +354,7 @@ class LoopConstraint:
     dependent : list of str, optional
         Names of the generalized speeds made dependent by this constraint (chosen automatically,
         by pivoting on the constraint matrix at the initial configuration, when omitted).
-    stabilization : float
+    stabilization : Value
         Rate [1/s] at which a drift of the constraint is driven back to zero (Baumgarte-type
         velocity stabilization, ``Phi' = -rate * Phi``); 0 keeps the exact velocity constraint.
     """
@@ -329,7 +372,7 @@ class LoopConstraint:
     axis: Value = 0
     angle: Value = 0
     dependent: list[str] | None = None
-    stabilization: float = 0.0
+    stabilization: Value = 0.0
 
 
 @dataclass
@@ -348,6 +391,12 @@ class Simulation:
         ``auto`` or a method name.
     max_steps : int, optional
         Most integration steps of a run; 1,000,000 when omitted.
+    deflection_warning : float
+        A run warns when a beam's transverse deflection exceeds this fraction of its length [-]
+        (the assumed modes of eq. 8.15 describe small deflections).
+    spin_warning : float
+        A run warns when a beam without ``geometric_stiffening`` turns faster than this fraction
+        of its first bending frequency [-] (the linear modes then miss the centrifugal stiffening).
     """
 
     t_end: float | None = None
@@ -356,3 +405,5 @@ class Simulation:
     atol: float = 1e-10
     method: str = "auto"
     max_steps: int | None = None
+    deflection_warning: float = 0.1
+    spin_warning: float = 0.1

@@ -8,10 +8,11 @@ The file has one table per kind of part, keyed by name::
     [joints.NAME]           # type, parent, child, parent_point | parent_position | station, ...
     [gravity]               # g, direction
     [loads.NAME]            # body, point | station, force, torque, frame
-    [springs.NAME]          # body_a, point_a | position_a, body_b, ..., stiffness, damping, rest_length
+    [distributed_loads.NAME]  # beam, fx, fy (expressions of x, t), frame, quadrature_nodes
+    [springs.NAME]          # body_a, point_a | station_a | position_a, body_b, ..., stiffness, damping, rest_length
     [constraints.NAME]      # loop-closure joints: type, body_a, point_a | station_a | position_a, ...
     [initial]               # coordinate or speed name = value
-    [simulation]            # t_end, dt_out, rtol, atol, method, max_steps
+    [simulation]            # t_end, dt_out, rtol, atol, method, max_steps, deflection_warning, spin_warning
     [sweep]                 # read by flexkane.sweep, ignored here
 
 Reading checks the layout of the file: tables where tables belong, no unknown key (a typo is
@@ -32,7 +33,7 @@ import tomli_w
 
 from ..errors import ModelError
 from .model import Model
-from .parts import (Beam, Driver, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody,
+from .parts import (Beam, DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody,
                     ShapeSpec, Simulation)
 
 __all__ = ["load_model", "loads_model", "dumps_model", "save_model", "model_to_dict", "MAX_FILE_BYTES"]
@@ -41,7 +42,7 @@ __all__ = ["load_model", "loads_model", "dumps_model", "save_model", "model_to_d
 MAX_FILE_BYTES = 1_000_000
 
 _TOP_KEYS = ("name", "description", "naming", "parameters", "bodies", "beams", "joints", "gravity",
-             "loads", "springs", "constraints", "initial", "simulation", "sweep")
+             "loads", "distributed_loads", "springs", "constraints", "initial", "simulation", "sweep")
 _BODY_KEYS = ("mass", "inertia", "points", "outline")
 _BEAM_KEYS = ("L", "EI", "rho", "n_modes", "shape", "damping", "gravity", "elastic_forces",
               "geometric_stiffening", "EA", "n_axial", "axial_shape")
@@ -51,11 +52,12 @@ _JOINT_KEYS = ("type", "parent", "child", "parent_point", "parent_position", "st
 _DRIVER_KEYS = ("coordinate", "speed")
 _GRAVITY_KEYS = ("g", "direction")
 _LOAD_KEYS = ("body", "point", "station", "force", "torque", "frame")
-_SPRING_KEYS = ("body_a", "point_a", "position_a", "body_b", "point_b", "position_b", "stiffness",
-                "damping", "rest_length")
+_DISTRIBUTED_KEYS = ("beam", "fx", "fy", "frame", "quadrature_nodes")
+_SPRING_KEYS = ("body_a", "point_a", "station_a", "position_a", "body_b", "point_b", "station_b", "position_b",
+                "stiffness", "damping", "rest_length")
 _CONSTRAINT_KEYS = ("type", "body_a", "point_a", "station_a", "position_a", "body_b", "point_b", "station_b",
                     "position_b", "axis", "angle", "dependent", "stabilization")
-_SIM_KEYS = ("t_end", "dt_out", "rtol", "atol", "method", "max_steps")
+_SIM_KEYS = ("t_end", "dt_out", "rtol", "atol", "method", "max_steps", "deflection_warning", "spin_warning")
 
 _MISSING = object()
 
@@ -187,14 +189,22 @@ def _model_from_dict(data: dict) -> Model:
                                  point=load.get("point"), station=load.get("station"),
                                  force=_pair(load, "force", path), torque=load.get("torque"),
                                  frame=load.get("frame", "ground"))
+    for name, table in _parts(data, "distributed_loads", _DISTRIBUTED_KEYS).items():
+        path = f"distributed_loads.{name}"
+        model.distributed_loads[name] = DistributedLoad(
+            name, _get(table, "beam", path, "the name of the loaded beam"), fx=table.get("fx", 0),
+            fy=table.get("fy", 0), frame=table.get("frame", "beam"),
+            quadrature_nodes=table.get("quadrature_nodes", DistributedLoad.quadrature_nodes))
     for name, spring in _parts(data, "springs", _SPRING_KEYS).items():
         path = f"springs.{name}"
         model.springs[name] = PointSpring(
-            name, _get(spring, "body_a", path, "'ground' or a body"), _get(spring, "body_b", path, "'ground' or a body"),
+            name, _get(spring, "body_a", path, "'ground', a body or a beam"),
+            _get(spring, "body_b", path, "'ground', a body or a beam"),
             point_a=spring.get("point_a"), point_b=spring.get("point_b"),
             position_a=_pair(spring, "position_a", path), position_b=_pair(spring, "position_b", path),
             stiffness=spring.get("stiffness", 0), damping=spring.get("damping", 0),
-            rest_length=spring.get("rest_length", 0))
+            rest_length=spring.get("rest_length", 0),
+            station_a=spring.get("station_a"), station_b=spring.get("station_b"))
     for name, con in _parts(data, "constraints", _CONSTRAINT_KEYS).items():
         path = f"constraints.{name}"
         model.constraints[name] = LoopConstraint(
@@ -209,7 +219,9 @@ def _model_from_dict(data: dict) -> Model:
     sim = _table(data, "simulation", "", "a table of run settings")
     _check_keys(sim, _SIM_KEYS, "simulation")
     model.simulation = Simulation(_float(sim, "t_end"), _float(sim, "dt_out"), _float(sim, "rtol", 1e-8),
-                                  _float(sim, "atol", 1e-10), sim.get("method", "auto"), sim.get("max_steps"))
+                                  _float(sim, "atol", 1e-10), sim.get("method", "auto"), sim.get("max_steps"),
+                                  _float(sim, "deflection_warning", Simulation.deflection_warning),
+                                  _float(sim, "spin_warning", Simulation.spin_warning))
     return model
 
 
@@ -334,10 +346,19 @@ def model_to_dict(model: Model) -> dict:
         out["loads"] = {ld.name: _drop_none({"body": ld.body, "point": ld.point, "station": ld.station,
                                              "force": ld.force, "torque": ld.torque,
                                              "frame": ld.frame}) for ld in model.loads.values()}
+    if model.distributed_loads:
+        loads = {}
+        for d in model.distributed_loads.values():
+            t = {"beam": d.beam, "fx": d.fx, "fy": d.fy, "frame": d.frame, "quadrature_nodes": d.quadrature_nodes}
+            for key in ("fx", "fy", "quadrature_nodes"):
+                if t[key] == getattr(DistributedLoad, key):
+                    del t[key]
+            loads[d.name] = t
+        out["distributed_loads"] = loads
     if model.springs:
         out["springs"] = {s.name: _drop_none({
-            "body_a": s.body_a, "point_a": s.point_a, "position_a": s.position_a,
-            "body_b": s.body_b, "point_b": s.point_b, "position_b": s.position_b,
+            "body_a": s.body_a, "point_a": s.point_a, "station_a": s.station_a, "position_a": s.position_a,
+            "body_b": s.body_b, "point_b": s.point_b, "station_b": s.station_b, "position_b": s.position_b,
             "stiffness": s.stiffness, "damping": s.damping, "rest_length": s.rest_length})
             for s in model.springs.values()}
     if model.constraints:
@@ -359,6 +380,9 @@ def model_to_dict(model: Model) -> dict:
     sim = _drop_none({"t_end": model.simulation.t_end, "dt_out": model.simulation.dt_out,
                       "rtol": model.simulation.rtol, "atol": model.simulation.atol,
                       "method": model.simulation.method, "max_steps": model.simulation.max_steps})
+    for key in ("deflection_warning", "spin_warning"):
+        if getattr(model.simulation, key) != getattr(Simulation, key):
+            sim[key] = getattr(model.simulation, key)
     out["simulation"] = sim
     return out
 

@@ -29,8 +29,9 @@ import sympy as sp
 
 from ..errors import ModelError
 from .model import NAMING_STYLES, Model
-from .parts import (ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES, Beam, Driver,
-                    Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody, ShapeSpec, Simulation)
+from .parts import (DISTRIBUTED_FRAMES, ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES, Beam,
+                    DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody, ShapeSpec,
+                    Simulation)
 
 __all__ = ["validate_model", "validate_run_arguments", "MAX_MODES", "METHODS", "is_name"]
 
@@ -184,7 +185,8 @@ def validate_model(model: Model) -> None:
     values = _Values(model)
     bodies = _table(model, "bodies", RigidBody)
     beams = _table(model, "beams", Beam)
-    for kind, cls in (("joints", Joint), ("loads", Load), ("springs", PointSpring),
+    for kind, cls in (("joints", Joint), ("loads", Load), ("distributed_loads", DistributedLoad),
+                      ("springs", PointSpring),
                       ("constraints", LoopConstraint)):
         _table(model, kind, cls)
     for name in beams:
@@ -204,8 +206,10 @@ def validate_model(model: Model) -> None:
     _check_tree(model)
     for load in model.loads.values():
         _check_load(model, load, values, lengths)
+    for load in model.distributed_loads.values():
+        _check_distributed_load(model, load, values, lengths)
     for spring in model.springs.values():
-        _check_spring(model, spring, values)
+        _check_spring(model, spring, values, lengths)
     for con in model.constraints.values():
         _check_constraint(model, con, values, lengths)
     _check_gravity(model.gravity, values)
@@ -231,15 +235,20 @@ def _check_body(body: RigidBody, values: _Values) -> None:
         values.pair(f"{path}.outline[{k}]", xy, "vertex coordinates from the mass centre", "m")
 
 
-def _check_shape_spec(path: str, spec) -> None:
+def _check_shape_spec(path: str, spec, values: _Values) -> None:
     if not isinstance(spec, ShapeSpec):
         raise ModelError(path, "a shape family name or a table { family = ... }", spec)
     if not isinstance(spec.family, str):
         raise ModelError(f"{path}.family", "the name of a shape-function family", spec.family)
     if spec.roots is not None:
-        if not isinstance(spec.roots, (list, tuple)) or not spec.roots or any(
-                not _is_value(r) or isinstance(r, str) or not (math.isfinite(r) and r > 0) for r in spec.roots):
-            raise ModelError(f"{path}.roots", "a non-empty list of positive finite numbers lambda_i [-]", spec.roots)
+        expected = "a non-empty list of positive finite values lambda_i [-] (numbers or expressions of the parameters)"
+        if not isinstance(spec.roots, (list, tuple)) or not spec.roots:
+            raise ModelError(f"{path}.roots", expected, spec.roots)
+        for i, root in enumerate(spec.roots):
+            number = values.number(f"{path}.roots[{i}]", root, "eigenvalue parameter lambda_i", "-")
+            if not number > 0:
+                raise ModelError(f"{path}.roots", expected, list(spec.roots),
+                                 f"roots[{i}] = {values.shown(root, number)}")
     if not isinstance(spec.options, dict):
         raise ModelError(path, "family options as a table", spec.options)
 
@@ -250,7 +259,7 @@ def _check_beam(beam: Beam, values: _Values) -> float:
     values.positive(f"{path}.EI", beam.EI, "flexural rigidity", "N m^2")
     values.positive(f"{path}.rho", beam.rho, "mass per unit length", "kg/m")
     n = _integer(f"{path}.n_modes", beam.n_modes, 1, MAX_MODES, "number of shape functions")
-    _check_shape_spec(f"{path}.shape", beam.shape)
+    _check_shape_spec(f"{path}.shape", beam.shape, values)
     if beam.shape.roots is not None and len(beam.shape.roots) != n:
         raise ModelError(f"{path}.shape.roots", f"{n} roots lambda_i (one per mode, n_modes = {n})",
                          list(beam.shape.roots))
@@ -275,7 +284,7 @@ def _check_beam(beam: Beam, values: _Values) -> float:
         if beam.axial_shape is None:
             raise ModelError(f"{path}.axial_shape", "an axial shape family (required with n_axial > 0)",
                              None, show_given=False)
-        _check_shape_spec(f"{path}.axial_shape", beam.axial_shape)
+        _check_shape_spec(f"{path}.axial_shape", beam.axial_shape, values)
     if beam.elastic_forces == "shear-moment" and (beam.geometric_stiffening or n_axial):
         raise ModelError(f"{path}.elastic_forces", "'strain-energy' with geometric_stiffening or axial modes",
                          beam.elastic_forces)
@@ -428,23 +437,50 @@ def _check_load(model: Model, load: Load, values: _Values, lengths: dict) -> Non
     _choice(f"{path}.frame", load.frame, FRAMES)
 
 
-def _check_end(model: Model, path: str, part, end: str, values: _Values, lengths: dict | None) -> None:
-    """One end of a spring (lengths None: no beams) or of a loop constraint."""
+def _check_distributed_load(model: Model, load: DistributedLoad, values: _Values, lengths: dict) -> None:
+    from ..expressions import parse_expression, to_float
+    from ..kane.distributed_loads import POSITION
+
+    path = f"distributed_loads.{load.name}"
+    beams = list(model.beams)
+    if not isinstance(load.beam, str) or load.beam not in model.beams:
+        raise ModelError(f"{path}.beam", f"the name of a beam ({', '.join(beams) or 'the model has none'})",
+                         load.beam, _suggest(load.beam, beams) if isinstance(load.beam, str) else None)
+    _choice(f"{path}.frame", load.frame, DISTRIBUTED_FRAMES)
+    _integer(f"{path}.quadrature_nodes", load.quadrature_nodes, 1, 200, "number of Gauss-Legendre nodes")
+    if "x" in values.names:
+        raise ModelError("parameters.x", "parameter names other than 'x' in a model with distributed loads "
+                         "(x is the position along the beam)", "x")
+    kind = "force per unit length [N/m], a number or an expression of x [m], t [s] and the parameters"
+    length = lengths[load.beam]
+    for key in ("fx", "fy"):
+        value = getattr(load, key)
+        if not _is_value(value):
+            raise ModelError(f"{path}.{key}", kind, value)
+        expr = parse_expression(value, {**values.names, "t": values.t, "x": POSITION}, path=f"{path}.{key}")
+        for x in (0.0, 0.5 * length, length):
+            try:
+                to_float(expr, {**values.numbers, values.t: 0.0, POSITION: x}, path=f"{path}.{key}")
+            except ModelError as exc:
+                raise ModelError(f"{path}.{key}", f"{kind}, finite at t = 0 along the beam", value,
+                                 f"at x = {x:g} m: {exc.hint or exc.expected}") from None
+    if all(isinstance(v, (int, float)) and v == 0 for v in (load.fx, load.fy)):
+        raise ModelError(path, "a non-zero component fx or fy [N/m]", None, show_given=False)
+
+
+def _check_end(model: Model, path: str, part, end: str, values: _Values, lengths: dict) -> None:
+    """One end of a spring or of a loop constraint."""
     body = getattr(part, f"body_{end}")
     given = {key: getattr(part, f"{key}_{end}", None) for key in ("point", "station", "position")}
     if body == "ground":
         allowed = "position"
     elif isinstance(body, str) and body in model.bodies:
         allowed = "point"
-    elif lengths is not None and isinstance(body, str) and body in model.beams:
+    elif isinstance(body, str) and body in model.beams:
         allowed = "station"
-    elif lengths is None and isinstance(body, str) and body in model.beams:
-        raise ModelError(f"{path}.body_{end}", "'ground' or a body (a spring does not attach to a beam: "
-                         "weld a small body to the beam's station and attach the spring to it)", body)
     else:
-        options = ["ground"] + (model.link_names() if lengths is not None else list(model.bodies))
-        what = "a body or a beam" if lengths is not None else "a body"
-        raise ModelError(f"{path}.body_{end}", f"'ground' or {what} ({', '.join(options)})", body,
+        options = ["ground"] + model.link_names()
+        raise ModelError(f"{path}.body_{end}", f"'ground' or a body or a beam ({', '.join(options)})", body,
                          _suggest(body, options) if isinstance(body, str) else None)
     for key, value in given.items():
         if value is not None and key != allowed:
@@ -460,10 +496,10 @@ def _check_end(model: Model, path: str, part, end: str, values: _Values, lengths
         values.pair(f"{path}.position_{end}", given["position"], "ground coordinates", "m")
 
 
-def _check_spring(model: Model, spring: PointSpring, values: _Values) -> None:
+def _check_spring(model: Model, spring: PointSpring, values: _Values, lengths: dict) -> None:
     path = f"springs.{spring.name}"
     for end in ("a", "b"):
-        _check_end(model, path, spring, end, values, None)
+        _check_end(model, path, spring, end, values, lengths)
     if spring.body_a == "ground" and spring.body_b == "ground":
         raise ModelError(f"{path}.body_b", "a body at one end at least", spring.body_b)
     values.non_negative(f"{path}.stiffness", spring.stiffness, "spring stiffness", "N/m")
@@ -483,9 +519,7 @@ def _check_constraint(model: Model, con: LoopConstraint, values: _Values, length
     values.number(f"{path}.axis", con.axis, "slide direction angle in frame a", "rad")
     values.number(f"{path}.angle", con.angle, "angle of frame b relative to frame a", "rad")
     _names_list(f"{path}.dependent", con.dependent, 2, "dependent speed")
-    rate = con.stabilization
-    if isinstance(rate, bool) or not isinstance(rate, numbers.Real) or not (math.isfinite(rate) and rate >= 0):
-        raise ModelError(f"{path}.stabilization", "a non-negative finite rate [1/s]", rate)
+    values.non_negative(f"{path}.stabilization", con.stabilization, "constraint stabilization rate", "1/s")
 
 
 def _check_gravity(gravity, values: _Values) -> None:
@@ -495,11 +529,11 @@ def _check_gravity(gravity, values: _Values) -> None:
         raise ModelError("gravity", "a table { g = ..., direction = [x, y] }", gravity)
     values.non_negative("gravity.g", gravity.g, "gravitational acceleration", "m/s^2")
     direction = gravity.direction
-    if not _is_pair(direction) or any(not _is_value(c) or isinstance(c, str) or not math.isfinite(c)
-                                       for c in direction):
-        raise ModelError("gravity.direction", "two finite numbers [x, y] (a direction in the ground frame)",
+    if not _is_pair(direction):
+        raise ModelError("gravity.direction", "two finite values [x, y] (a direction in the ground frame)",
                          direction)
-    if direction[0] == 0 and direction[1] == 0:
+    components = values.pair("gravity.direction", direction, "direction components in the ground frame", "-")
+    if components[0] == 0 and components[1] == 0:
         raise ModelError("gravity.direction", "a non-zero direction [x, y]", list(direction))
 
 
@@ -507,7 +541,9 @@ def _check_simulation(sim) -> None:
     if not isinstance(sim, Simulation):
         raise ModelError("simulation", "a table of run settings", sim)
     for key, what in (("t_end", "end time [s]"), ("dt_out", "output interval [s]"),
-                      ("atol", "absolute tolerance [units of each state]")):
+                      ("atol", "absolute tolerance [units of each state]"),
+                      ("deflection_warning", "fraction of a beam's length [-] above which a run warns"),
+                      ("spin_warning", "fraction of a beam's first bending frequency [-] above which a run warns")):
         value = getattr(sim, key)
         if value is None and key != "atol":
             continue
@@ -567,12 +603,12 @@ def validate_run_arguments(*, t_end, dt_out, rtol, atol, method="auto", max_step
 
 
 # ------------------------------------------------------------------------------------ structure
-def _family(spec: ShapeSpec, path: str, n: int, kind: str) -> None:
+def _family(spec: ShapeSpec, path: str, n: int, kind: str, values: _Values) -> None:
     """Build the shape family, check that it is of ``kind`` and provides ``n`` functions."""
     from ..kane.equations import shape_family
 
     try:
-        family = shape_family(spec, path)
+        family = shape_family(spec, path, {name: values.numbers[s] for name, s in values.names.items()})
     except ModelError as exc:
         hint = exc.hint
         option = exc.path.rsplit(".", 1)[-1]
@@ -599,9 +635,9 @@ def _check_structure(model: Model, values: _Values) -> None:
 
     for beam in model.beams.values():
         path = f"beams.{beam.name}"
-        _family(beam.shape, f"{path}.shape", beam.n_modes, "transverse")
+        _family(beam.shape, f"{path}.shape", beam.n_modes, "transverse", values)
         if beam.n_axial:
-            _family(beam.axial_shape, f"{path}.axial_shape", beam.n_axial, "axial")
+            _family(beam.axial_shape, f"{path}.axial_shape", beam.n_axial, "axial", values)
     chain = build_chain(model)   # coordinate names; initial conditions name existing coordinates
     units = {}
     for coord in chain.coordinates:

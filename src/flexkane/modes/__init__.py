@@ -36,7 +36,7 @@ from .tip_mass import ClampedFreeTipMass
 from .transverse import (ClampedClamped, ClampedFree, ClampedPinned, FreeFree, PinnedFree,
                          PinnedPinned)
 
-__all__ = ["get_family", "family_names", "ShapeFamily", "RigidMode", "XI"]
+__all__ = ["get_family", "family_names", "numeric_option_names", "ShapeFamily", "RigidMode", "XI"]
 
 _FAMILIES: dict[str, type[ShapeFamily]] = {
     cls.name: cls for cls in (ClampedFree, PinnedFree, PinnedPinned, ClampedPinned, ClampedClamped,
@@ -48,6 +48,16 @@ _FAMILIES: dict[str, type[ShapeFamily]] = {
 def family_names() -> tuple[str, ...]:
     """Names accepted by :func:`get_family`, in the order of the table above."""
     return tuple(_FAMILIES)
+
+
+def numeric_option_names(name: str) -> tuple[str, ...]:
+    """The numeric options of family ``name`` (empty for an unknown name).
+
+    In a model file these are numbers or expressions of the parameters; they change the modal
+    constants, never the structure of the equations.
+    """
+    cls = _FAMILIES.get(name) if isinstance(name, str) else None
+    return cls.numeric_options if cls is not None else ()
 
 
 def get_family(name: str, **options: Any) -> ShapeFamily:

@@ -149,6 +149,9 @@ class ShapeFamily(abc.ABC):
     kind: str = "transverse"
     #: Names of the options ``get_family`` accepts for this family.
     option_names: tuple[str, ...] = ()
+    #: The options that are numbers (in a model file: numbers or expressions of the parameters,
+    #: evaluated per parameter set); the others (names, boundaries) are structure.
+    numeric_options: tuple[str, ...] = ()
     #: Rigid-body modes, excluded from :meth:`phi`.
     rigid_modes: tuple[RigidMode, ...] = ()
 

@@ -66,6 +66,7 @@ class ClampedFreeTipMass(EigenFamily):
     name = "clamped-free-tip-mass"
     boundary = "clamped-free"
     option_names = ("mass_ratio", "inertia_ratio")
+    numeric_options = ("mass_ratio", "inertia_ratio")
 
     def __init__(self, mass_ratio: Any = None, inertia_ratio: Any = None):
         mu = _ratio(mass_ratio, "mass_ratio",

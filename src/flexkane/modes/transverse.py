@@ -79,6 +79,7 @@ class ClampedFree(EigenFamily):
     name = "clamped-free"
     boundary = "clamped-free"
     option_names = ("roots",)
+    numeric_options = ("roots",)
 
     def __init__(self, roots: Any = None):
         typed = None
