@@ -18,7 +18,7 @@ from pathlib import Path
 
 import sympy as sp
 
-from . import __version__
+from ._version import __version__
 
 __all__ = ["collect_terms", "latex_names", "format_equations", "equations_markdown", "equations_latex",
            "constant_rows", "render_pdf", "PDFLATEX_MISSING"]
