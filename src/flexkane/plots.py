@@ -75,35 +75,6 @@ def _save(fig, path: Path) -> Path:
     return path
 
 
-class _SeriesFigure:
-    """One figure reused for a run's single-variable plots: each plot updates the curve and labels.
-
-    Drawing a new figure per state variable costs its creation and layout every time; updating one
-    line's data is a fraction of that.
-    """
-
-    def __init__(self, title: str = ""):
-        self.figure, self.axes = _new_figure(6.4, 3.8)
-        self.line = None
-        if title:
-            self.axes.set_title(title, fontsize=10)
-        self.axes.set_xlabel("t [s]")
-        self.axes.grid(alpha=0.3)
-        _margins(self.figure, title=bool(title))
-
-    def save(self, t, values, name: str, unit: str, path: Path) -> Path:
-        """Plot ``values`` (label ``name`` [``unit``]) against ``t`` [s] into ``path``."""
-        if self.line is None:
-            (self.line,) = self.axes.plot(t, values, label=name, lw=1.4)
-        else:
-            self.line.set_data(t, values)
-            self.line.set_label(name)
-            self.axes.relim()
-            self.axes.autoscale_view()
-        self.axes.set_ylabel(f"{name} [{unit}]")
-        return _save(self.figure, path)
-
-
 def plot_series(results: Results, names: list[str], unit: str, path: Path, title: str = "") -> Path:
     """One figure of the named columns against t [s]."""
     fig, ax = _new_figure(6.4, 3.8)
@@ -199,9 +170,8 @@ def write_plots(results: Results, eom, directory: Path) -> list[Path]:
     unit = units(eom)
     title = eom.model.name
     paths = []
-    series = _SeriesFigure(title)
     for name in results.state_names:
-        paths.append(series.save(results.t, results[name], name, unit.get(name, "-"), directory / f"{name}.png"))
+        paths.append(plot_series(results, [name], unit.get(name, "-"), directory / f"{name}.png", title))
     tips = [k for k in results.outputs if k.startswith("tip_")]
     if tips:
         paths.append(plot_series(results, tips, "m", directory / "tip_deflection.png",

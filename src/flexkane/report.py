@@ -192,7 +192,7 @@ def _tokens(expr: sp.Expr, names: dict, order=None) -> list:
     if not isinstance(expr, sp.Add):
         return _product_tokens(expr, names)
     out = []
-    for i, term in enumerate(sorted(sp.Add.make_args(expr), key=order) if order else sp.Add.make_args(expr)):
+    for i, term in enumerate(sorted(sp.Add.make_args(expr), key=order) if order else _natural_terms(expr)):
         coeff, _ = term.as_coeff_Mul()
         negative = coeff.is_negative
         body = _product_tokens(-term if negative else term, names)
