@@ -69,3 +69,16 @@ def test_modes_help_still_lists_every_family(capsys):
         main(["modes", "--help"])
     text = "".join(capsys.readouterr().out.split())          # help wraps lines, also at hyphens
     assert ",".join(family_names()) in text
+
+
+def test_check_of_every_builtin_model_loads_no_scipy_numba_or_matplotlib():
+    """``check`` validates with the expression language and the chain's coordinates; it still needs
+    SymPy (the expressions are SymPy objects), but none of the numerical or plotting libraries."""
+    from flexkane.builtin import builtin_names
+
+    code = ("from flexkane.cli import main\n"
+            f"codes = [main(['check', name]) for name in {list(builtin_names())!r}]\n"
+            "print(codes)")
+    found = heavy_modules_after(code)
+    assert found["printed"].splitlines()[-1] == str([0] * len(builtin_names()))
+    assert set(found["heavy"]) <= {"sympy"}
