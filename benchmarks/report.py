@@ -221,6 +221,10 @@ def markdown(results) -> str:
     else:
         md += [f"Not run: {sweep.get('skipped') or sweep.get('error')}", ""]
     md += ["## Notes", "", NOTES]
+    if "rows" in results.get("startup", {}):
+        from startup import markdown as startup_markdown
+
+        md += [""] + startup_markdown(results["startup"], info)
     return "\n".join(md) + "\n"
 
 

@@ -7,6 +7,7 @@ Sections (one script each, also runnable alone):
 (c) ``exudyn_arm.py``   flexible-arm against Exudyn at matched tip-deflection accuracy;
 (d) ``simulation.py``   one evaluation and a whole run against the @njit yardstick (``njit_yardstick.py``);
 (e) ``scaling.py``      times against the number of modes (1-40) and of flexible links (1-5);
+(f) ``startup.py``      start-up of the command (--help, --version, check), derive n = 40, a cached run;
 and, when the sweep module and Dask are installed, ``sweep_throughput.py`` (variants per second).
 
 Compiled models go to a fresh cache directory, so compile times are those of a first run.
@@ -97,6 +98,8 @@ def main() -> dict:
     else:
         _section("scaling", scaling.run, results)
     _section("sweep", _sweep, results, quick)
+    import startup
+    _section("startup", startup.run, results, quick)
     results["machine"]["load_average_end"] = os.getloadavg()[0]
     results["total_seconds"] = time.perf_counter() - start
     summary = report.summary_lines(results)

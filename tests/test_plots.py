@@ -112,3 +112,14 @@ def test_results_npz_reads_back_state_outputs_model_parameters_and_solver(tmp_pa
     assert back.model_text == res.model_text and back.parameters == res.parameters
     assert back.solver == res.solver and back.version == flexkane.__version__ and not back.partial
     assert flexkane.loads_model(back.model_text).name == "flexible-arm"
+
+
+def test_run_with_no_plots_writes_no_png(tmp_path, capsys):
+    from flexkane.cli import main
+
+    out = tmp_path / "run"
+    assert main(["run", "falling-beam", "--out", str(out), "--quiet", "--t-end", "0.05", "--no-plots"]) == 0
+    written = {p.name for p in out.iterdir()}
+    assert {"results.csv", "results.npz", "equations.md"} <= written
+    assert not [name for name in written if name.endswith(".png")]
+

@@ -117,3 +117,33 @@ def test_run_writes_equations_md_and_tex_and_handles_pdf(tmp_path, capsys):
         assert (out / "equations.pdf").read_bytes().startswith(b"%PDF")
     else:
         assert "pdflatex is not on PATH" in capsys.readouterr().err
+
+
+def test_modal_constants_and_terms_print_in_natural_order():
+    eom = flexkane.derive(flexkane.builtin_model("falling-beam-exact").with_modes(11))
+    names = [s.name for s in eom.constants]
+    e = [n for n in names if n.startswith("E_")]
+    assert e == [f"E_{i}" for i in range(1, 12)]                  # not E_1, E_10, E_11, E_2, ...
+    assert names.index("G_2_11") < names.index("G_9_10") < names.index("G_10_11")
+    text = report.format_equations(eom)
+    first = text.splitlines()[0]
+    assert first.startswith("F*[u1] = u1'*")                        # terms in u' first, by speed
+    assert " + ".join(f"E_{i}*q{i + 3}" for i in range(1, 12)) in first
+    rows = [row[0] for row in report.constant_rows(eom)]
+    assert rows.index("E_{2}") < rows.index("E_{10}") < rows.index("E_{11}")
+    latex = report.format_equations(eom, latex=True)
+    assert latex.index(r"E_{9} q_{12}") < latex.index(r"E_{10} q_{13}")
+
+
+@pytest.mark.parametrize("name, modes", [("falling-beam-exact", 3), ("flexible-arm", None)])
+def test_grouping_by_speed_derivatives_equals_sympy_collect(name, modes):
+    import sympy as sp
+
+    model = flexkane.builtin_model(name)
+    eom = flexkane.derive(model.with_modes(modes) if modes else model)
+    ud = list(eom.chain.ud.values())
+    for expr in list(eom.F_r_star) + [e for forces in eom.F_r.values() for e in forces]:
+        expanded = sp.expand(expr)
+        assert report._collect_linear(expanded, ud) == sp.collect(expanded, ud)
+    x = sp.Symbol("x")
+    assert report._collect_linear(sp.expand(ud[0] ** 2 + x * ud[0]), ud) is None      # not linear in u'

@@ -7,20 +7,63 @@ The pipeline, one public function per stage::
     compiled = flexkane.compile_model(eom)                     # Numba right-hand side, cached on disk
     results = flexkane.simulate(compiled, t_end=1.0, dt_out=0.01)
     results["q4"], results["energy"]
+
+The public names are imported on first use (PEP 562), so that ``import flexkane`` and the command
+line's ``--help``, ``--version`` and ``check`` do not load SymPy, SciPy, Numba or matplotlib.
 """
 
-__version__ = "0.1.0"
+from __future__ import annotations
 
-from .builtin import builtin_model, builtin_names  # noqa: E402
-from .kane import EquationsOfMotion, derive  # noqa: E402
-from .model import Model, dumps_model, load_model, loads_model, save_model  # noqa: E402
-from .results import Results, load_results  # noqa: E402
-from .simulation import compile_model, simulate  # noqa: E402
-from .linearize import linearize, modal_analysis  # noqa: E402
-from .errors import FlexkaneError, ModelError, SolverFailure  # noqa: E402
-from .extras import MissingExtraError  # noqa: E402
+import importlib
+import sys
+import types
+
+from ._version import __version__
+
+#: Public name -> module (relative to this package) that defines it.
+_PUBLIC = {
+    "builtin_model": ".builtin", "builtin_names": ".builtin",
+    "EquationsOfMotion": ".kane", "derive": ".kane",
+    "Model": ".model", "dumps_model": ".model", "load_model": ".model", "loads_model": ".model",
+    "save_model": ".model",
+    "Results": ".results", "load_results": ".results",
+    "compile_model": ".simulation", "simulate": ".simulation",
+    "linearize": ".linearize", "modal_analysis": ".linearize",
+    "FlexkaneError": ".errors", "ModelError": ".errors", "SolverFailure": ".errors",
+    "MissingExtraError": ".extras",
+}
 
 __all__ = ["__version__", "Model", "load_model", "loads_model", "dumps_model", "save_model",
            "builtin_model", "builtin_names", "derive", "EquationsOfMotion", "compile_model", "simulate",
            "Results", "load_results", "linearize", "modal_analysis",
            "FlexkaneError", "ModelError", "SolverFailure", "MissingExtraError"]
+
+
+def __getattr__(name: str):
+    """Import a public name's module on first access and cache the name here."""
+    module = _PUBLIC.get(name)
+    if module is None:
+        raise AttributeError(f"module 'flexkane' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module, __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_PUBLIC))
+
+
+class _Package(types.ModuleType):
+    """This package's module type: ``flexkane.linearize`` stays the function, as it always was.
+
+    Importing the subpackage :mod:`flexkane.linearize` sets the package attribute of the same name to
+    the subpackage; the public name is the function :func:`flexkane.linearize.linearize`.
+    """
+
+    def __setattr__(self, name: str, value) -> None:
+        if name == "linearize" and isinstance(value, types.ModuleType) and hasattr(value, "linearize"):
+            value = value.linearize
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package

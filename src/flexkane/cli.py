@@ -32,7 +32,7 @@ class _Parser(argparse.ArgumentParser):
 
 def build_parser() -> argparse.ArgumentParser:
     """Build the top-level parser with every available subcommand."""
-    from . import __version__
+    from ._version import __version__
 
     parser = _Parser(prog="flexkane",
                      description="Dynamics of planar chains with flexible links, by Kane's method.")

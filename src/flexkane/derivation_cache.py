@@ -53,7 +53,7 @@ from pathlib import Path
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
-from . import __version__
+from ._version import __version__
 from .model import Model
 
 __all__ = ["VALUE_FIELDS", "cache_path", "cached_derive", "cached_rhs_source", "structure_signature"]

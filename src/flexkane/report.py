@@ -17,8 +17,12 @@ import tempfile
 from pathlib import Path
 
 import sympy as sp
+from sympy.printing.latex import LatexPrinter
+from sympy.printing.precedence import precedence
+from sympy.printing.str import StrPrinter
 
-from . import __version__
+from ._version import __version__
+from .natural_order import natural_key
 
 __all__ = ["collect_terms", "latex_names", "format_equations", "equations_markdown", "equations_latex",
            "constant_rows", "render_pdf", "PDFLATEX_MISSING"]
@@ -43,10 +47,43 @@ def collect_terms(eom, expr: sp.Expr) -> sp.Expr:
     thousands of terms) are split into ``sum_s (dF/du'_s) u'_s`` plus the rest, unexpanded.
     """
     ud = list(eom.chain.ud.values())
-    if sp.count_ops(expr) <= _EXPAND_LIMIT:
-        return sp.collect(sp.expand(expr), ud)
+    # a sum of n terms has at least n - 1 operations: the bound spares counting those of a long sum
+    if len(sp.Add.make_args(expr)) - 1 <= _EXPAND_LIMIT and sp.count_ops(expr) <= _EXPAND_LIMIT:
+        expanded = sp.expand(expr)
+        grouped = _collect_linear(expanded, ud)
+        return grouped if grouped is not None else sp.collect(expanded, ud)
+    grouped = _collect_linear(expr, ud)      # each u' a factor of a term: group without expanding
+    if grouped is not None:
+        return grouped
     rest = expr.xreplace({s: 0 for s in ud})
     return sp.Add(*[sp.diff(expr, s) * s for s in ud if expr.has(s)], rest)
+
+
+def _collect_linear(expr: sp.Expr, ud: list) -> sp.Expr | None:
+    """A sum grouped by the speed derivatives ``ud``, when each is a factor of the terms it is in.
+
+    Kane's equations are linear in the speed derivatives, so every term of their sums holds at most
+    one of them as a factor: its coefficient goes to that derivative's group, in one pass over the
+    terms. For an expanded sum this equals ``sympy.collect(expr, ud)`` (some 30 times slower: it
+    matches every term against every symbol). ``None`` when a u' is not a plain factor of a term
+    (inside a power, a function or a nested sum), for the caller's general method.
+    """
+    wanted = set(ud)
+    groups: dict = {}
+    rest = []
+    for term in sp.Add.make_args(expr):
+        factors = sp.Mul.make_args(term)
+        found = [factor for factor in factors if factor in wanted]
+        if not found:
+            if term.has(*wanted):
+                return None
+            rest.append(term)
+            continue
+        coefficient = sp.Mul(*[factor for factor in factors if factor is not found[0]])
+        if len(found) > 1 or coefficient.has(*wanted):
+            return None
+        groups.setdefault(found[0], []).append(coefficient)
+    return sp.Add(*[sp.Add(*coefficients) * s for s, coefficients in groups.items()], *rest)
 
 
 # ---------------------------------------------------------------------- names
@@ -79,8 +116,61 @@ def latex_names(eom) -> dict:
     return {s: _latex_symbol(s.name) for s in symbols}
 
 
-def _str(expr) -> str:
-    return sp.sstr(expr, order="none")
+class _NaturalStrPrinter(StrPrinter):
+    """SymPy's text printer with the terms of every sum in natural order of their text.
+
+    Terms in a speed derivative u'_s come first, in the order of the speeds; the others follow in
+    natural order (``E_1*q4 + E_2*q5 + ... + E_10*q13``, not ``E_1*q4 + E_10*q13 + ...``). Each term
+    is printed once.
+    """
+
+    def __init__(self, ud=(), **settings):
+        super().__init__({"order": "none", **settings})
+        self._ud = {s: k for k, s in enumerate(ud)}
+
+    def _print_Add(self, expr, order=None):
+        prec = precedence(expr)
+        items = []
+        for term in expr.args:
+            text = self._print(term)
+            if text.startswith("-") and not term.is_Add:
+                sign, text = "-", text[1:]
+            else:
+                sign = "+"
+            if precedence(term) < prec or term.is_Add:
+                text = f"({text})"
+            items.append((_term_order(term, text, self._ud), sign, text))
+        items.sort(key=lambda item: item[0])
+        out = []
+        for k, (_, sign, text) in enumerate(items):
+            out.append(("-" if sign == "-" else "") + text if k == 0 else f"{sign} {text}")
+        return " ".join(out)
+
+
+class _NaturalLatexPrinter(LatexPrinter):
+    """SymPy's LaTeX printer with the terms of every sum in natural order (see :class:`_NaturalStrPrinter`)."""
+
+    def _as_ordered_terms(self, expr, order=None):
+        return _natural_terms(expr)
+
+
+def _term_order(term, text: str, ud: dict) -> tuple:
+    """Sort key of a printed term: terms in u'_s first (in the order of the speeds), then natural order."""
+    if ud:
+        found = [ud[s] for s in sp.Mul.make_args(term) if s in ud]
+        if found:
+            return (0, min(found), ())
+    return (1, 0, natural_key(text))
+
+
+def _natural_terms(expr) -> list:
+    """The terms of a sum in natural order of their text."""
+    return sorted(sp.Add.make_args(expr), key=lambda term: natural_key(sp.sstr(term, order="none")))
+
+
+def _str(expr, ud=()) -> str:
+    """Text of an expression; terms of sums in natural order, those in the speed derivatives ``ud`` first."""
+    return _NaturalStrPrinter(ud).doprint(expr)
 
 
 def _term_key(eom):
@@ -88,7 +178,7 @@ def _term_key(eom):
 
     def key(term):
         found = [i for i, s in enumerate(ud) if term.has(s)]
-        return (0, found[0]) if found else (1, 0)
+        return (0, found[0], ()) if found else (1, 0, natural_key(sp.sstr(term, order="none")))
     return key
 
 
@@ -102,7 +192,7 @@ def _tokens(expr: sp.Expr, names: dict, order=None) -> list:
     if not isinstance(expr, sp.Add):
         return _product_tokens(expr, names)
     out = []
-    for i, term in enumerate(sorted(sp.Add.make_args(expr), key=order) if order else sp.Add.make_args(expr)):
+    for i, term in enumerate(sorted(sp.Add.make_args(expr), key=order) if order else _natural_terms(expr)):
         coeff, _ = term.as_coeff_Mul()
         negative = coeff.is_negative
         body = _product_tokens(-term if negative else term, names)
@@ -117,10 +207,10 @@ def _tokens(expr: sp.Expr, names: dict, order=None) -> list:
 def _product_tokens(term: sp.Expr, names: dict) -> list:
     sums = [f for f in sp.Mul.make_args(term) if isinstance(f, sp.Add)] if isinstance(term, sp.Mul) else []
     if not sums:
-        return [sp.latex(term, symbol_names=names)]
+        return [_latex(term, names)]
     inner = max(sums, key=sp.count_ops)
     others = sp.Mul(*[f for f in sp.Mul.make_args(term) if f is not inner])
-    head = "" if others == 1 else ("- " if others == -1 else sp.latex(others, symbol_names=names) + " ")
+    head = "" if others == 1 else ("- " if others == -1 else _latex(others, names) + " ")
     return [head, "("] + _tokens(inner, names) + [")"]
 
 
@@ -129,9 +219,10 @@ def _latex_lines(eom, expr: sp.Expr, names: dict, width: int = _LINE) -> list[st
     ``width`` characters; parentheses open across a line break are closed with ``\\right.`` and
     reopened with ``\\left.``."""
     lines, line, depth = [], "", 0
-    for item in _tokens(expr, names, _term_key(eom)):
+    tokens = _tokens(expr, names, _term_key(eom))
+    for k, item in enumerate(tokens):
         if item is None:
-            if len(line) > width:
+            if len(line) > width or (len(line) > width // 2 and len(line) + _piece_length(tokens, k + 1) > width):
                 lines.append(line + r"\right." * depth)
                 line = r"\left." * depth
         elif item == "(":
@@ -146,6 +237,16 @@ def _latex_lines(eom, expr: sp.Expr, names: dict, width: int = _LINE) -> list[st
     return lines
 
 
+def _piece_length(tokens: list, start: int) -> int:
+    """Length of the LaTeX from ``tokens[start]`` to the next place where a line may break."""
+    length = 0
+    for item in tokens[start:]:
+        if item is None:
+            break
+        length += len(r"\left(") if item == "(" else len(r"\right)") if item == ")" else len(item)
+    return length
+
+
 def _aligned(label: str, lines: list[str]) -> list[str]:
     """``label &= line1 \\\\ &\\quad line2 ...`` rows of an aligned environment."""
     out = [f"{label} &= {lines[0]}"]
@@ -156,6 +257,7 @@ def _aligned(label: str, lines: list[str]) -> list[str]:
 def format_equations(eom, latex: bool = False) -> str:
     """F*_r and F_r (by source) for every generalized speed r, as text or LaTeX lines."""
     names = latex_names(eom) if latex else None
+    ud = list(eom.chain.ud.values())
     lines = []
     for r, u in enumerate(eom.all_speeds):
         fs = collect_terms(eom, eom.F_r_star[r])
@@ -168,9 +270,9 @@ def format_equations(eom, latex: bool = False) -> str:
             if not active:
                 lines.append(rf"F_{{{_latex_symbol(u.name)}}} &= 0 \\")
         else:
-            lines.append(f"F*[{u.name}] = {_str(fs)}")
+            lines.append(f"F*[{u.name}] = {_str(fs, ud)}")
             for kind, expr in active.items():
-                lines.append(f"F[{u.name}]_{kind} = {_str(expr)}")
+                lines.append(f"F[{u.name}]_{kind} = {_str(expr, ud)}")
             if not active:
                 lines.append(f"F[{u.name}] = 0")
     return "\n".join(lines)
@@ -194,7 +296,7 @@ def _field_latex(field, names: dict) -> str:
     """LaTeX of a modal field ``sum_a c_a f_a(x)`` (atom by atom, as eq. 8.18 is written)."""
     parts = []
     for atom, coefficient in field.items():
-        c = sp.latex(coefficient, symbol_names=names)
+        c = _latex(coefficient, names)
         f = _atom_latex(atom)
         if not f:
             parts.append(c)
@@ -209,7 +311,8 @@ def _field_latex(field, names: dict) -> str:
 
 
 def _latex(expr, names) -> str:
-    return sp.latex(expr, symbol_names=names)
+    """LaTeX of an expression with the chapter's symbol names, terms of sums in natural order."""
+    return _NaturalLatexPrinter({"symbol_names": names or {}}).doprint(expr)
 
 
 def _kinematics(eom, names) -> list[tuple[str, list[str]]]:
@@ -330,7 +433,7 @@ def equations_markdown(eom, values: dict | None = None) -> str:
         qd = eom.chain.qdot[c.q]
         law = f" (driven: {'$' + sp.latex(c.law) + '$'} {c.driver})" if c.driver else ""
         out.append(f"| ${_latex_symbol(c.q.name)}$ | ${_latex_symbol(c.u.name)}${law} | "
-                   f"$\\dot {_latex_symbol(c.q.name)} = {sp.latex(qd, symbol_names=names)}$ |")
+                   f"$\\dot {_latex_symbol(c.q.name)} = {_latex(qd, names)}$ |")
     for heading, items in _kinematics(eom, names):
         out += ["", f"## {heading}", ""] + [f"* {item}" for item in items]
     out += ["", "## Generalized inertia and active forces (eqs. 8.22, 8.23, 8.28-8.35)", "",
@@ -387,7 +490,7 @@ def equations_latex(eom, values: dict | None = None) -> str:
     for c in eom.chain.coordinates:
         qd = eom.chain.qdot[c.q]
         driven = rf" && \text{{(driven: {c.driver})}}" if c.driver else ""
-        doc.append(rf"\dot {_latex_symbol(c.q.name)} &= {sp.latex(qd, symbol_names=names)}{driven} \\")
+        doc.append(rf"\dot {_latex_symbol(c.q.name)} &= {_latex(qd, names)}{driven} \\")
     doc.append(r"\end{align*}")
     for heading, items in _kinematics(eom, names):
         doc += [rf"\subsection*{{{heading}}}", r"\begin{itemize}"]

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__
+from ._version import __version__
 from .atomic import atomic_write_bytes, atomic_write_text
 
 __all__ = ["Results", "load_results", "csv_text"]

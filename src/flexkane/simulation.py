@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from . import __version__
+from ._version import __version__
 from .errors import ModelError
 from .kane import EquationsOfMotion
 from .model import Model, dumps_model

@@ -24,9 +24,9 @@ __all__ = ["register", "add_operating_point_arguments"]
 
 def add_operating_point_arguments(parser, *, spin: bool = True) -> None:
     """--about, --spin (unless ``spin`` is false), --hub."""
-    from ..linearize import ABOUT
-
-    parser.add_argument("--about", choices=ABOUT, default=None,
+    # no argparse choices: they would import flexkane.linearize (SciPy) to build the parser; the
+    # library checks the value against flexkane.linearize.ABOUT and names --about when it is not one
+    parser.add_argument("--about", default=None, metavar="POINT",
                         help="operating point: equilibrium (searched from the initial coordinates), "
                              "rest (undeformed, speeds zero) or spin (a hub at the constant rate --spin) "
                              "[default: equilibrium, or spin when --spin is given]")

@@ -18,8 +18,6 @@ import math
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from ..atomic import atomic_writer
 from ..errors import ModelError
 from ._common import add_out_arguments, default_out, prepare_out
@@ -53,14 +51,32 @@ def parse_xi_expressions(texts: list[str], flag: str) -> list[Any]:
     return [parse_expression(text, {"xi": XI}, path=f"{flag}[{k}]") for k, text in enumerate(texts)]
 
 
+#: Placeholder of the list of family names in the help of FAMILY, filled in when the help is shown.
+_FAMILY_LIST = "{family names}"
+
+
+class _FamilyHelpFormatter(argparse.HelpFormatter):
+    """Help formatter that lists the shape-function families only when the help is printed.
+
+    Listing them needs :mod:`flexkane.modes` (SciPy, SymPy), which building the parser must not import.
+    """
+
+    def _get_help_string(self, action: argparse.Action) -> str | None:
+        text = action.help
+        if text and _FAMILY_LIST in text:
+            from ..modes import family_names
+
+            text = text.replace(_FAMILY_LIST, ", ".join(family_names()))
+        return text
+
+
 def add_family_arguments(parser: argparse.ArgumentParser, default: str | None,
                          options: bool = True) -> None:
     """Add ``FAMILY`` and, if ``options``, the family options (``--mass-ratio``,
     ``--inertia-ratio``, ``--expression``, ``--boundary``)."""
-    from ..modes import family_names
-
+    parser.formatter_class = _FamilyHelpFormatter
     parser.add_argument("family", nargs="?", default=default, metavar="FAMILY",
-                        help="family of shape functions: " + ", ".join(family_names())
+                        help="family of shape functions: " + _FAMILY_LIST
                         + (f" (default {default})" if default else ""))
     if not options:
         return
@@ -142,6 +158,8 @@ def _physical(args: argparse.Namespace, axial: bool) -> tuple[float, float, floa
 
 
 def _table(family, n: int, physical: tuple[float, float, float] | None) -> list[str]:
+    import numpy as np
+
     from ..modes.free_vibration import rayleigh_ritz_frequencies
 
     lam = family.roots(n)
@@ -174,6 +192,8 @@ def _table(family, n: int, physical: tuple[float, float, float] | None) -> list[
 
 def plot_family(family, n: int, path: Path) -> Path:
     """Plot ``Phi_i(xi)``, ``i = 1..n``, to a PNG file (Agg canvas, no global backend change)."""
+    import numpy as np
+
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 

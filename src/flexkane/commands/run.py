@@ -31,6 +31,8 @@ def register(subparsers) -> None:
     p.add_argument("--animate", action="store_true",
                    help="also write animation.gif (and animation.mp4 where ffmpeg exists), as 'flexkane animate'")
     add_animation_arguments(p, movie_options=False)
+    p.add_argument("--no-plots", action="store_true",
+                   help="write no PNG plots (results, model and equations only; faster)")
     p.add_argument("--pdf", action="store_true",
                    help="also render equations.tex to equations.pdf (needs pdflatex on PATH)")
     p.add_argument("--quiet", action="store_true", help="no progress bar and no summary")
@@ -42,7 +44,7 @@ def _handle(args) -> int:
     out = Path(args.out) if args.out else default_out(model.name)
     return run_model(model, out, t_end=args.t_end, dt_out=args.dt_out, rtol=args.rtol, atol=args.atol,
                      method=args.method, max_steps=args.max_steps, force=args.force, quiet=args.quiet,
-                     animation=args if args.animate else None, pdf=args.pdf)
+                     animation=args if args.animate else None, pdf=args.pdf, plots=not args.no_plots)
 
 
 def energy_balance_text(results) -> str:
@@ -77,16 +79,16 @@ class _StopRequest:
 
 
 def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None, method=None, max_steps=None,
-              force=False, quiet=False, animation=None, pdf=False) -> int:
+              force=False, quiet=False, animation=None, pdf=False, plots=True) -> int:
     """Run a validated model into directory ``out``; return the exit code (0 ok, 3 solver failure).
 
     ``animation``: options of :func:`~flexkane.commands.animate.add_animation_arguments` (``magnify``,
     ``trace``) to also write animation.gif, or None. ``pdf``: also render equations.tex to a PDF.
+    ``plots``: write the PNG plots (:func:`flexkane.plots.write_plots`).
     """
     from ..atomic import atomic_write_text
     from ..derivation_cache import cached_derive
     from ..model import dumps_model
-    from ..plots import write_plots
     from ..progress import ProgressBar
     from ..report import equations_latex, equations_markdown, render_pdf
     from ..simulation import compile_model, simulate
@@ -135,7 +137,9 @@ def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None
             written.append(pdf_path)
         if message:
             print(f"flexkane: {message}", file=sys.stderr)
-    if len(results.t) > 1:
+    if plots and len(results.t) > 1:
+        from ..plots import write_plots
+
         written += write_plots(results, eom, out)
     if animation is not None and len(results.t) > 0:
         from .animate import animate_run

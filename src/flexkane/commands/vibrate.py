@@ -18,8 +18,6 @@ import argparse
 import math
 from pathlib import Path
 
-import numpy as np
-
 from ..atomic import atomic_writer
 from ..errors import ModelError
 from ._common import add_out_arguments
@@ -63,6 +61,7 @@ def _positive(value: float, flag: str, what: str) -> float:
 
 
 def _function_of_xi(text: str, flag: str):
+    import numpy as np
     import sympy
 
     from ..modes import XI
@@ -74,6 +73,8 @@ def _function_of_xi(text: str, flag: str):
 
 def output_times(t_end: float, dt_out: float) -> np.ndarray:
     """Output times ``0, dt, 2 dt, ...`` up to ``t_end`` (included when a multiple of ``dt``)."""
+    import numpy as np
+
     count = int(math.floor(t_end / dt_out * (1.0 + 1e-12))) + 1
     if count > MAX_OUTPUT_POINTS:
         raise ModelError("--dt-out", f"at most {MAX_OUTPUT_POINTS} output times up to --t-end",
@@ -82,6 +83,8 @@ def output_times(t_end: float, dt_out: float) -> np.ndarray:
 
 
 def _write_csv(path: Path, t: np.ndarray, tip: np.ndarray, mid: np.ndarray) -> None:
+    import numpy as np
+
     table = np.column_stack([t, tip, mid])
     np.savetxt(path, table, delimiter=",", header="t,tip,mid", comments="", fmt="%.12g")
 
@@ -104,6 +107,8 @@ def _plot(path: Path, t: np.ndarray, tip: np.ndarray, mid: np.ndarray, title: st
 
 def run(args: argparse.Namespace) -> int:
     """Compute the modal coefficients, evaluate tip and mid deflections and write the files."""
+    import numpy as np
+
     from ..modes.free_vibration import FreeVibration
 
     L = _positive(args.L, "--L", "the length of the beam [m]")

@@ -216,8 +216,11 @@ class BeamConstants:
 
 
 def canonical_constants(constants: list[sp.Symbol]) -> list[sp.Symbol]:
-    """Constants sorted by name (deterministic order of the parameter vector)."""
-    return sorted(constants, key=lambda s: s.name)
+    """Constants sorted by name in natural order, E_1, E_2, ..., E_10 (deterministic order of the
+    parameter vector)."""
+    from ..natural_order import natural_key
+
+    return sorted(constants, key=lambda s: natural_key(s.name))
 
 
 def as_array(values: dict, order: list[sp.Symbol]) -> np.ndarray:

@@ -15,6 +15,7 @@ import sympy as sp
 
 from ..model import Model
 from ..model.paths import get_value
+from ..natural_order import natural_key
 from .active import generalized_active_forces
 from .chain import Chain, build_chain
 from .inertia import InertiaForces, generalized_inertia_forces
@@ -110,7 +111,7 @@ class EquationsOfMotion:
         symbols = set()
         for expr in list(self.mass_matrix) + list(self.forcing) + list(self.qdot) + list(self.outputs.values()):
             symbols |= expr.free_symbols
-        self.constants = sorted(symbols - known, key=lambda s: s.name)
+        self.constants = sorted(symbols - known, key=lambda s: natural_key(s.name))   # E_1, E_2, ..., E_10
 
     # ------------------------------------------------------------------ loop constraints
     def _reduce_by_constraints(self, sub) -> None:

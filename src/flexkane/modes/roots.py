@@ -13,7 +13,6 @@ import math
 from typing import Callable
 
 import numpy as np
-from scipy.optimize import brentq
 
 __all__ = ["newton_in_bracket", "cantilever_roots", "clamped_clamped_roots", "tan_tanh_roots",
            "scan_roots"]
@@ -54,6 +53,8 @@ def newton_in_bracket(f: Callable[[float], float], fprime: Callable[[float], flo
             last = x_new - f(x_new) / fprime(x_new)
             return last if lo <= last <= hi and abs(last - x_new) <= abs(step) else x_new
         x = x_new
+    from scipy.optimize import brentq   # here: building a family must not import SciPy
+
     return brentq(f, lo, hi, xtol=1e-300, rtol=4.0 * _EPS, maxiter=500)
 
 
@@ -127,6 +128,8 @@ def scan_roots(f: Callable[[np.ndarray], np.ndarray], n: int, upper: float) -> n
 
     def scalar(x: float) -> float:
         return float(f(np.array([x]))[0])
+
+    from scipy.optimize import brentq
 
     found = []
     for k in range(grid.size - 1):

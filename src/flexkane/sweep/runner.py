@@ -18,7 +18,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .. import __version__
+from .._version import __version__
 from ..errors import ModelError
 from ..model import Model, dumps_model
 from .spec import SweepSpec

@@ -1,0 +1,27 @@
+"""Natural order of names: ``E_1, E_2, ..., E_10`` rather than ``E_1, E_10, E_11, ..., E_2``."""
+
+from __future__ import annotations
+
+import re
+
+__all__ = ["natural_key"]
+
+_DIGITS = re.compile(r"(\d+)")
+
+
+def natural_key(text: str) -> tuple:
+    """Sort key of a name or a printed term that compares runs of digits as numbers.
+
+    Parameters
+    ----------
+    text : str
+        A symbol name (``G_12``) or any text (``2*E_10*u13*u3``).
+
+    Returns
+    -------
+    tuple
+        Alternating text and integer parts: ``"E_10" -> ("E_", 10, "")``; ties between texts whose
+        numbers are written differently (``q01``, ``q1``) are broken by the text itself.
+    """
+    parts = _DIGITS.split(text)
+    return tuple(int(p) if k % 2 else p for k, p in enumerate(parts)) + (text,)

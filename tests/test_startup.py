@@ -1,0 +1,84 @@
+"""Instant start: ``import flexkane`` and the command line's --help and --version load none of the
+heavy libraries (SymPy, SciPy, Numba, matplotlib); the public names still resolve on first use.
+
+Checked in a fresh interpreter through ``sys.modules``: deterministic, no clock involved.
+"""
+
+import json
+import os
+import pathlib
+import subprocess
+import sys
+
+import pytest
+
+SRC = pathlib.Path(__file__).resolve().parents[1] / "src"
+HEAVY = ("sympy", "scipy", "numba", "matplotlib")
+
+
+def heavy_modules_after(code: str) -> dict:
+    """Run ``code`` in a new interpreter; return the heavy top-level packages it imported and its output."""
+    probe = (f"{code}\nimport json, sys\n"
+             f"print(json.dumps(sorted({{m.split('.')[0] for m in sys.modules}} & set({HEAVY!r}))))")
+    env = dict(os.environ, PYTHONPATH=str(SRC) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, env=env, timeout=120)
+    assert out.returncode == 0, out.stderr
+    *printed, last = out.stdout.strip().splitlines()
+    return {"heavy": json.loads(last), "printed": "\n".join(printed)}
+
+
+def cli(*arguments: str) -> str:
+    """Code that runs ``python -m flexkane ARGUMENTS`` in-process and keeps going after its exit."""
+    return ("import runpy, sys\n"
+            f"sys.argv = ['flexkane', *{list(arguments)!r}]\n"
+            "try:\n    runpy.run_module('flexkane', run_name='__main__', alter_sys=True)\n"
+            "except SystemExit:\n    pass\n")
+
+
+def test_import_flexkane_loads_no_heavy_library():
+    found = heavy_modules_after("import flexkane\nprint(flexkane.__version__)")
+    assert found["heavy"] == []
+    assert found["printed"].strip() == __import__("flexkane").__version__
+
+
+@pytest.mark.parametrize("arguments", [("--help",), ("--version",), ("run", "--help"), ("check", "--help")])
+def test_help_and_version_load_no_heavy_library(arguments):
+    found = heavy_modules_after(cli(*arguments))
+    assert found["heavy"] == []
+    assert "flexkane" in found["printed"]
+
+
+def test_public_names_resolve_on_first_use():
+    import flexkane
+    import flexkane.linearize.eigen  # noqa: F401 - importing the subpackage keeps the public function
+    from flexkane.kane import derive
+    from flexkane.linearize.linearization import linearize
+
+    assert flexkane.derive is derive
+    assert flexkane.linearize is linearize and callable(flexkane.linearize)
+    assert set(flexkane.__all__) <= set(dir(flexkane))
+    with pytest.raises(AttributeError):
+        flexkane.no_such_name  # noqa: B018
+
+
+def test_modes_help_still_lists_every_family(capsys):
+    from flexkane.cli import main
+    from flexkane.modes import family_names
+
+    with pytest.raises(SystemExit):
+        main(["modes", "--help"])
+    text = "".join(capsys.readouterr().out.split())          # help wraps lines, also at hyphens
+    assert ",".join(family_names()) in text
+
+
+def test_check_of_every_builtin_model_loads_no_scipy_numba_or_matplotlib():
+    """``check`` validates with the expression language and the chain's coordinates; it still needs
+    SymPy (the expressions are SymPy objects), but none of the numerical or plotting libraries."""
+    from flexkane.builtin import builtin_names
+
+    code = ("from flexkane.cli import main\n"
+            f"codes = [main(['check', name]) for name in {list(builtin_names())!r}]\n"
+            "print(codes)")
+    found = heavy_modules_after(code)
+    assert found["printed"].splitlines()[-1] == str([0] * len(builtin_names()))
+    assert set(found["heavy"]) <= {"sympy"}
