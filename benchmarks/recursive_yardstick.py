@@ -205,7 +205,7 @@ class ChainData:
 
 
 # ---------------------------------------------------------------------------- right-hand side
-@njit(cache=True, fastmath=False)
+@njit(cache=True, error_model="numpy")
 def rhs(t, y, hub, beam, modal, G, H, tip, drive, dy, work):
     """``dy = [q', u']`` of chain_model; ``y = [q, u]`` in flexkane's order.
 
@@ -354,28 +354,28 @@ def rhs(t, y, hub, beam, modal, G, H, tip, drive, dy, work):
                 fs -= hq
             f[sidx] = fs
     # ------------------------------------------------------------ 5. Cholesky solve, M u' = f
-    # M holds the upper triangle; the factor L goes to the strict lower triangle and P (reused)
+    # M holds the upper triangle; the factor L goes to the strict lower triangle, 1 / L_jj to P
     for j in range(N):
         d = M[j, j]
         for k in range(j):
             d -= M[j, k] * M[j, k]
-        d = math.sqrt(d)
+        d = 1.0 / math.sqrt(d)
         P[j] = d
         for i in range(j + 1, N):
             acc = M[j, i]
             for k in range(j):
                 acc -= M[i, k] * M[j, k]
-            M[i, j] = acc / d
+            M[i, j] = acc * d
     for i in range(N):
         acc = f[i]
         for k in range(i):
             acc -= M[i, k] * f[k]
-        f[i] = acc / P[i]
+        f[i] = acc * P[i]
     for i in range(N - 1, -1, -1):
         acc = f[i]
         for k in range(i + 1, N):
             acc -= M[k, i] * f[k]
-        f[i] = acc / P[i]
+        f[i] = acc * P[i]
     for i in range(N):
         dy[i] = y[N + i]
         dy[N + i] = f[i]
@@ -455,7 +455,7 @@ def agreement(fk: FlexkaneChain, data: ChainData, count: int = 20, seed: int = 1
 
 
 # ---------------------------------------------------------------------------- timing
-@njit
+@njit(error_model="numpy")
 def _time_flexkane(f, t, y, p, dy, calls):
     """``calls`` evaluations of a generated ``rhs(t, y, p, dy)``; returns a checksum."""
     acc = 0.0
@@ -465,7 +465,7 @@ def _time_flexkane(f, t, y, p, dy, calls):
     return acc
 
 
-@njit
+@njit(error_model="numpy")
 def _time_yardstick(t, y, hub, beam, modal, G, H, tip, drive, dy, work, calls):
     """``calls`` evaluations of :func:`rhs`; returns a checksum."""
     acc = 0.0
@@ -475,39 +475,42 @@ def _time_yardstick(t, y, hub, beam, modal, G, H, tip, drive, dy, work, calls):
     return acc
 
 
-def _per_call(loop, calls: int, repeat: int = 7) -> float:
-    """Median over ``repeat`` timings of ``loop(calls)``, per call [s]."""
+def _calls_for(loop, budget: float = 0.02) -> int:
+    """Number of calls that take about ``budget`` seconds."""
     loop(1)
-    times = []
-    for _ in range(repeat):
-        tic = time.perf_counter()
-        loop(calls)
-        times.append((time.perf_counter() - tic) / calls)
-    return float(np.median(times))
-
-
-def _calls_for(loop, budget: float = 0.05) -> int:
     tic = time.perf_counter()
     loop(100)
     per = max((time.perf_counter() - tic) / 100, 1e-9)
     return int(min(max(budget / per, 100), 2_000_000))
 
 
-def time_yardstick(data: ChainData, seed: int = 2) -> float:
-    """One evaluation of the yardstick [s] (median of 7 timings of an @njit loop)."""
-    t, Y = random_states(data.links, data.n, 1, seed)
-    y, dy = Y[0].copy(), np.empty(Y.shape[1])
-    loop = lambda calls: _time_yardstick(0.1, y, *data.args(), dy, data.work, calls)  # noqa: E731
-    return _per_call(loop, _calls_for(loop))
+def _loops(data: ChainData, fk=None, seed: int = 2):
+    """Timing loops ``loop(calls)`` of the yardstick and (if given) of flexkane at one random state."""
+    _, Y = random_states(data.links, data.n, 1, seed)
+    y, dy_ys, dy_fk = Y[0].copy(), np.empty(Y.shape[1]), np.empty(Y.shape[1])
+    ys = lambda calls: _time_yardstick(0.1, y, *data.args(), dy_ys, data.work, calls)  # noqa: E731
+    if fk is None:
+        return ys, None
+    return ys, (lambda calls: _time_flexkane(fk.module.rhs, 0.1, y, fk.p, dy_fk, calls))  # noqa: E731
 
 
-def time_flexkane(fk: FlexkaneChain, seed: int = 2) -> float:
-    """One evaluation of flexkane's generated rhs [s] (median of 7 timings of an @njit loop)."""
-    links = len(fk.eom.q) // 3
-    t, Y = random_states(links, 2, 1, seed)
-    y, dy = Y[0].copy(), np.empty(Y.shape[1])
-    loop = lambda calls: _time_flexkane(fk.module.rhs, 0.1, y, fk.p, dy, calls)  # noqa: E731
-    return _per_call(loop, _calls_for(loop))
+def time_one_evaluation(data: ChainData, fk=None, repeat: int = 9) -> tuple[float, float | None]:
+    """Cost of one evaluation [s] of the yardstick and of flexkane's generated rhs (None without ``fk``).
+
+    Each timing runs an @njit loop of many calls (no Python dispatch inside); the two loops are
+    timed alternately, ``repeat`` times each, so both see the same load on a shared machine, and
+    the median of each is returned.
+    """
+    loops = [loop for loop in _loops(data, fk) if loop is not None]
+    calls = [_calls_for(loop) for loop in loops]
+    times: list[list[float]] = [[] for _ in loops]
+    for _ in range(repeat):
+        for loop, n_calls, out in zip(loops, calls, times):
+            tic = time.perf_counter()
+            loop(n_calls)
+            out.append((time.perf_counter() - tic) / n_calls)
+    medians = [float(np.median(t)) for t in times]
+    return medians[0], (medians[1] if fk is not None else None)
 
 
 def fmt(seconds: float) -> str:
@@ -533,7 +536,7 @@ def run(flexkane_links=FLEXKANE_LINKS, yardstick_links=YARDSTICK_LINKS) -> dict:
             fk = FlexkaneChain(model, cache)
             data = chain_data(model, k)
             agree = agreement(fk, data)
-            t_fk, t_ys = time_flexkane(fk), time_yardstick(data)
+            t_ys, t_fk = time_one_evaluation(data, fk)
             rows.append({"links": k, "speeds": 3 * k, "agreement": agree, "flexkane_s": t_fk,
                          "yardstick_s": t_ys, "ratio": t_fk / t_ys, "derive_s": fk.derive_s,
                          "compile_s": fk.compile_s})
@@ -542,7 +545,7 @@ def run(flexkane_links=FLEXKANE_LINKS, yardstick_links=YARDSTICK_LINKS) -> dict:
                   f"(derive {fk.derive_s:.2f} s, codegen + compile {fk.compile_s:.2f} s)", flush=True)
     for k in yardstick_links:
         data = chain_data(chain_model(k), k)
-        t_ys = time_yardstick(data)
+        t_ys, _ = time_one_evaluation(data)
         rows.append({"links": k, "speeds": 3 * k, "agreement": None, "flexkane_s": None,
                      "yardstick_s": t_ys, "ratio": None})
         print(f"  k = {k:2d} ({3 * k:2d} speeds): yardstick {fmt(t_ys)}; flexkane not run (its "
@@ -557,7 +560,7 @@ def markdown(result: dict) -> list[str]:
           "`chain_model(k)` (2 modes per link): kinematics link by link from the parent's tip, "
           "partial velocities as twists, mass matrix and remainder forces as sums over bodies by "
           "composite bodies accumulated from the payload inwards, Cholesky solve. One evaluation, "
-          "median of 7 timings of an @njit loop of many calls; *agreement*: largest relative "
+          "median of 9 timings of an @njit loop of many calls, the two loops timed alternately; *agreement*: largest relative "
           "difference of dy/dt from flexkane's at 20 random states.", ""]
     md += ["| links | speeds | agreement | flexkane | yardstick | flexkane / yardstick |",
            "|---|---|---|---|---|---|"]
