@@ -7,6 +7,7 @@ Sections (one script each, also runnable alone):
 (c) ``exudyn_arm.py``   flexible-arm against Exudyn at matched tip-deflection accuracy;
 (d) ``simulation.py``   one evaluation and a whole run against the @njit yardstick (``njit_yardstick.py``);
 (e) ``scaling.py``      times against the number of modes (1-40) and of flexible links (1-5);
+``recursive_yardstick.py``  one evaluation of chain_model(k) against a hand-written recursive rhs;
 and, when the sweep module and Dask are installed, ``sweep_throughput.py`` (variants per second).
 
 Compiled models go to a fresh cache directory, so compile times are those of a first run.
@@ -74,6 +75,7 @@ def main() -> dict:
         os.environ["FLEXKANE_CACHE_DIR"] = cache
     import _common
     import derivation
+    import recursive_yardstick
     import report
     import scaling
     import simulation
@@ -96,6 +98,10 @@ def main() -> dict:
         _section("scaling", scaling.run, results, (1, 4, 10), (1, 2))
     else:
         _section("scaling", scaling.run, results)
+    if quick:
+        _section("recursive_yardstick", recursive_yardstick.run, results, (1, 2), (8,))
+    else:
+        _section("recursive_yardstick", recursive_yardstick.run, results)
     _section("sweep", _sweep, results, quick)
     results["machine"]["load_average_end"] = os.getloadavg()[0]
     results["total_seconds"] = time.perf_counter() - start
