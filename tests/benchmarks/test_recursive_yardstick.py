@@ -85,6 +85,15 @@ def test_recursive_rhs_agrees_with_flexkane(flexkane_chains, links):
     assert ry.agreement(fk, data, count=5, seed=7) < 1e-10
 
 
+def test_recursive_rhs_agrees_with_flexkane_three_modes():
+    """Any number of modes: one link with 3 modes (the third mode's modal stiffness is about 300
+    times the first's, eq. 8.9) agrees to 1e-10 as well."""
+    model = chain_model(1, modes=3)
+    fk = ry.FlexkaneChain(model)
+    assert [s.name for s in fk.eom.q] == ["q_joint_1", "q_link_1_1", "q_link_1_2", "q_link_1_3"]
+    assert ry.agreement(fk, ry.chain_data(model, 1, 3), count=20, seed=13) < 1e-10
+
+
 def test_a_wrong_constant_is_detected(flexkane_chains):
     """The comparison is sharp: the payload's inertia 1 % off shows far above the tolerance."""
     fk = flexkane_chains[2]
