@@ -66,6 +66,10 @@ def summary_lines(results) -> list[str]:
     if exu:
         lines += [f"  (c) tip error <= {m['target']:g}, {m['family']}: "
                   + (f"{m['ratio']:.0f}x Exudyn" if m["ratio"] else "not matched") for m in exu["matches"]]
+    ys = _rows(results, "recursive_yardstick")
+    if ys:
+        lines += [f"  recursive yardstick, {r['links']} links: flexkane / yardstick {r['ratio']:.2f}"
+                  for r in ys["rows"] if r["ratio"] is not None]
     lines.append("Targets of issue 6:")
     for name, met, value in targets(results):
         mark = "n/a" if met is None else ("met" if met else "MISSED")
@@ -210,6 +214,13 @@ def markdown(results) -> str:
                        f"{fmt_time(r['run_s@1e-08'])} ({r['method@1e-08']}, {r['nfev@1e-08']} ev.)")
                       for r in links])
         md.append("")
+    ys = _rows(results, "recursive_yardstick")
+    if ys:
+        from recursive_yardstick import markdown as yardstick_markdown
+
+        md += yardstick_markdown(ys)
+    else:
+        md += ["## Recursive yardstick (issue 16)", "", f"Not run: {results.get('recursive_yardstick')}", ""]
     sweep = results.get("sweep") or {}
     md += ["## Sweep throughput (issue 11)", ""]
     if "serial_per_s" in sweep:

@@ -8,6 +8,7 @@ Sections (one script each, also runnable alone):
 (d) ``simulation.py``   one evaluation and a whole run against the @njit yardstick (``njit_yardstick.py``);
 (e) ``scaling.py``      times against the number of modes (1-40) and of flexible links (1-5);
 (f) ``startup.py``      start-up of the command (--help, --version, check), derive n = 40, a cached run;
+(g) ``recursive_yardstick.py``  one evaluation of chain_model(k) against a hand-written recursive rhs;
 and, when the sweep module and Dask are installed, ``sweep_throughput.py`` (variants per second).
 
 Compiled models go to a fresh cache directory, so compile times are those of a first run.
@@ -75,6 +76,7 @@ def main() -> dict:
         os.environ["FLEXKANE_CACHE_DIR"] = cache
     import _common
     import derivation
+    import recursive_yardstick
     import report
     import scaling
     import simulation
@@ -97,6 +99,10 @@ def main() -> dict:
         _section("scaling", scaling.run, results, (1, 4, 10), (1, 2))
     else:
         _section("scaling", scaling.run, results)
+    if quick:
+        _section("recursive_yardstick", recursive_yardstick.run, results, (1, 2), (8,))
+    else:
+        _section("recursive_yardstick", recursive_yardstick.run, results)
     _section("sweep", _sweep, results, quick)
     import startup
     _section("startup", startup.run, results, quick)
