@@ -37,7 +37,7 @@ extra states (work quadratures) after ``[q, u]``, can be compared with it:
     Largest difference over time between that run and the same run at ten times the tolerances:
     an estimate of the global error at the looser tolerance, about ten times the stored run's own.
 ``engine`` (str)
-    flexkane version and commit of the engine that produced the values.
+    flexkane version and the last commit that changed ``src/`` (the engine that produced the values).
 
 The output is byte-for-byte reproducible: seeds come from the model name, and the archive is written
 with fixed time stamps.
@@ -231,8 +231,8 @@ def trajectory_columns(results, eom) -> list[str]:
 
 def engine_id() -> str:
     try:
-        commit = subprocess.run(["git", "rev-parse", "HEAD"], cwd=ROOT, capture_output=True, text=True,
-                                check=True).stdout.strip()
+        commit = subprocess.run(["git", "log", "-1", "--format=%H", "--", "src"], cwd=ROOT, capture_output=True,
+                                text=True, check=True).stdout.strip()
         dirty = subprocess.run(["git", "status", "--porcelain", "--", "src"], cwd=ROOT, capture_output=True,
                                text=True, check=True).stdout.strip()
     except (OSError, subprocess.CalledProcessError):

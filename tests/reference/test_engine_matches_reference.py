@@ -34,8 +34,12 @@ are 0 and not compared); outputs are looked up by name in the results.
   with whatever round-off, step sequence or even another integrator of that accuracy, passes, while
   a change of the physics larger than the integration error does not. ``1e-12`` is an absolute
   floor in SI units (m, rad, J, N ...) for columns that are 0 or round-off in the reference (a spring
-  energy of a model without springs, the tip of a pinned-pinned rod). The trajectory half compiles the
-  integrators of every model (about 10 s each from an empty cache), so it is marked slow.
+  energy of a model without springs, the tip of a pinned-pinned rod).
+
+Cost: the models are derived and compiled once per module (fixture ``engine``). Measured on the
+2-core machine: the right-hand-side half (default run) 56 s from an empty compiled-model cache and
+20 s with a warm one (derivations); the trajectory half compiles the integrator loops of every model
+too, 256 s from an empty cache, so it is marked slow (``pytest -m slow tests/reference``).
 """
 
 from __future__ import annotations
