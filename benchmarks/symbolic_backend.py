@@ -21,12 +21,15 @@ once for either backend:
   remainder (``xreplace``, as ``flexkane.kane.equations`` substitutes drivers);
 * **cse**: common subexpressions of M (upper triangle) and the remainder, as the code generator does;
 * **expand**: full expansion of M and the remainder (not done by the derivation today; a measure of
-  raw polynomial algebra), up to ``--expand-max`` links.
+  raw polynomial algebra), up to ``--expand-max`` links;
+* the conversion of M and the remainder from SymPy to SymEngine and back (the cost of using SymEngine
+  for some steps only).
 
 Each backend runs the same code on its own expressions (SymPy's cache cleared before each chain).
 Results are compared after converting SymEngine's back to SymPy: exactly (``sympy.expand(a - b) == 0``)
 for small chains, numerically at a random point (relative 1e-12) for all; the common-subexpression
-results are checked by substituting the replacements back.
+results are checked by substituting the replacements back, and their sizes are printed (the two
+libraries choose different subexpressions).
 
 Usage: ``python benchmarks/symbolic_backend.py [--links 1,2,3,4] [--expand-max 2] [--exact-max 2]``.
 Needs the ``symengine`` package (``pip install symengine``, or the ``bench`` extra).
@@ -289,6 +292,12 @@ def cse_reconstructed(replacements, reduced) -> list:
     return [to_sympy(e).xreplace(rule) for e in reduced]
 
 
+def cse_size(replacements, reduced) -> str:
+    """Number of common subexpressions and operations (SymPy's count_ops) of a cse result."""
+    ops = sum(sp.count_ops(to_sympy(v)) for _, v in replacements) + sum(sp.count_ops(to_sympy(e)) for e in reduced)
+    return f"{len(replacements)} subexpressions, {ops} operations"
+
+
 def compare(sympy_out: dict, symengine_out: dict, exact: bool, rng) -> dict:
     """For each stage, 'identical' (exactly), or the largest relative numerical difference."""
     report = {}
@@ -350,7 +359,15 @@ def main(argv=None) -> int:
         t_sp, out_sp = best_of(REPEAT if k <= 2 else 1, "sympy", k, do_expand)
         t_se, out_se = best_of(REPEAT if k <= 2 else 1, "symengine", k, do_expand)
         ops = sum(sp.count_ops(e) for e in out_sp["kane"]) if k <= 3 else None
+        tic = time.perf_counter()
+        converted = [se.sympify(e) for e in out_sp["kane"]]
+        t_se["to symengine"] = time.perf_counter() - tic
+        tic = time.perf_counter()
+        [sp.sympify(e) for e in converted]
+        t_se["to sympy"] = time.perf_counter() - tic
         check = compare(out_sp, out_se, k <= args.exact_max, rng)
+        check["cse size sympy"] = cse_size(*out_sp["cse"])
+        check["cse size symengine"] = cse_size(*out_se["cse"])
         rows.append((k, t_sp, t_se, ops, check))
         print(f"k = {k}: " + "; ".join(f"{s} {fmt(t_sp[s])} / {fmt(t_se[s])}" for s in STAGES if s in t_sp)
               + f"; checks {check}", flush=True)
@@ -366,6 +383,11 @@ def main(argv=None) -> int:
         total_se = sum(t_se[s] for s in STAGES[:5])
         print(f"| {k} | {ops if ops is not None else '-'} | " + " | ".join(cells)
               + f" | {fmt(total_sp)} / {fmt(total_se)} ({total_sp / total_se:.0f}x) |")
+    print()
+    print("Conversion of M and the remainder from SymPy to SymEngine (symengine.sympify) and back "
+          "(sympy.sympify):")
+    for k, _, t_se, _, _ in rows:
+        print(f"  k = {k}: to SymEngine {fmt(t_se['to symengine'])}, back to SymPy {fmt(t_se['to sympy'])}")
     print()
     print("Results (SymEngine's converted to SymPy; 'identical': expand(a - b) == 0; a number: largest "
           "relative difference at a random point, 30 digits):")
