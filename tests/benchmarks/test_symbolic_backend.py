@@ -2,6 +2,7 @@
 says what is missing when SymEngine is not installed."""
 
 import importlib.util
+import random
 import subprocess
 import sys
 from pathlib import Path
@@ -25,7 +26,7 @@ def test_sympy_and_symengine_derive_identical_inertia_forces_of_one_link():
     _, symengine_out = bench.run_backend("symengine", 1, True)
     # M (upper triangle, 3 speeds: 6 entries) and the remainder (3)
     assert len(sympy_out["kane"]) == len(symengine_out["kane"]) == 9
-    report = bench.compare(sympy_out, symengine_out, exact=True, rng=__import__("random").Random(1))
+    report = bench.compare(sympy_out, symengine_out, exact=True, rng=random.Random(1))
     assert report == {stage: "identical" for stage in ("kane", "subs", "expand", "cse sympy", "cse symengine")}
 
 
