@@ -748,7 +748,9 @@ def resolve_parameters(definitions: Mapping[str, object], *,
                 raise
             raise ModelError(exc.path, exc.expected, exc.given,
                              "parameters are constants: they cannot depend on time 't'") from None
-    dependencies = {name: [other for other in definitions if other in free_names(expr)]
+    # each expression's free names are computed once: linear in the total size of the definitions
+    position = {name: k for k, name in enumerate(definitions)}
+    dependencies = {name: sorted(free_names(expr), key=position.__getitem__)
                     for name, expr in exprs.items()}
     values: dict[sympy.Symbol, float] = {}
     for name in _dependency_order(dependencies, definitions, path_of):
