@@ -19,6 +19,7 @@ from pathlib import Path
 import sympy as sp
 
 from . import __version__
+from .expressions import bounded_expand
 
 __all__ = ["collect_terms", "latex_names", "format_equations", "equations_markdown", "equations_latex",
            "constant_rows", "render_pdf", "PDFLATEX_MISSING"]
@@ -43,8 +44,11 @@ def collect_terms(eom, expr: sp.Expr) -> sp.Expr:
     thousands of terms) are split into ``sum_s (dF/du'_s) u'_s`` plus the rest, unexpanded.
     """
     ud = list(eom.chain.ud.values())
-    if sp.count_ops(expr) <= _EXPAND_LIMIT:
-        return sp.collect(sp.expand(expr), ud)
+    if sp.count_ops(expr) <= _EXPAND_LIMIT:   # user expressions (time laws) are never expanded
+        variables = [*eom.chain.q, *eom.chain.u, *ud]
+        expanded = bounded_expand(expr, variables, eom.t)
+        if expanded is not None:
+            return sp.collect(expanded, ud)
     rest = expr.xreplace({s: 0 for s in ud})
     return sp.Add(*[sp.diff(expr, s) * s for s in ud if expr.has(s)], rest)
 
