@@ -16,6 +16,7 @@ import sympy as sp
 from ..expressions import bounded_expand, time_derivative
 from ..model import Model
 from ..model.paths import get_value
+from ..model.values import symbol_order
 from .active import generalized_active_forces
 from .budget import DerivationBudget
 from .chain import Chain, build_chain
@@ -112,7 +113,7 @@ class EquationsOfMotion:
         symbols = set()
         for expr in list(self.mass_matrix) + list(self.forcing) + list(self.qdot) + list(self.outputs.values()):
             symbols |= expr.free_symbols
-        self.constants = sorted(symbols - known, key=lambda s: s.name)
+        self.constants = sorted(symbols - known, key=symbol_order)
 
     # ------------------------------------------------------------------ loop constraints
     def _reduce_by_constraints(self, sub) -> None:

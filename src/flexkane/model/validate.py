@@ -210,6 +210,7 @@ def validate_model(model: Model) -> None:
         _check_constraint(model, con, values, lengths)
     _check_gravity(model.gravity, values)
     _check_simulation(model.simulation)
+    _check_parameter_names(model)
     if not isinstance(model.initial, dict):
         raise ModelError("initial", "a table of initial values by coordinate or speed name", model.initial)
     _check_structure(model, values)
@@ -563,6 +564,24 @@ def validate_run_arguments(*, t_end, dt_out, rtol, atol, method="auto", max_step
 
 
 # ------------------------------------------------------------------------------------ structure
+def _check_parameter_names(model: Model) -> None:
+    """Refuse a parameter printed like a constant the derivation generates (E_1, H_11, m_<beam>).
+
+    The symbols are distinct whatever the names (see :class:`~flexkane.model.values.GeneratedSymbol`);
+    the refusal keeps printed equations readable.
+    """
+    from ..kane.beam_constants import generated_constant
+
+    label_beams = len(model.beams) > 1
+    for name in model.parameters:
+        for beam in model.beams:
+            meaning = generated_constant(str(name), beam, beam if label_beams else "")
+            if meaning is not None:
+                raise ModelError(f"parameters.{name}", "a parameter name other than those of the "
+                                 "constants flexkane generates", name,
+                                 f"{name!r} is {meaning}; rename the parameter")
+
+
 def _family(spec: ShapeSpec, path: str, n: int, kind: str) -> None:
     """Build the shape family, check that it is of ``kind`` and provides ``n`` functions."""
     from ..kane.equations import shape_family
