@@ -32,10 +32,12 @@ from .model import NAMING_STYLES, Model
 from .parts import (ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES, Beam, Driver,
                     Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody, ShapeSpec, Simulation)
 
-__all__ = ["validate_model", "validate_run_arguments", "MAX_MODES", "METHODS", "is_name"]
+__all__ = ["validate_model", "validate_run_arguments", "MAX_MODES", "MAX_OUTPUT_ROWS", "METHODS", "is_name"]
 
 #: Largest number of shape functions of one beam (transverse or axial).
 MAX_MODES = 200
+#: Largest number of rows of an output grid (t_end / dt_out).
+MAX_OUTPUT_ROWS = 10_000_000
 #: Integration methods a model may ask for.
 METHODS = ("auto", "dop853", "radau")
 #: Range of relative tolerances the integrators accept [-].
@@ -514,10 +516,21 @@ def _check_simulation(sim) -> None:
             continue
         if isinstance(value, bool) or not isinstance(value, numbers.Real) or not (math.isfinite(value) and value > 0):
             raise ModelError(f"simulation.{key}", f"a positive finite {what}", value)
+    if sim.t_end is not None and sim.dt_out is not None:
+        _check_output_rows("simulation.dt_out", sim.t_end, sim.dt_out)
     low, high = RTOL_RANGE
     if isinstance(sim.rtol, bool) or not isinstance(sim.rtol, numbers.Real) or not low <= sim.rtol < high:
         raise ModelError("simulation.rtol", f"a relative tolerance from {low:g} to below {high:g} [-]", sim.rtol)
     _choice("simulation.method", sim.method, METHODS)
+
+
+def _check_output_rows(path: str, t_end: float, dt_out: float) -> None:
+    """Refuse an output grid of more than :data:`MAX_OUTPUT_ROWS` rows (t_end / dt_out)."""
+    rows = t_end / dt_out
+    if not rows <= MAX_OUTPUT_ROWS:
+        raise ModelError(path, f"an output interval [s] giving at most {MAX_OUTPUT_ROWS:,} output rows "
+                         f"up to t_end = {t_end:g} s (dt_out >= {t_end / MAX_OUTPUT_ROWS:g} s)", dt_out,
+                         f"that is {rows:.3g} rows")
 
 
 def validate_run_arguments(*, t_end, dt_out, rtol, atol, method="auto", max_steps=None, progress=None) -> None:
@@ -552,6 +565,7 @@ def validate_run_arguments(*, t_end, dt_out, rtol, atol, method="auto", max_step
                               ("atol", atol, "absolute tolerance [units of each state]")):
         if not (real(value) and value > 0):
             raise ModelError(f"{name} (--{name.replace('_', '-')})", f"a positive finite {what}", value)
+    _check_output_rows("dt_out (--dt-out)", t_end, dt_out)
     low, high = RTOL_RANGE
     if not (real(rtol) and low <= rtol < high):
         raise ModelError("rtol (--rtol)", f"a relative tolerance from {low:g} to below {high:g} [-]", rtol)
