@@ -13,12 +13,16 @@ Python API, ``--set``, sweep), so it trusts no field's type. In order:
    generalized coordinates (names unique), initial conditions only for coordinates and speeds that
    exist, the dependent speeds of loop constraints.
 
-The first problem found raises :class:`~flexkane.errors.ModelError` naming the key path
-(``beams.arm.EI``), what was expected with its unit, and what was given.
+Each problem is a :class:`~flexkane.errors.ModelError` naming the key path (``beams.arm.EI``), what
+was expected with its unit, and what was given. The problems of independent parts are reported
+together (:class:`~flexkane.errors.ModelErrors`, at most :data:`MAX_REPORTED`); a stage that relies on
+an earlier one (parts on parameter values, joints on parts, the structure on everything) runs only
+when the earlier one passed.
 """
 
 from __future__ import annotations
 
+import contextlib
 import difflib
 import keyword
 import math
@@ -27,7 +31,7 @@ import re
 
 import sympy as sp
 
-from ..errors import ModelError
+from ..errors import ModelError, ModelErrors
 from .model import NAMING_STYLES, Model
 from .parts import (ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES, Beam, Driver,
                     Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody, ShapeSpec, Simulation)
@@ -38,6 +42,8 @@ __all__ = ["validate_model", "validate_run_arguments", "MAX_MODES", "MAX_OUTPUT_
 MAX_MODES = 200
 #: Largest number of rows of an output grid (t_end / dt_out).
 MAX_OUTPUT_ROWS = 10_000_000
+#: Most problems one validation reports together.
+MAX_REPORTED = 20
 #: Integration methods a model may ask for.
 METHODS = ("auto", "dop853", "radau")
 #: Range of relative tolerances the integrators accept [-].
@@ -168,8 +174,39 @@ def _table(model: Model, kind: str, cls) -> dict:
     return table
 
 
+class _Problems:
+    """The problems found so far in one model; each check of a part runs under :meth:`part`."""
+
+    def __init__(self):
+        self.errors: list[ModelError] = []
+
+    @contextlib.contextmanager
+    def part(self):
+        """Record a ModelError raised in the block and go on (stop at :data:`MAX_REPORTED`)."""
+        try:
+            yield
+        except ModelErrors as exc:
+            self.errors.extend(exc.errors)
+        except ModelError as exc:
+            self.errors.append(exc)
+        if len(self.errors) >= MAX_REPORTED:
+            raise ModelErrors(self.errors[:MAX_REPORTED], limit=MAX_REPORTED)
+
+    def raise_found(self) -> None:
+        """Raise what was found: the error itself if one, :class:`ModelErrors` if several."""
+        if len(self.errors) == 1:
+            raise self.errors[0]
+        if self.errors:
+            raise ModelErrors(self.errors)
+
+
 def validate_model(model: Model) -> None:
-    """Check a model; raise :class:`~flexkane.errors.ModelError` on the first problem found.
+    """Check a model; raise :class:`~flexkane.errors.ModelError` naming every problem found.
+
+    Checks whose parts are independent (each body, beam, joint, load, spring, constraint, the
+    gravity, the run settings) all run, and their problems are reported together (up to
+    :data:`MAX_REPORTED`, as :class:`~flexkane.errors.ModelErrors`); a stage whose checks rely on
+    the previous ones (values on parameters, references on parts) runs only when those passed.
 
     Parameters
     ----------
@@ -178,43 +215,70 @@ def validate_model(model: Model) -> None:
     """
     if not isinstance(model, Model):
         raise ModelError("model", "a flexkane Model", type(model).__name__)
-    if not isinstance(model.name, str) or not model.name.strip():
-        raise ModelError("name", "a non-empty model name", model.name)
-    if not isinstance(model.description, str):
-        raise ModelError("description", "a text", model.description)
-    _choice("naming", model.naming, NAMING_STYLES)
-    values = _Values(model)
-    bodies = _table(model, "bodies", RigidBody)
-    beams = _table(model, "beams", Beam)
-    for kind, cls in (("joints", Joint), ("loads", Load), ("springs", PointSpring),
-                      ("constraints", LoopConstraint)):
-        _table(model, kind, cls)
+    problems = _Problems()
+    with problems.part():
+        if not isinstance(model.name, str) or not model.name.strip():
+            raise ModelError("name", "a non-empty model name", model.name)
+    with problems.part():
+        if not isinstance(model.description, str):
+            raise ModelError("description", "a text", model.description)
+    with problems.part():
+        _choice("naming", model.naming, NAMING_STYLES)
+    values = None
+    with problems.part():
+        values = _Values(model)
+    tables = {}
+    for kind, cls in (("bodies", RigidBody), ("beams", Beam), ("joints", Joint), ("loads", Load),
+                      ("springs", PointSpring), ("constraints", LoopConstraint)):
+        with problems.part():
+            tables[kind] = _table(model, kind, cls)
+    problems.raise_found()   # values and parts are needed by every check below
+    bodies, beams = tables["bodies"], tables["beams"]
     for name in beams:
         if name in bodies:
-            raise ModelError(f"beams.{name}", "a name unique among bodies and beams", name)
+            with problems.part():
+                raise ModelError(f"beams.{name}", "a name unique among bodies and beams", name)
     for name in list(bodies) + list(beams):
         if name == "ground":
-            raise ModelError(f"{'bodies' if name in bodies else 'beams'}.{name}",
-                             "a name other than 'ground' (the fixed frame)", name)
+            with problems.part():
+                raise ModelError(f"{'bodies' if name in bodies else 'beams'}.{name}",
+                                 "a name other than 'ground' (the fixed frame)", name)
     if not bodies and not beams:
-        raise ModelError("bodies", "at least one body or beam", None, show_given=False)
+        with problems.part():
+            raise ModelError("bodies", "at least one body or beam", None, show_given=False)
     for body in bodies.values():
-        _check_body(body, values)
-    lengths = {beam.name: _check_beam(beam, values) for beam in beams.values()}
+        with problems.part():
+            _check_body(body, values)
+    lengths = {}
+    for beam in beams.values():
+        with problems.part():
+            lengths[beam.name] = _check_beam(beam, values)
+    problems.raise_found()   # joints and ends refer to parts and beam lengths
     for joint in model.joints.values():
-        _check_joint(model, joint, values, lengths)
-    _check_tree(model)
+        with problems.part():
+            _check_joint(model, joint, values, lengths)
+    problems.raise_found()   # the tree is made of valid joints
+    with problems.part():
+        _check_tree(model)
     for load in model.loads.values():
-        _check_load(model, load, values, lengths)
+        with problems.part():
+            _check_load(model, load, values, lengths)
     for spring in model.springs.values():
-        _check_spring(model, spring, values)
+        with problems.part():
+            _check_spring(model, spring, values)
     for con in model.constraints.values():
-        _check_constraint(model, con, values, lengths)
-    _check_gravity(model.gravity, values)
-    _check_simulation(model.simulation)
-    _check_parameter_names(model)
-    if not isinstance(model.initial, dict):
-        raise ModelError("initial", "a table of initial values by coordinate or speed name", model.initial)
+        with problems.part():
+            _check_constraint(model, con, values, lengths)
+    with problems.part():
+        _check_gravity(model.gravity, values)
+    with problems.part():
+        _check_simulation(model.simulation)
+    with problems.part():
+        _check_parameter_names(model)
+    with problems.part():
+        if not isinstance(model.initial, dict):
+            raise ModelError("initial", "a table of initial values by coordinate or speed name", model.initial)
+    problems.raise_found()   # the structure needs a valid tree of valid parts
     _check_structure(model, values)
 
 
