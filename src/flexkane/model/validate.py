@@ -179,25 +179,33 @@ class _Problems:
 
     def __init__(self):
         self.errors: list[ModelError] = []
+        self.later: list[ModelError] = []   # problems no other check depends on, listed last
 
     @contextlib.contextmanager
-    def part(self):
+    def part(self, *, later: bool = False):
         """Record a ModelError raised in the block and go on (stop at :data:`MAX_REPORTED`)."""
+        found = self.later if later else self.errors
         try:
             yield
         except ModelErrors as exc:
-            self.errors.extend(exc.errors)
+            found.extend(exc.errors)
         except ModelError as exc:
-            self.errors.append(exc)
-        if len(self.errors) >= MAX_REPORTED:
-            raise ModelErrors(self.errors[:MAX_REPORTED], limit=MAX_REPORTED)
+            found.append(exc)
+        everything = self.errors + self.later
+        if len(everything) >= MAX_REPORTED:
+            raise ModelErrors(everything[:MAX_REPORTED], limit=MAX_REPORTED)
 
-    def raise_found(self) -> None:
-        """Raise what was found: the error itself if one, :class:`ModelErrors` if several."""
-        if len(self.errors) == 1:
-            raise self.errors[0]
-        if self.errors:
-            raise ModelErrors(self.errors)
+    def raise_found(self, *, final: bool = False) -> None:
+        """Raise what was found when a check that others rely on failed (or at the end).
+
+        The error itself if there is one, :class:`~flexkane.errors.ModelErrors` if several.
+        """
+        everything = self.errors + self.later
+        if not (self.errors or final and self.later):
+            return
+        if len(everything) == 1:
+            raise everything[0]
+        raise ModelErrors(everything)
 
 
 def validate_model(model: Model) -> None:
@@ -232,7 +240,16 @@ def validate_model(model: Model) -> None:
                       ("springs", PointSpring), ("constraints", LoopConstraint)):
         with problems.part():
             tables[kind] = _table(model, kind, cls)
+    with problems.part(later=True):
+        _check_simulation(model.simulation)
+    with problems.part(later=True):
+        if not isinstance(model.initial, dict):
+            raise ModelError("initial", "a table of initial values by coordinate or speed name", model.initial)
     problems.raise_found()   # values and parts are needed by every check below
+    with problems.part():
+        _check_parameter_names(model)
+    with problems.part():
+        _check_gravity(model.gravity, values)
     bodies, beams = tables["bodies"], tables["beams"]
     for name in beams:
         if name in bodies:
@@ -269,16 +286,7 @@ def validate_model(model: Model) -> None:
     for con in model.constraints.values():
         with problems.part():
             _check_constraint(model, con, values, lengths)
-    with problems.part():
-        _check_gravity(model.gravity, values)
-    with problems.part():
-        _check_simulation(model.simulation)
-    with problems.part():
-        _check_parameter_names(model)
-    with problems.part():
-        if not isinstance(model.initial, dict):
-            raise ModelError("initial", "a table of initial values by coordinate or speed name", model.initial)
-    problems.raise_found()   # the structure needs a valid tree of valid parts
+    problems.raise_found(final=True)   # the structure needs a valid tree of valid parts
     _check_structure(model, values)
 
 
