@@ -40,6 +40,17 @@ class GeneratedSymbol(sp.Symbol):
     equations stay readable).
     """
 
+    @classmethod
+    def class_key(cls):
+        """Sort like a plain symbol: printed equations keep the order of their terms."""
+        return sp.Symbol.class_key()
+
+
+# SymPy orders the terms of sums and products by class name (``Basic.compare``): under the name of a
+# plain symbol, generated symbols keep the canonical order, printed equations and generated code
+# they always had. Equality and hashing see the class itself, and pickling its qualified name.
+GeneratedSymbol.__name__ = "Symbol"
+
 
 def symbol_order(symbol: sp.Symbol) -> tuple[str, bool]:
     """Sort key of symbols: by name, a parameter before a generated symbol printed alike."""

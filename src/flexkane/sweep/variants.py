@@ -190,7 +190,8 @@ def check_sweep(model: Model, spec: SweepSpec, settings: RunSettings) -> int:
     """Check a sweep without running it (``flexkane check`` of a model file with a ``[sweep]`` table).
 
     Checks the varied keys and the values of each (a grid's ranges give whole numbers for integer
-    keys; ``settings`` were checked by :meth:`RunSettings.resolve`), and validates the model with every key at the first,
+    keys; ``settings`` were checked by :meth:`RunSettings.resolve`), and validates the model with
+    every key at the first,
     then at the last of its values.
 
     Returns
