@@ -8,7 +8,7 @@ exit code 3, without a traceback.
 
 from __future__ import annotations
 
-__all__ = ["FlexkaneError", "ModelError", "SolverFailure", "describe_value"]
+__all__ = ["FlexkaneError", "ModelError", "ModelErrors", "SolverFailure", "describe_value"]
 
 
 def describe_value(value: object, limit: int = 60) -> str:
@@ -68,6 +68,34 @@ class ModelError(FlexkaneError, ValueError):
         if hint:
             message += f" ({hint})"
         super().__init__(message)
+
+
+class ModelErrors(ModelError):
+    """Several problems of one model, reported together.
+
+    Its ``path``, ``expected``, ``given`` and ``hint`` are those of the first problem; its message
+    starts with the first problem's and lists each other problem on a line of its own.
+
+    Parameters
+    ----------
+    errors : list of ModelError
+        The problems, in the order they were found (at least two).
+    limit : int, optional
+        The most problems one report lists, when the validation stopped there.
+    """
+
+    def __init__(self, errors, limit: int | None = None):
+        errors = list(errors)
+        first = errors[0]
+        super().__init__(first.path, first.expected, first.given, first.hint)
+        self.errors = errors
+        self.limit = limit
+        lines = [str(first)] + [f"also {error}" for error in errors[1:]]
+        total = f"{len(errors)} problems" + (f" (the first {limit}; fix them and check again)" if limit else "")
+        self.args = ("\n".join(lines) + f"\n({total})",)
+
+    def __str__(self) -> str:
+        return self.args[0]
 
 
 class SolverFailure(FlexkaneError, RuntimeError):

@@ -42,7 +42,8 @@ import sympy
 
 from .errors import ModelError
 
-__all__ = ["FUNCTIONS", "MAX_DEPTH", "MAX_EXPONENT", "MAX_INTEGER", "MAX_LENGTH", "MAX_NODES",
+__all__ = ["FUNCTIONS", "MAX_DEPTH", "MAX_EXPANDED_TERMS", "MAX_EXPONENT", "MAX_INTEGER", "MAX_LENGTH",
+           "MAX_NODES", "bounded_expand", "expansion_terms", "time_derivative",
            "RESERVED_NAMES", "free_names", "parse_condition", "parse_expression",
            "resolve_parameters", "to_float"]
 
@@ -222,6 +223,10 @@ class _Converter:
             self.refuse(at, "a number beyond the floating-point range")
         if value.expr.is_Number and _magnitude_bits(value.expr) > _MAX_COEFFICIENT_BITS:
             self.refuse(at, "an exact number with too many digits")
+        for factor in sympy.Mul.make_args(value.expr):   # powers of powers combine: (x**a)**b
+            if factor.is_Pow and factor.exp.is_Number and abs(factor.exp) > MAX_EXPONENT:
+                self.refuse(at, f"a power with the combined exponent {factor.exp} above "
+                            f"{MAX_EXPONENT} in absolute value")
         return _Value(value.expr, estimate)
 
     def compute(self, function, *arguments, at: ast.AST | int, name: str) -> float | None:
@@ -748,7 +753,9 @@ def resolve_parameters(definitions: Mapping[str, object], *,
                 raise
             raise ModelError(exc.path, exc.expected, exc.given,
                              "parameters are constants: they cannot depend on time 't'") from None
-    dependencies = {name: [other for other in definitions if other in free_names(expr)]
+    # each expression's free names are computed once: linear in the total size of the definitions
+    position = {name: k for k, name in enumerate(definitions)}
+    dependencies = {name: sorted(free_names(expr), key=position.__getitem__)
                     for name, expr in exprs.items()}
     values: dict[sympy.Symbol, float] = {}
     for name in _dependency_order(dependencies, definitions, path_of):
@@ -780,3 +787,148 @@ def _dependency_order(dependencies: dict[str, list[str]], definitions, path_of) 
                 path.append(child)
                 stack.append(iter(dependencies[child]))
     return order
+
+
+# ------------------------------------------------------------------ symbolic work on user expressions
+#: Largest number of terms :func:`bounded_expand` lets an expansion produce.
+MAX_EXPANDED_TERMS = 2000
+#: A part of an expression free of the variables is kept whole when expanding it would give more terms.
+_MAX_CONSTANT_TERMS = 16
+
+
+def expansion_terms(expr: sympy.Basic, limit: int = MAX_EXPANDED_TERMS) -> int:
+    """Number of terms :func:`sympy.expand` would produce, estimated from above (capped at ``limit + 1``).
+
+    A sum has the terms of its parts, a product the product of theirs, and an integer power ``n`` of
+    a sum of ``k`` terms the multinomial count ``C(k + n - 1, n)``; the arguments of functions are
+    expanded on their own and add their terms. The estimate costs one pass over the expression
+    (shared subexpressions are counted once), so it is safe on any user expression.
+    """
+    cap = limit + 1
+    seen: dict[sympy.Basic, tuple[int, int]] = {}   # expr -> (terms, work inside function arguments)
+
+    def visit(node) -> tuple[int, int]:
+        if node in seen:
+            return seen[node]
+        if not node.args or not isinstance(node, sympy.Expr):
+            result = (1, 0)
+        else:
+            parts = [visit(arg) for arg in node.args]
+            work = min(cap, sum(w for _, w in parts))
+            if node.is_Add:
+                terms = min(cap, sum(t for t, _ in parts))
+            elif node.is_Mul:
+                terms = 1
+                for t, _ in parts:
+                    terms = min(cap, terms * t)
+            elif node.is_Pow and node.exp.is_Integer and abs(int(node.exp)) > 1:
+                k, n = parts[0][0], abs(int(node.exp))
+                terms = cap if k >= cap or n >= cap else min(cap, math.comb(k + n - 1, n))
+            elif node.is_Pow:
+                terms = parts[0][0]
+            else:   # a function: its arguments are expanded inside it
+                terms, work = 1, min(cap, work + sum(t for t, _ in parts))
+            result = (terms, work)
+        seen[node] = result
+        return result
+
+    terms, work = visit(expr)
+    return min(cap, terms + work)
+
+
+def bounded_expand(expr: sympy.Expr, variables, time: sympy.Symbol,
+                   limit: int = MAX_EXPANDED_TERMS) -> sympy.Expr | None:
+    """Expand an expression of the equations in its variables, never expanding user expressions.
+
+    The parts of ``expr`` free of ``variables`` that depend on ``time`` (the time laws of loads and
+    drivers, as the user wrote them) or whose own expansion would exceed a few terms are kept whole:
+    they stand as opaque factors during the expansion and are put back unchanged afterwards. So a
+    torque ``(t + sin(t) + 1)**100`` stays a power and costs nothing.
+
+    Parameters
+    ----------
+    expr : sympy.Expr
+        An expression of the equations of motion.
+    variables : iterable of sympy.Symbol
+        Symbols the expansion is about (coordinates, speeds, their derivatives).
+    time : sympy.Symbol
+        The time symbol t.
+    limit : int
+        Largest number of terms the expansion may produce.
+
+    Returns
+    -------
+    sympy.Expr or None
+        The expansion, or None when it would have more than ``limit`` terms.
+    """
+    variables = frozenset(variables)
+    placeholders: dict[sympy.Basic, sympy.Dummy] = {}
+
+    def masked(node):
+        if not node.args or not isinstance(node, sympy.Expr):
+            return node
+        free = node.free_symbols
+        if not free & variables and (time in free or expansion_terms(node, _MAX_CONSTANT_TERMS)
+                                     > _MAX_CONSTANT_TERMS):
+            if node not in placeholders:
+                placeholders[node] = sympy.Dummy("user", real=True)
+            return placeholders[node]
+        return node.func(*[masked(arg) for arg in node.args])
+
+    opaque = masked(expr)
+    if expansion_terms(opaque, limit) > limit:
+        return None
+    expanded = sympy.expand(opaque)
+    return expanded.xreplace({dummy: node for node, dummy in placeholders.items()})
+
+
+def _as_piecewise(expr: sympy.Expr) -> sympy.Expr:
+    """Write ``abs``, ``min`` and ``max`` as piecewise expressions (their derivatives then are too)."""
+    def abs_(x):
+        return sympy.Piecewise((x, x >= 0), (-x, True))
+
+    def extreme(better):
+        def build(*args):
+            pieces = []
+            for k, a in enumerate(args[:-1]):
+                pieces.append((a, sympy.And(*[better(a, b) for b in args[k + 1:]])))
+            pieces.append((args[-1], True))
+            return sympy.Piecewise(*pieces)
+        return build
+
+    expr = expr.replace(sympy.Abs, abs_)
+    expr = expr.replace(sympy.Max, extreme(lambda a, b: a >= b))
+    return expr.replace(sympy.Min, extreme(lambda a, b: a <= b))
+
+
+def time_derivative(expr: sympy.Expr, time: sympy.Symbol, *, path: str, order: int = 1) -> sympy.Expr:
+    """Derivative of a time law (a driver's coordinate or speed) with respect to time.
+
+    ``abs``, ``min``, ``max``, ``where`` and ``piecewise`` are differentiated branch by branch: the
+    derivative of ``abs(x)`` is ``x'`` where ``x >= 0`` and ``-x'`` elsewhere, that of ``max(a, b)``
+    is ``a'`` where ``a >= b`` and ``b'`` elsewhere, that of ``where(c, a, b)`` is
+    ``where(c, a', b')``. At a kink the derivative is that of the branch whose condition holds there
+    (the first one of ``piecewise``): a one-sided derivative, never an impulse.
+
+    Parameters
+    ----------
+    expr : sympy.Expr
+        The law, an expression of t and parameters.
+    time : sympy.Symbol
+    path : str
+        Key path of the field, for the message when the law cannot be differentiated.
+    order : int
+        Order of the derivative.
+
+    Returns
+    -------
+    sympy.Expr
+        The derivative, free of ``DiracDelta``, ``Heaviside`` and unevaluated derivatives.
+    """
+    result = _as_piecewise(expr)
+    for _ in range(order):
+        result = _as_piecewise(sympy.diff(result, time))
+    if result.has(sympy.DiracDelta, sympy.Heaviside, sympy.Derivative, sympy.Subs, sympy.sign):
+        raise ModelError(path, "a time law that can be differentiated with respect to t", _shorten(str(expr)),
+                         f"its derivative of order {order} is not a function of t")
+    return result

@@ -22,6 +22,7 @@ from sympy.printing.precedence import precedence
 from sympy.printing.str import StrPrinter
 
 from ._version import __version__
+from .expressions import bounded_expand
 from .natural_order import natural_key
 
 __all__ = ["collect_terms", "latex_names", "format_equations", "equations_markdown", "equations_latex",
@@ -49,9 +50,11 @@ def collect_terms(eom, expr: sp.Expr) -> sp.Expr:
     ud = list(eom.chain.ud.values())
     # a sum of n terms has at least n - 1 operations: the bound spares counting those of a long sum
     if len(sp.Add.make_args(expr)) - 1 <= _EXPAND_LIMIT and sp.count_ops(expr) <= _EXPAND_LIMIT:
-        expanded = sp.expand(expr)
-        grouped = _collect_linear(expanded, ud)
-        return grouped if grouped is not None else sp.collect(expanded, ud)
+        variables = [*eom.chain.q, *eom.chain.u, *ud]
+        expanded = bounded_expand(expr, variables, eom.t)   # user expressions (time laws) are never expanded
+        if expanded is not None:
+            grouped = _collect_linear(expanded, ud)
+            return grouped if grouped is not None else sp.collect(expanded, ud)
     grouped = _collect_linear(expr, ud)      # each u' a factor of a term: group without expanding
     if grouped is not None:
         return grouped

@@ -17,6 +17,7 @@ from ._version import __version__
 from .errors import ModelError
 from .kane import EquationsOfMotion
 from .model import Model, dumps_model
+from .model.validate import MAX_OUTPUT_ROWS
 from .results import Results
 
 __all__ = ["CompiledModel", "compile_model", "simulate", "output_grid", "output_times", "initial_state_vector",
@@ -29,8 +30,11 @@ def output_grid(t_end: float, dt_out: float) -> np.ndarray:
         raise ModelError("t_end", "a positive end time [s]", t_end)
     if not (dt_out > 0 and np.isfinite(dt_out)):
         raise ModelError("dt_out", "a positive output interval [s]", dt_out)
-    count = int(np.floor(t_end / dt_out + 1e-9))
-    if count > 10_000_000:
+    rows = t_end / dt_out
+    if not rows <= MAX_OUTPUT_ROWS:   # also an infinite ratio (dt_out = 1e-320)
+        raise ModelError("dt_out", "at most 10 million output rows", f"{rows:.3g} rows")
+    count = int(np.floor(rows + 1e-9))
+    if count > MAX_OUTPUT_ROWS:
         raise ModelError("dt_out", "at most 10 million output rows", f"{count} rows")
     grid = np.arange(count + 1) * dt_out
     if t_end - grid[-1] > 1e-9 * t_end:

@@ -5,10 +5,14 @@ import sympy as sp
 
 from flexkane.builtin import builtin_model
 from flexkane.kane import derive
+from flexkane.model.values import GeneratedSymbol
+
+#: Coordinates, speeds and modal constants are symbols flexkane generates; parameters are plain.
+S = lambda name: GeneratedSymbol(name, real=True)  # noqa: E731
+P = lambda name: sp.Symbol(name, real=True)  # noqa: E731
 
 
 def _symbols(n):
-    S = lambda name: sp.Symbol(name, real=True)  # noqa: E731
     q = [S(f"q{k}") for k in range(1, 4 + n)]
     u = [S(f"u{k}") for k in range(1, 4 + n)]
     ud = [S(f"u{k}'") for k in range(1, 4 + n)]
@@ -22,7 +26,7 @@ def _symbols(n):
 def chapter_F_star(n):
     """Eq. 8.23 typed from the chapter."""
     q, u, ud, E, F, G, H, S = _symbols(n)
-    mR, Iz, b, mB, eB, IB = S("mR"), S("Iz"), S("b"), S("m_B"), S("e_B"), S("I_B")
+    mR, Iz, b, mB, eB, IB = P("mR"), P("Iz"), P("b"), S("m_B"), S("e_B"), S("I_B")
     u1, u2, u3 = u[:3]
     d1, d2, d3 = ud[:3]
     qm, um, dm = q[3:], u[3:], ud[3:]
@@ -63,9 +67,8 @@ def test_elastic_active_forces_equal_eq_8_31(n):
 
 def test_gravity_forces_equal_eq_8_34_with_weight_at_the_deformed_midpoint():
     eom = derive(builtin_model("falling-beam"))
-    S = lambda name: sp.Symbol(name, real=True)  # noqa: E731
-    mR, mB, g, b, q3, q4, u = S("mR"), S("m_B"), S("g"), S("b"), S("q3"), S("q4"), None
-    L = S("L")
+    mR, mB, g, b, q3, q4, u = P("mR"), S("m_B"), P("g"), P("b"), S("q3"), S("q4"), None
+    L = P("L")
     phi_mid = S("Phi_1(L/2)")
     s3, c3 = sp.sin(q3), sp.cos(q3)
     # G_R = -mR g (s3 i + c3 j), G_B = -mB g (s3 i + c3 j) at C_B, eq. 8.33; partial velocities of

@@ -22,6 +22,7 @@ def _handle(args) -> int:
     from ..kane.chain import build_chain
 
     model = model_from_args(args)   # validates fields, references, shape families and the chain
+    sweep = _check_sweep_table(args.model, model)
     chain = build_chain(model)
     free = [c for c in chain.coordinates if c.driver is None]
     modes = ", ".join(f"{b.name}: {b.n_modes} {b.shape.family}" + (f" + {b.n_axial} axial" if b.n_axial else "")
@@ -32,5 +33,21 @@ def _handle(args) -> int:
           + f"; {len(chain.coordinates)} generalized coordinates: "
           f"{', '.join(c.q.name for c in chain.coordinates)}"
           + (f"; {len(chain.coordinates) - len(free)} prescribed by drivers" if len(free) < len(chain.coordinates)
-             else "") + ")")
+             else "") + ")" + (f"; [sweep] of {sweep} variant(s)" if sweep else ""))
     return 0
+
+
+def _check_sweep_table(spec: str, model) -> int | None:
+    """Check the [sweep] table of the model file, if it has one; return its number of variants."""
+    import tomllib
+
+    from .sweep import _model_text
+
+    text = _model_text(spec)
+    if not text or "sweep" not in tomllib.loads(text):   # the model loaded: the TOML is valid
+        return None
+    from ..sweep.spec import sweep_spec_from_toml
+    from ..sweep.variants import RunSettings, check_sweep
+
+    sweep = sweep_spec_from_toml(text)
+    return check_sweep(model, sweep, RunSettings.resolve(sweep, model))

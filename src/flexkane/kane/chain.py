@@ -23,7 +23,7 @@ import sympy as sp
 from ..errors import ModelError
 from ..model import Model
 from ..model.parts import JOINT_DOFS, Joint
-from ..model.values import TIME, FieldSymbols
+from ..model.values import TIME, FieldSymbols, GeneratedSymbol
 
 __all__ = ["Chain", "Coordinate", "build_chain"]
 
@@ -181,10 +181,10 @@ def build_chain(model: Model) -> Chain:
                 raise ModelError(f"joints.{owner}" if role not in ("mode", "axial") else f"beams.{owner}",
                                  "coordinate and speed names unique and distinct from parameters", name)
             seen[name] = owner
-        chain.coordinates.append(Coordinate(sp.Symbol(qn, real=True), sp.Symbol(un, real=True),
+        chain.coordinates.append(Coordinate(GeneratedSymbol(qn, real=True), GeneratedSymbol(un, real=True),
                                             owner, role, index))
     for coord in chain.coordinates:
-        chain.ud[coord.u] = sp.Symbol(f"{coord.u.name}'", real=True)
+        chain.ud[coord.u] = GeneratedSymbol(f"{coord.u.name}'", real=True)
     for joint in chain.joints:
         coords = chain.of(joint.name)
         if joint.type == "free":

@@ -13,10 +13,12 @@ import math
 import numpy as np
 import sympy as sp
 
+from ..expressions import bounded_expand, time_derivative
 from ..model import Model
 from ..model.paths import get_value
-from ..natural_order import natural_key
+from ..model.values import symbol_order
 from .active import generalized_active_forces
+from .budget import DerivationBudget
 from .chain import Chain, build_chain
 from .inertia import InertiaForces, generalized_inertia_forces
 from .distributed_loads import load_profile
@@ -70,14 +72,15 @@ class EquationsOfMotion:
         self._inertia = inertia
         coords = chain.coordinates
         subs = {}
-        for c in coords:
+        for c in coords:   # drivers' laws are differentiated branch by branch (no impulses)
+            path = f"joints.{c.owner}.driver.{c.driver}"
             if c.driver == "coordinate":
                 subs[c.q] = c.law
-                subs[c.u] = sp.diff(c.law, chain.t)
-                subs[chain.ud[c.u]] = sp.diff(c.law, chain.t, 2)
+                subs[c.u] = time_derivative(c.law, chain.t, path=path)
+                subs[chain.ud[c.u]] = time_derivative(c.law, chain.t, path=path, order=2)
             elif c.driver == "speed":
                 subs[c.u] = c.law
-                subs[chain.ud[c.u]] = sp.diff(c.law, chain.t)
+                subs[chain.ud[c.u]] = time_derivative(c.law, chain.t, path=path)
         self.substitutions = subs
         sub = (lambda e: e.xreplace(subs)) if subs else (lambda e: e)
         free = [r for r, c in enumerate(coords) if c.driver is None]
@@ -111,7 +114,7 @@ class EquationsOfMotion:
         symbols = set()
         for expr in list(self.mass_matrix) + list(self.forcing) + list(self.qdot) + list(self.outputs.values()):
             symbols |= expr.free_symbols
-        self.constants = sorted(symbols - known, key=lambda s: natural_key(s.name))   # E_1, E_2, ..., E_10
+        self.constants = sorted(symbols - known, key=symbol_order)   # E_1, E_2, ..., E_10
 
     # ------------------------------------------------------------------ loop constraints
     def _reduce_by_constraints(self, sub) -> None:
@@ -125,7 +128,9 @@ class EquationsOfMotion:
         ud_free = [chain.ud[u] for u in u_free]
         phi = [sub(e) for e in cons.phi]
         g_raw = [chain.dt(e) for e in cons.phi]
-        g = [sp.expand(sub(e)) for e in g_raw]
+        g = [sub(e) for e in g_raw]
+        g = [expanded if (expanded := bounded_expand(e, [*u_free, *self.q], self.t)) is not None else e
+             for e in g]
         A = sp.Matrix([[sp.diff(gi, u) for u in u_free] for gi in g])
         zero_u = {u: 0 for u in u_free}
         a = sp.Matrix([gi.xreplace(zero_u) + rate * ph for gi, ph, rate in zip(g, phi, cons.rates)])
@@ -431,8 +436,14 @@ def derive(model: Model) -> EquationsOfMotion:
         raise ModelError("model", "a flexkane Model (flexkane.load_model, flexkane.builtin_model)",
                          type(model).__name__)
     model.validate()
+    budget = DerivationBudget()   # bounded time and size (see flexkane.kane.budget)
     chain = build_chain(model)
     kin = Kinematics(chain)
+    budget.check_time("the kinematics")
     inertia = generalized_inertia_forces(kin)
+    budget.check_size(list(inertia.mass_matrix) + list(inertia.remainder), "the inertia forces")
     active = generalized_active_forces(kin)
-    return EquationsOfMotion(chain, kin, inertia, active)
+    budget.check_time("the active forces")
+    eom = EquationsOfMotion(chain, kin, inertia, active)
+    budget.check_size([*eom.mass_matrix, *eom.forcing, *eom.qdot, *eom.outputs.values()], "the equations")
+    return eom

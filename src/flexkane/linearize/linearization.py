@@ -207,15 +207,15 @@ class Linearization:
 
     def _check_drivers(self) -> None:
         """A driver other than the steady spin must be at rest at t0 for an equilibrium."""
-        from ..expressions import to_float
+        from ..expressions import time_derivative, to_float
 
         values = self.eom.constant_values(self.model)
         values[self.t] = self.t0
         for c in self.eom.chain.coordinates:
             if c.driver is None or (self.about == "spin" and c.owner == self.prepared.hub):
                 continue
-            rate = c.law if c.driver == "speed" else sp.diff(c.law, self.t)
             path = f"joints.{c.owner}.driver"
+            rate = c.law if c.driver == "speed" else time_derivative(c.law, self.t, path=path)
             speed = to_float(rate, values, path=path)
             if abs(speed) > 1e-12 * max(1.0, abs(to_float(c.law, values, path=path))):
                 raise NoEquilibriumError(

@@ -13,12 +13,16 @@ Python API, ``--set``, sweep), so it trusts no field's type. In order:
    generalized coordinates (names unique), initial conditions only for coordinates and speeds that
    exist, the dependent speeds of loop constraints.
 
-The first problem found raises :class:`~flexkane.errors.ModelError` naming the key path
-(``beams.arm.EI``), what was expected with its unit, and what was given.
+Each problem is a :class:`~flexkane.errors.ModelError` naming the key path (``beams.arm.EI``), what
+was expected with its unit, and what was given. The problems of independent parts are reported
+together (:class:`~flexkane.errors.ModelErrors`, at most :data:`MAX_REPORTED`); a stage that relies on
+an earlier one (parts on parameter values, joints on parts, the structure on everything) runs only
+when the earlier one passed.
 """
 
 from __future__ import annotations
 
+import contextlib
 import difflib
 import keyword
 import math
@@ -27,16 +31,20 @@ import re
 
 import sympy as sp
 
-from ..errors import ModelError
+from ..errors import ModelError, ModelErrors
 from .model import NAMING_STYLES, Model
 from .parts import (DISTRIBUTED_FRAMES, ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES, Beam,
                     DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody, ShapeSpec,
                     Simulation)
 
-__all__ = ["validate_model", "validate_run_arguments", "MAX_MODES", "METHODS", "is_name"]
+__all__ = ["validate_model", "validate_run_arguments", "MAX_MODES", "MAX_OUTPUT_ROWS", "METHODS", "is_name"]
 
 #: Largest number of shape functions of one beam (transverse or axial).
 MAX_MODES = 200
+#: Largest number of rows of an output grid (t_end / dt_out).
+MAX_OUTPUT_ROWS = 10_000_000
+#: Most problems one validation reports together.
+MAX_REPORTED = 20
 #: Integration methods a model may ask for.
 METHODS = ("auto", "dop853", "radau")
 #: Range of relative tolerances the integrators accept [-].
@@ -167,8 +175,47 @@ def _table(model: Model, kind: str, cls) -> dict:
     return table
 
 
+class _Problems:
+    """The problems found so far in one model; each check of a part runs under :meth:`part`."""
+
+    def __init__(self):
+        self.errors: list[ModelError] = []
+        self.later: list[ModelError] = []   # problems no other check depends on, listed last
+
+    @contextlib.contextmanager
+    def part(self, *, later: bool = False):
+        """Record a ModelError raised in the block and go on (stop at :data:`MAX_REPORTED`)."""
+        found = self.later if later else self.errors
+        try:
+            yield
+        except ModelErrors as exc:
+            found.extend(exc.errors)
+        except ModelError as exc:
+            found.append(exc)
+        everything = self.errors + self.later
+        if len(everything) >= MAX_REPORTED:
+            raise ModelErrors(everything[:MAX_REPORTED], limit=MAX_REPORTED)
+
+    def raise_found(self, *, final: bool = False) -> None:
+        """Raise what was found when a check that others rely on failed (or at the end).
+
+        The error itself if there is one, :class:`~flexkane.errors.ModelErrors` if several.
+        """
+        everything = self.errors + self.later
+        if not (self.errors or final and self.later):
+            return
+        if len(everything) == 1:
+            raise everything[0]
+        raise ModelErrors(everything)
+
+
 def validate_model(model: Model) -> None:
-    """Check a model; raise :class:`~flexkane.errors.ModelError` on the first problem found.
+    """Check a model; raise :class:`~flexkane.errors.ModelError` naming every problem found.
+
+    Checks whose parts are independent (each body, beam, joint, load, spring, constraint, the
+    gravity, the run settings) all run, and their problems are reported together (up to
+    :data:`MAX_REPORTED`, as :class:`~flexkane.errors.ModelErrors`); a stage whose checks rely on
+    the previous ones (values on parameters, references on parts) runs only when those passed.
 
     Parameters
     ----------
@@ -177,45 +224,74 @@ def validate_model(model: Model) -> None:
     """
     if not isinstance(model, Model):
         raise ModelError("model", "a flexkane Model", type(model).__name__)
-    if not isinstance(model.name, str) or not model.name.strip():
-        raise ModelError("name", "a non-empty model name", model.name)
-    if not isinstance(model.description, str):
-        raise ModelError("description", "a text", model.description)
-    _choice("naming", model.naming, NAMING_STYLES)
-    values = _Values(model)
-    bodies = _table(model, "bodies", RigidBody)
-    beams = _table(model, "beams", Beam)
-    for kind, cls in (("joints", Joint), ("loads", Load), ("distributed_loads", DistributedLoad),
-                      ("springs", PointSpring),
-                      ("constraints", LoopConstraint)):
-        _table(model, kind, cls)
+    problems = _Problems()
+    with problems.part():
+        if not isinstance(model.name, str) or not model.name.strip():
+            raise ModelError("name", "a non-empty model name", model.name)
+    with problems.part():
+        if not isinstance(model.description, str):
+            raise ModelError("description", "a text", model.description)
+    with problems.part():
+        _choice("naming", model.naming, NAMING_STYLES)
+    values = None
+    with problems.part():
+        values = _Values(model)
+    tables = {}
+    for kind, cls in (("bodies", RigidBody), ("beams", Beam), ("joints", Joint), ("loads", Load),
+                      ("distributed_loads", DistributedLoad),
+                      ("springs", PointSpring), ("constraints", LoopConstraint)):
+        with problems.part():
+            tables[kind] = _table(model, kind, cls)
+    with problems.part(later=True):
+        _check_simulation(model.simulation)
+    with problems.part(later=True):
+        if not isinstance(model.initial, dict):
+            raise ModelError("initial", "a table of initial values by coordinate or speed name", model.initial)
+    problems.raise_found()   # values and parts are needed by every check below
+    with problems.part():
+        _check_parameter_names(model)
+    with problems.part():
+        _check_gravity(model.gravity, values)
+    bodies, beams = tables["bodies"], tables["beams"]
     for name in beams:
         if name in bodies:
-            raise ModelError(f"beams.{name}", "a name unique among bodies and beams", name)
+            with problems.part():
+                raise ModelError(f"beams.{name}", "a name unique among bodies and beams", name)
     for name in list(bodies) + list(beams):
         if name == "ground":
-            raise ModelError(f"{'bodies' if name in bodies else 'beams'}.{name}",
-                             "a name other than 'ground' (the fixed frame)", name)
+            with problems.part():
+                raise ModelError(f"{'bodies' if name in bodies else 'beams'}.{name}",
+                                 "a name other than 'ground' (the fixed frame)", name)
     if not bodies and not beams:
-        raise ModelError("bodies", "at least one body or beam", None, show_given=False)
+        with problems.part():
+            raise ModelError("bodies", "at least one body or beam", None, show_given=False)
     for body in bodies.values():
-        _check_body(body, values)
-    lengths = {beam.name: _check_beam(beam, values) for beam in beams.values()}
+        with problems.part():
+            _check_body(body, values)
+    lengths = {}
+    for beam in beams.values():
+        with problems.part():
+            lengths[beam.name] = _check_beam(beam, values)
+    problems.raise_found()   # joints and ends refer to parts and beam lengths
     for joint in model.joints.values():
-        _check_joint(model, joint, values, lengths)
-    _check_tree(model)
+        with problems.part():
+            _check_joint(model, joint, values, lengths)
+    problems.raise_found()   # the tree is made of valid joints
+    with problems.part():
+        _check_tree(model)
     for load in model.loads.values():
-        _check_load(model, load, values, lengths)
+        with problems.part():
+            _check_load(model, load, values, lengths)
     for load in model.distributed_loads.values():
-        _check_distributed_load(model, load, values, lengths)
+        with problems.part():
+            _check_distributed_load(model, load, values, lengths)
     for spring in model.springs.values():
-        _check_spring(model, spring, values, lengths)
+        with problems.part():
+            _check_spring(model, spring, values, lengths)
     for con in model.constraints.values():
-        _check_constraint(model, con, values, lengths)
-    _check_gravity(model.gravity, values)
-    _check_simulation(model.simulation)
-    if not isinstance(model.initial, dict):
-        raise ModelError("initial", "a table of initial values by coordinate or speed name", model.initial)
+        with problems.part():
+            _check_constraint(model, con, values, lengths)
+    problems.raise_found(final=True)   # the structure needs a valid tree of valid parts
     _check_structure(model, values)
 
 
@@ -549,6 +625,8 @@ def _check_simulation(sim) -> None:
             continue
         if isinstance(value, bool) or not isinstance(value, numbers.Real) or not (math.isfinite(value) and value > 0):
             raise ModelError(f"simulation.{key}", f"a positive finite {what}", value)
+    if sim.t_end is not None and sim.dt_out is not None:
+        _check_output_rows("simulation.dt_out", sim.t_end, sim.dt_out)
     low, high = RTOL_RANGE
     if isinstance(sim.rtol, bool) or not isinstance(sim.rtol, numbers.Real) or not low <= sim.rtol < high:
         raise ModelError("simulation.rtol", f"a relative tolerance from {low:g} to below {high:g} [-]", sim.rtol)
@@ -556,6 +634,15 @@ def _check_simulation(sim) -> None:
     if sim.max_steps is not None and (isinstance(sim.max_steps, bool) or not isinstance(sim.max_steps, numbers.Integral)
                                       or sim.max_steps < 1):
         raise ModelError("simulation.max_steps", "a positive integer number of steps", sim.max_steps)
+
+
+def _check_output_rows(path: str, t_end: float, dt_out: float) -> None:
+    """Refuse an output grid of more than :data:`MAX_OUTPUT_ROWS` rows (t_end / dt_out)."""
+    rows = t_end / dt_out
+    if not rows <= MAX_OUTPUT_ROWS:
+        raise ModelError(path, f"an output interval [s] giving at most {MAX_OUTPUT_ROWS:,} output rows "
+                         f"up to t_end = {t_end:g} s (dt_out >= {t_end / MAX_OUTPUT_ROWS:g} s)", dt_out,
+                         f"that is {rows:.3g} rows")
 
 
 def validate_run_arguments(*, t_end, dt_out, rtol, atol, method="auto", max_steps=None, progress=None) -> None:
@@ -591,6 +678,7 @@ def validate_run_arguments(*, t_end, dt_out, rtol, atol, method="auto", max_step
                               ("atol", atol, "absolute tolerance [units of each state]")):
         if not (real(value) and value > 0):
             raise ModelError(name, f"a positive finite {what}", value)
+    _check_output_rows("dt_out", t_end, dt_out)
     low, high = RTOL_RANGE
     if not (real(rtol) and low <= rtol < high):
         raise ModelError("rtol", f"a relative tolerance from {low:g} to below {high:g} [-]", rtol)
@@ -603,6 +691,24 @@ def validate_run_arguments(*, t_end, dt_out, rtol, atol, method="auto", max_step
 
 
 # ------------------------------------------------------------------------------------ structure
+def _check_parameter_names(model: Model) -> None:
+    """Refuse a parameter printed like a constant the derivation generates (E_1, H_11, m_<beam>).
+
+    The symbols are distinct whatever the names (see :class:`~flexkane.model.values.GeneratedSymbol`);
+    the refusal keeps printed equations readable.
+    """
+    from ..kane.beam_constants import generated_constant
+
+    label_beams = len(model.beams) > 1
+    for name in model.parameters:
+        for beam in model.beams:
+            meaning = generated_constant(str(name), beam, beam if label_beams else "")
+            if meaning is not None:
+                raise ModelError(f"parameters.{name}", "a parameter name other than those of the "
+                                 "constants flexkane generates", name,
+                                 f"{name!r} is {meaning}; rename the parameter")
+
+
 def _family(spec: ShapeSpec, path: str, n: int, kind: str, values: _Values) -> None:
     """Build the shape family, check that it is of ``kind`` and provides ``n`` functions."""
     from ..kane.equations import shape_family

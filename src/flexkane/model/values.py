@@ -23,11 +23,41 @@ import sympy as sp
 from ..errors import ModelError
 from .model import Model
 
-__all__ = ["FieldSymbols", "TIME"]
+__all__ = ["FieldSymbols", "GeneratedSymbol", "TIME", "symbol_order"]
 
 #: The time symbol t [s].
 TIME = sp.Symbol("t", real=True)
 _SAFE = re.compile(r"[^0-9A-Za-z_]")
+
+
+class GeneratedSymbol(sp.Symbol):
+    """A symbol flexkane makes: a field value, a modal constant, a coordinate, a speed.
+
+    Generated symbols and the symbols of a user's parameters live in separate namespaces: a
+    ``GeneratedSymbol("H_11")`` never equals (nor hashes like) the parameter symbol
+    ``Symbol("H_11")``, even though both print alike. A parameter's name therefore never changes
+    what a generated constant stands for (model validation also refuses such names, so that printed
+    equations stay readable).
+    """
+
+    @classmethod
+    def class_key(cls):
+        """Sort like a plain symbol: printed equations keep the order of their terms."""
+        return sp.Symbol.class_key()
+
+
+# SymPy orders the terms of sums and products by class name (``Basic.compare``): under the name of a
+# plain symbol, generated symbols keep the canonical order, printed equations and generated code
+# they always had. Equality and hashing see the class itself, and pickling its qualified name.
+GeneratedSymbol.__name__ = "Symbol"
+
+
+def symbol_order(symbol: sp.Symbol) -> tuple[str, bool]:
+    """Sort key of symbols: by name in natural order (E_1, E_2, ..., E_10), a parameter before a
+    generated symbol printed alike."""
+    from ..natural_order import natural_key
+
+    return (natural_key(symbol.name), isinstance(symbol, GeneratedSymbol))
 
 
 class FieldSymbols:
@@ -80,7 +110,7 @@ class FieldSymbols:
         else:
             # check now that it parses and uses only parameters
             self._parse(value, {**self.parameters}, path=path)
-            symbol = sp.Symbol(self._fresh_name(name), real=True)
+            symbol = GeneratedSymbol(self._fresh_name(name), real=True)
             self.definitions[symbol] = (path, value)
             expr = symbol
         self._by_path[path] = expr

@@ -25,6 +25,7 @@ In a model file::
 
 from __future__ import annotations
 
+import difflib
 import math
 import re
 import tomllib
@@ -34,8 +35,10 @@ import numpy as np
 
 from ..errors import ModelError
 
-__all__ = ["Vary", "SweepSpec", "SAMPLINGS", "sweep_spec_from_toml", "split_values"]
+__all__ = ["Vary", "SweepSpec", "SAMPLINGS", "MAX_VARIANTS", "sweep_spec_from_toml", "split_values"]
 
+#: Largest number of variants of one sweep (grid combinations or random samples); more is refused.
+MAX_VARIANTS = 100_000
 #: Ways to turn the varied values into variants.
 SAMPLINGS = ("grid", "random")
 _SCALES = ("linear", "log")
@@ -137,10 +140,18 @@ class Vary:
         if self.count is not None and (isinstance(self.count, bool) or not isinstance(self.count, int)
                                        or self.count < 1):
             raise ModelError(where, "a positive integer COUNT of values", self.count)
+        if self.count is not None and self.count > MAX_VARIANTS:
+            raise ModelError(where, f"a COUNT of at most {MAX_VARIANTS:,} values (the largest sweep)",
+                             self.count)
         if self.scale not in _SCALES:
             raise ModelError(where, f"a scale among {', '.join(_SCALES)}", self.scale)
         if self.scale == "log" and (self.start <= 0 or self.stop <= 0):
             raise ModelError(where, "positive START and STOP for a log scale", f"{self.start}:{self.stop}")
+
+    @property
+    def size(self) -> int | None:
+        """Number of grid values (None for a range without COUNT, which only random sampling takes)."""
+        return len(self.values) if self.values is not None else self.count
 
     @property
     def is_range(self) -> bool:
@@ -300,6 +311,11 @@ class SweepSpec:
             if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
                 raise ModelError("seed", "a non-negative integer seed with random sampling (the same seed "
                                  "regenerates the same variants, which is what resuming needs)", self.seed)
+        count = self.variant_count
+        if count is not None and count > MAX_VARIANTS:
+            what = "samples" if self.sampling == "random" else "vary"
+            raise ModelError(what, f"a sweep of at most {MAX_VARIANTS:,} variants",
+                             f"{count:,} variants" if count < 10**30 else f"{count:.3g} variants")
         for name in ("t_end", "dt_out", "rtol", "atol"):
             value = getattr(self, name)
             if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float))
@@ -309,6 +325,14 @@ class SweepSpec:
         if self.max_steps is not None and (isinstance(self.max_steps, bool) or not isinstance(self.max_steps, int)
                                            or self.max_steps < 1):
             raise ModelError("max_steps", "a positive integer number of steps", self.max_steps)
+
+    @property
+    def variant_count(self) -> int | None:
+        """Number of variants before duplicates are dropped (None while a grid range lacks COUNT)."""
+        if self.sampling == "random":
+            return self.samples
+        sizes = [v.size for v in self.vary]
+        return None if None in sizes else math.prod(sizes)
 
     def merged(self, other: "SweepSpec") -> "SweepSpec":
         """This spec (from a model file) overridden by ``other`` (from the command line).
@@ -329,6 +353,11 @@ class SweepSpec:
         return replace(self, **changes)
 
 
+def _nearest(name: str, options) -> str | None:
+    close = difflib.get_close_matches(str(name), options, n=1, cutoff=0.6)
+    return f"did you mean {close[0]!r}?" if close else None
+
+
 def _vary_from_toml(key: str, value) -> Vary:
     if isinstance(value, str):
         return Vary.from_text(key, value)
@@ -337,7 +366,8 @@ def _vary_from_toml(key: str, value) -> Vary:
     if isinstance(value, dict):
         for name in value:
             if name not in _RANGE_KEYS:
-                raise ModelError(f"sweep.vary.{key}.{name}", f"one of {', '.join(_RANGE_KEYS)}", name)
+                raise ModelError(f"sweep.vary.{key}.{name}", f"one of {', '.join(_RANGE_KEYS)}", name,
+                                 _nearest(name, _RANGE_KEYS))
         return Vary(key, start=value.get("start"), stop=value.get("stop"), count=value.get("count"),
                     scale=value.get("scale", "linear"))
     if isinstance(value, (int, float)) and not isinstance(value, bool):
@@ -347,7 +377,7 @@ def _vary_from_toml(key: str, value) -> Vary:
 
 
 #: Command-line names of the settings in errors raised by SweepSpec, and their [sweep] keys.
-_FILE_PATHS = {"samples": "sweep.samples", "seed": "sweep.seed", "t_end": "sweep.t_end",
+_FILE_PATHS = {"vary": "sweep.vary", "samples": "sweep.samples", "seed": "sweep.seed", "t_end": "sweep.t_end",
                "dt_out": "sweep.dt_out", "rtol": "sweep.rtol", "atol": "sweep.atol", "max_steps": "sweep.max_steps"}
 
 
@@ -373,7 +403,7 @@ def sweep_spec_from_toml(text: str) -> SweepSpec | None:
         raise ModelError("sweep", "a table", table)
     for key in table:
         if key not in _SPEC_KEYS:
-            raise ModelError(f"sweep.{key}", f"one of {', '.join(_SPEC_KEYS)}", key)
+            raise ModelError(f"sweep.{key}", f"one of {', '.join(_SPEC_KEYS)}", key, _nearest(key, _SPEC_KEYS))
     vary_table = table.get("vary", {})
     if not isinstance(vary_table, dict):
         raise ModelError("sweep.vary", "a table of KEY = values", vary_table)

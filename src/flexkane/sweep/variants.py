@@ -12,6 +12,7 @@ from __future__ import annotations
 import hashlib
 import itertools
 import json
+from collections.abc import Iterator
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -20,11 +21,12 @@ import numpy as np
 from ..errors import ModelError
 from ..model import Model, dumps_model
 from ..model.paths import get_value, parse_path, set_value
+from ..model.validate import validate_run_arguments
 from ..numerics.integrate import METHODS
 from .spec import SweepSpec
 
-__all__ = ["Variant", "RunSettings", "key_kind", "check_keys", "make_assignments", "apply_assignments",
-           "variant_id", "make_variants"]
+__all__ = ["Variant", "RunSettings", "key_kind", "check_keys", "check_sweep", "make_assignments",
+           "apply_assignments", "variant_id", "make_variants"]
 
 _ID_LENGTH = 16  # hex digits of sha256 (64 bits)
 
@@ -67,10 +69,12 @@ class RunSettings:
         method = str(spec.method or sim.method)
         if method != "auto" and method not in METHODS:
             raise ModelError("method", f"one of auto, {', '.join(METHODS)}", method)
-        return cls(t_end=float(t_end), dt_out=float(dt_out),
-                   rtol=float(spec.rtol if spec.rtol is not None else sim.rtol),
-                   atol=float(spec.atol if spec.atol is not None else sim.atol),
-                   method=method, max_steps=spec.max_steps if spec.max_steps is not None else sim.max_steps)
+        settings = cls(t_end=float(t_end), dt_out=float(dt_out),
+                       rtol=float(spec.rtol if spec.rtol is not None else sim.rtol),
+                       atol=float(spec.atol if spec.atol is not None else sim.atol),
+                       method=method, max_steps=spec.max_steps if spec.max_steps is not None else sim.max_steps)
+        validate_run_arguments(**settings.as_dict())   # output grid bounded before anything runs
+        return settings
 
     def as_dict(self) -> dict:
         """The settings by name (``max_steps`` only when set, so that the ids of sweeps without it
@@ -157,8 +161,11 @@ def check_keys(model: Model, spec: SweepSpec) -> set[str]:
     return integer
 
 
-def make_assignments(spec: SweepSpec, integer_keys: set[str] = frozenset()) -> list[tuple]:
-    """The assignments of every variant, in sweep order.
+def make_assignments(spec: SweepSpec, integer_keys: set[str] = frozenset()) -> Iterator[tuple]:
+    """The assignments of every variant, in sweep order, generated one at a time.
+
+    The number of variants is bounded by :data:`~flexkane.sweep.spec.MAX_VARIANTS` (checked by
+    :class:`~flexkane.sweep.spec.SweepSpec`); a grid is never built as a whole.
 
     Parameters
     ----------
@@ -166,21 +173,60 @@ def make_assignments(spec: SweepSpec, integer_keys: set[str] = frozenset()) -> l
     integer_keys : set of str
         Keys whose values are integers (see :func:`check_keys`).
 
-    Returns
-    -------
-    list of tuple of (str, object)
+    Yields
+    ------
+    tuple of (str, object)
         Grid: every combination, the last key varying fastest. Random: ``spec.samples`` draws from
         ``numpy.random.default_rng(spec.seed)``, key by key in the spec's order.
     """
     if not spec.vary:
-        return [()]
+        yield ()
+        return
     keys = [v.key for v in spec.vary]
     if spec.sampling == "grid":
         columns = [v.grid_values(v.key in integer_keys) for v in spec.vary]
-        return [tuple(zip(keys, combo)) for combo in itertools.product(*columns)]
+        for combo in itertools.product(*columns):
+            yield tuple(zip(keys, combo))
+        return
     rng = np.random.default_rng(spec.seed)
     columns = [v.random_values(rng, spec.samples, v.key in integer_keys) for v in spec.vary]
-    return [tuple(zip(keys, row)) for row in zip(*columns)]
+    for row in zip(*columns):
+        yield tuple(zip(keys, row))
+
+
+def check_sweep(model: Model, spec: SweepSpec, settings: RunSettings) -> int:
+    """Check a sweep without running it (``flexkane check`` of a model file with a ``[sweep]`` table).
+
+    Checks the varied keys and the values of each (a grid's ranges give whole numbers for integer
+    keys; ``settings`` were checked by :meth:`RunSettings.resolve`), and validates the model with
+    every key at the first,
+    then at the last of its values.
+
+    Returns
+    -------
+    int
+        Number of variants (before duplicate random draws are dropped).
+
+    Raises
+    ------
+    ModelError
+        Naming the key and the value at fault.
+    """
+    integer_keys = check_keys(model, spec)
+    if spec.sampling == "grid":
+        columns = [v.grid_values(v.key in integer_keys) for v in spec.vary]
+    else:
+        columns = [list(v.values) if not v.is_range else [v.start, v.stop] for v in spec.vary]
+    for end in (0, -1):
+        assignments = tuple((v.key, column[end]) for v, column in zip(spec.vary, columns)
+                            if v.key.split(".")[0] != "initial" and key_kind(model, v.key) != "initial")
+        try:
+            apply_assignments(model, assignments).validate()
+        except ModelError as exc:
+            shown = ", ".join(f"{k}={val}" for k, val in assignments)
+            raise ModelError(exc.path, exc.expected, exc.given,
+                             f"with the sweep's values {shown}" + (f"; {exc.hint}" if exc.hint else "")) from None
+    return spec.variant_count or 1
 
 
 def apply_assignments(model: Model, assignments: tuple) -> Model:
