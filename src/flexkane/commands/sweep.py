@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import signal
 import sys
 from dataclasses import replace
 from pathlib import Path
 
 from ..errors import ModelError
+from ..interruption import StopRequest
 from ._common import add_model_arguments, model_from_args
 
 __all__ = ["register"]
@@ -110,28 +110,22 @@ def sweep_spec_from_args(args):
     return spec
 
 
-def _terminate(signum, frame):  # SIGTERM behaves as Ctrl-C: the table keeps what is finished
-    raise KeyboardInterrupt
-
-
 def _handle(args) -> int:
     from ..sweep import SweepInterrupted, default_metric, describe_outcome, plot_metric, run_sweep
 
     model = model_from_args(args)
     spec = sweep_spec_from_args(args)
-    previous = signal.signal(signal.SIGTERM, _terminate)
     try:
-        outcome = run_sweep(model, spec, out=args.out, workers=args.workers, scheduler=args.scheduler,
-                            batch_size=args.batch_size, retry_failed=args.retry_failed,
-                            progress=not args.quiet)
+        with StopRequest():   # SIGTERM behaves as Ctrl-C: the table keeps what is finished
+            outcome = run_sweep(model, spec, out=args.out, workers=args.workers, scheduler=args.scheduler,
+                                batch_size=args.batch_size, retry_failed=args.retry_failed,
+                                progress=not args.quiet)
     except SweepInterrupted as exc:
         done = len(exc.outcome.rows)
         print(f"flexkane: sweep interrupted; {exc.outcome.directory / 'sweep.parquet'} holds {done} of "
               f"{exc.outcome.variants} variants; run the same command again to compute the rest",
               file=sys.stderr)
         return 130
-    finally:
-        signal.signal(signal.SIGTERM, previous)
     if not args.quiet:
         print(describe_outcome(outcome))
     if outcome.failed:

@@ -22,6 +22,7 @@ import os
 from collections import deque
 
 from ..errors import FlexkaneError, ModelError
+from ..interruption import deferred_signals
 from .worker import run_batch, run_variant
 
 __all__ = ["run_serial", "run_on_dask", "dask_client", "default_worker_count", "BatchSizer",
@@ -92,18 +93,23 @@ def dask_client(*, workers: int | None = None, scheduler: str | None = None):
         finally:
             client.close()
         return
-    cluster = LocalCluster(n_workers=workers or default_worker_count(), threads_per_worker=1, processes=True,
-                           dashboard_address=":0", silence_logs=logging.ERROR)
-    client = Client(cluster)
-    with contextlib.suppress(Exception):
-        client.run(_ignore_interrupts)
+    # Dask's start and close cannot be cut by KeyboardInterrupt (it leaves the cluster half started and
+    # Dask fails with its own errors): a signal meanwhile is honoured once the cluster is up, or closed.
+    cluster = client = None
     try:
+        with deferred_signals():
+            cluster = LocalCluster(n_workers=workers or default_worker_count(), threads_per_worker=1,
+                                   processes=True, dashboard_address=":0", silence_logs=logging.ERROR)
+            client = Client(cluster)
+            with contextlib.suppress(Exception):
+                client.run(_ignore_interrupts)
         yield client
     finally:
-        with contextlib.suppress(Exception):
-            client.close()
-        with contextlib.suppress(Exception):
-            cluster.close()
+        with deferred_signals():
+            for part in (client, cluster):
+                if part is not None:
+                    with contextlib.suppress(Exception):
+                        part.close()
 
 
 def _ignore_interrupts() -> None:
