@@ -111,12 +111,14 @@ def sweep_spec_from_args(args):
 
 
 def _handle(args) -> int:
+    from ..numerics.jit_module import compile_in_subprocess
     from ..sweep import SweepInterrupted, default_metric, describe_outcome, plot_metric, run_sweep
 
     model = model_from_args(args)
     spec = sweep_spec_from_args(args)
     try:
-        with StopRequest():   # SIGTERM behaves as Ctrl-C: the table keeps what is finished
+        # SIGTERM behaves as Ctrl-C: the table keeps what is finished; a first compilation can be stopped
+        with StopRequest(), compile_in_subprocess():
             outcome = run_sweep(model, spec, out=args.out, workers=args.workers, scheduler=args.scheduler,
                                 batch_size=args.batch_size, retry_failed=args.retry_failed,
                                 progress=not args.quiet)
