@@ -32,10 +32,13 @@ from .model import NAMING_STYLES, Model
 from .parts import (ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES, Beam, Driver,
                     Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody, ShapeSpec, Simulation)
 
-__all__ = ["validate_model", "validate_run_arguments", "MAX_MODES", "METHODS", "is_name"]
+__all__ = ["validate_model", "validate_run_arguments", "MAX_MODES", "MAX_ELASTIC_COORDINATES", "METHODS", "is_name"]
 
-#: Largest number of shape functions of one beam (transverse or axial).
-MAX_MODES = 200
+#: Largest number of shape functions of one beam (transverse or axial), and of all the beams of a
+#: model together (n_modes + n_axial summed): the largest models that derive, compile and run within
+#: bounded time and memory (measured in benchmarks/RESULTS.md; 200 modes exhausted 24 GB).
+MAX_MODES = 20
+MAX_ELASTIC_COORDINATES = 20
 #: Integration methods a model may ask for.
 METHODS = ("auto", "dop853", "radau")
 #: Range of relative tolerances the integrators accept [-].
@@ -133,6 +136,16 @@ def _choice(path: str, value, choices) -> None:
                          _suggest(value, choices) if isinstance(value, str) else None)
 
 
+def _check_elastic_coordinates(beams: dict) -> None:
+    """Refuse more than MAX_ELASTIC_COORDINATES shape functions over all the beams of a model."""
+    counts = {name: beam.n_modes + (beam.n_axial or 0) for name, beam in beams.items()}
+    if sum(counts.values()) > MAX_ELASTIC_COORDINATES:
+        raise ModelError("beams", f"at most {MAX_ELASTIC_COORDINATES} shape functions over all beams "
+                         "(n_modes + n_axial summed; more do not run within bounded time and memory)",
+                         ", ".join(f"{name}: {n}" for name, n in counts.items()),
+                         "lower n_modes (or --n-modes)")
+
+
 def _integer(path: str, value, low: int, high: int, what: str) -> int:
     if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not low <= value <= high:
         raise ModelError(path, f"an integer {what} from {low} to {high}", value)
@@ -199,6 +212,7 @@ def validate_model(model: Model) -> None:
     for body in bodies.values():
         _check_body(body, values)
     lengths = {beam.name: _check_beam(beam, values) for beam in beams.values()}
+    _check_elastic_coordinates(beams)
     for joint in model.joints.values():
         _check_joint(model, joint, values, lengths)
     _check_tree(model)
