@@ -56,8 +56,11 @@ def main(argv: list[str] | None = None) -> int:
     if not getattr(args, "handler", None):
         parser.print_help()
         return EXIT_USAGE
+    from .interruption import StopRequest
+
     try:
-        return int(args.handler(args) or EXIT_OK)
+        with StopRequest():  # SIGTERM as Ctrl-C in every phase of every command (exit 130)
+            return int(args.handler(args) or EXIT_OK)
     except ModelError as exc:
         print(f"flexkane: error: {exc}", file=sys.stderr)
         return EXIT_USAGE

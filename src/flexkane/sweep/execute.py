@@ -95,11 +95,13 @@ def dask_client(*, workers: int | None = None, scheduler: str | None = None):
         return
     # Dask's start and close cannot be cut by KeyboardInterrupt (it leaves the cluster half started and
     # Dask fails with its own errors): a signal meanwhile is honoured once the cluster is up, or closed.
+    # Workers stopped with the cluster log heartbeat failures (with tracebacks) at level ERROR: the
+    # sweep reports lost variants itself, so only CRITICAL messages of the cluster are shown.
     cluster = client = None
     try:
         with deferred_signals():
             cluster = LocalCluster(n_workers=workers or default_worker_count(), threads_per_worker=1,
-                                   processes=True, dashboard_address=":0", silence_logs=logging.ERROR)
+                                   processes=True, dashboard_address=":0", silence_logs=logging.CRITICAL)
             client = Client(cluster)
             with contextlib.suppress(Exception):
                 client.run(_ignore_interrupts)
