@@ -91,13 +91,14 @@ def atomic_writer(path: str | os.PathLike, mode: str = "wb", *,
     if mode not in _MODES:
         raise ValueError(f"mode must be one of {_MODES}, not {mode!r}")
     target = pathlib.Path(path)
-    with held_signals():
-        handle = tempfile.NamedTemporaryFile(
-            mode="w" if mode == "w" else "wb", encoding=encoding if mode == "w" else None,
-            dir=target.parent, prefix=f".{target.name}.", suffix=f".tmp{target.suffix}",
-            delete=False)
-        temporary = pathlib.Path(handle.name)
+    handle = temporary = None
     try:
+        with held_signals():  # a signal here is raised at the end of the block, inside the try
+            handle = tempfile.NamedTemporaryFile(
+                mode="w" if mode == "w" else "wb", encoding=encoding if mode == "w" else None,
+                dir=target.parent, prefix=f".{target.name}.", suffix=f".tmp{target.suffix}",
+                delete=False)
+            temporary = pathlib.Path(handle.name)
         if mode == "path":
             handle.close()
             yield temporary
@@ -113,9 +114,11 @@ def atomic_writer(path: str | os.PathLike, mode: str = "wb", *,
             os.replace(temporary, target)
     except BaseException:
         with held_signals():
-            handle.close()
-            with contextlib.suppress(OSError):
-                temporary.unlink()
+            if handle is not None:
+                handle.close()
+            if temporary is not None:
+                with contextlib.suppress(OSError):
+                    temporary.unlink()
         raise
     _sync_directory(target.parent)
 
