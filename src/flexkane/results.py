@@ -145,9 +145,10 @@ def _read_arrays(path: Path) -> dict:
         with np.load(path, allow_pickle=False) as data:
             missing = [name for name in NPZ_ARRAYS if name not in data.files]
             if missing:
+                held = ", ".join(map(repr, data.files)) or "nothing"
                 raise ResultsError(path, f"array{'s' if len(missing) > 1 else ''} {', '.join(map(repr, missing))} "
-                                         f"missing (the archive holds {', '.join(map(repr, data.files)) or 'nothing'}); "
-                                         "it is incomplete or not written by flexkane")
+                                         f"missing (the archive holds {held}); it is incomplete or not written "
+                                         "by flexkane")
             for name in NPZ_ARRAYS:
                 arrays[name] = data[name]
     except ResultsError:
