@@ -96,9 +96,9 @@ class Model:
             raise ModelError("--n-modes", f"an integer from 1 to {MAX_MODES}", n_modes)
         total = n_modes * len(self.beams) + sum(beam.n_axial or 0 for beam in self.beams.values())
         if total > MAX_ELASTIC_COORDINATES:
-            raise ModelError("--n-modes", f"at most {MAX_ELASTIC_COORDINATES} shape functions over all "
-                             f"{len(self.beams)} beams (n_modes + n_axial summed)", n_modes,
-                             f"{total} with --n-modes {n_modes}")
+            raise ModelError("--n-modes", f"at most {MAX_ELASTIC_COORDINATES} shape functions over all beams "
+                             "(n_modes + n_axial summed)", n_modes,
+                             f"{total} with --n-modes {n_modes} on {len(self.beams)} beam(s)")
         new = self.copy()
         for beam in new.beams.values():
             beam.n_modes = n_modes
