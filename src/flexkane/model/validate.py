@@ -32,13 +32,17 @@ from .model import NAMING_STYLES, Model
 from .parts import (ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES, Beam, Driver,
                     Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody, ShapeSpec, Simulation)
 
-__all__ = ["validate_model", "validate_run_arguments", "MAX_MODES", "MAX_ELASTIC_COORDINATES", "METHODS", "is_name"]
+__all__ = ["validate_model", "validate_run_arguments", "MAX_MODES", "MAX_ELASTIC_COORDINATES", "MAX_STIFFENED_MODES",
+           "METHODS", "is_name"]
 
 #: Largest number of shape functions of one beam (transverse or axial), and of all the beams of a
 #: model together (n_modes + n_axial summed): the largest models that derive, compile and run within
 #: bounded time and memory (measured in benchmarks/RESULTS.md; 200 modes exhausted 24 GB).
 MAX_MODES = 20
 MAX_ELASTIC_COORDINATES = 20
+#: Largest number of shape functions of a beam with geometric stiffening, whose derivation grows
+#: fastest (spin-up: 10 modes derive in 32 s of CPU time, 20 did not in 270 s and 1.3 GB).
+MAX_STIFFENED_MODES = 10
 #: Integration methods a model may ask for.
 METHODS = ("auto", "dop853", "radau")
 #: Range of relative tolerances the integrators accept [-].
@@ -137,8 +141,14 @@ def _choice(path: str, value, choices) -> None:
 
 
 def _check_elastic_coordinates(beams: dict) -> None:
-    """Refuse more than MAX_ELASTIC_COORDINATES shape functions over all the beams of a model."""
+    """Refuse more than MAX_ELASTIC_COORDINATES shape functions over all the beams of a model, and
+    more than MAX_STIFFENED_MODES on a beam with geometric stiffening."""
     counts = {name: beam.n_modes + (beam.n_axial or 0) for name, beam in beams.items()}
+    for name, beam in beams.items():
+        if beam.geometric_stiffening is True and counts[name] > MAX_STIFFENED_MODES:
+            raise ModelError(f"beams.{name}.n_modes", f"at most {MAX_STIFFENED_MODES} shape functions "
+                             "(n_modes + n_axial) with geometric_stiffening (more do not derive within bounded "
+                             "time and memory)", counts[name], "lower n_modes (or --n-modes)")
     if sum(counts.values()) > MAX_ELASTIC_COORDINATES:
         raise ModelError("beams", f"at most {MAX_ELASTIC_COORDINATES} shape functions over all beams "
                          "(n_modes + n_axial summed; more do not run within bounded time and memory)",
