@@ -1,5 +1,5 @@
-"""SIGTERM and SIGINT in every phase of ``flexkane run`` (derive, compile, write, plots): exit 130 and
-no traceback, results written atomically before the plots and complete, no temporary file left.
+"""SIGTERM and SIGINT in every phase of ``flexkane run`` (derive, compile, write, equations and plots):
+exit 130 and no traceback, results written atomically first and complete, no temporary file left.
 
 The signal is sent deterministically: either by the run itself, from a patched function of the phase
 (the command line runs in a subprocess through ``python -c``), or, for the compilation, right after
@@ -81,8 +81,9 @@ def test_a_signal_while_results_csv_is_written_is_deferred_until_every_result_is
     assert process.returncode == 130, process.stderr
     assert "Traceback" not in process.stderr
     assert "interrupted after the integration; complete files in" in process.stderr
-    for name in ("results.csv", "results.npz", "model.toml", "equations.md", "equations.tex"):
+    for name in ("results.csv", "results.npz", "model.toml"):
         assert name in process.stderr and (out / name).is_file()
+    assert not (out / "equations.md").exists()        # the rest is skipped: the stop is honoured at once
     assert (out / "results.csv").read_bytes() == (reference[0] / "results.csv").read_bytes()
     saved = flexkane.load_results(out)
     assert not saved.partial
@@ -101,7 +102,7 @@ def test_a_signal_while_a_plot_is_saved_exits_130_naming_the_complete_files(run_
     plots = sorted(p.name for p in out.glob("*.png"))
     assert len(plots) == 2                              # the two figures before the interrupted one
     message = process.stderr.split("complete files in", 1)[1]
-    assert all(name in message for name in plots + ["results.csv", "results.npz", "equations.md"])
+    assert all(name in message for name in plots + ["results.csv", "results.npz", "equations.md", "equations.tex"])
     for name in plots + ["results.csv"]:
         assert (out / name).read_bytes() == (reference[0] / name).read_bytes()
 
@@ -143,3 +144,14 @@ def test_sigterm_during_a_first_compilation_stops_the_compiler_and_exits_130(tmp
     assert "Traceback" not in err and "flexkane: interrupted" in err
     assert not list(cache.rglob("*.compiled"))          # the compiling child was stopped, not finished
     assert not list(out.iterdir())
+
+
+def test_a_signal_while_the_equations_are_written_stops_them_at_once(run_args, reference, tmp_path):
+    """The equations report (minutes for the largest models) is not deferred: the results are."""
+    out = tmp_path / "run"
+    process = _run_signalling("flexkane.report:equations_markdown", [*run_args, "--out", str(out)], loop=True,
+                              timeout=120)
+    assert process.returncode == 130, process.stderr
+    assert "Traceback" not in process.stderr and "interrupted after the integration" in process.stderr
+    assert (out / "results.csv").read_bytes() == (reference[0] / "results.csv").read_bytes()
+    assert not (out / "equations.md").exists() and not list(out.glob("*.png")) and not _temporary_files(out)

@@ -96,9 +96,9 @@ def _run_phases(model, out: Path, stop, *, t_end, dt_out, rtol, atol, method, qu
     Derivation, code generation and waiting for the compilation (a child process) stop at once on a
     signal (:class:`KeyboardInterrupt`, exit 130, nothing written). From the integration until
     the results files are written, a signal is deferred: the integration stops between chunks and
-    the files hold the rows computed (marked partial); results.npz and results.csv are written
-    first, then model.toml and the equations. A signal during the plots stops them at once, leaves
-    no temporary file, and the message says which files are complete.
+    the files hold the rows computed (marked partial); results.csv and results.npz are written
+    first, then model.toml. A signal while the equations and the plots are written stops them at
+    once, leaves no temporary file, and the message says which files are complete.
     """
     from ..atomic import atomic_write_text
     from ..derivation_cache import cached_derive
@@ -126,15 +126,16 @@ def _run_phases(model, out: Path, stop, *, t_end, dt_out, rtol, atol, method, qu
         results.solver["derive_time"] = derive_time
         written = results.write(out)
         atomic_write_text(out / "model.toml", dumps_model(model))
-        values = eom.constant_values(model)
-        atomic_write_text(out / "equations.md", equations_markdown(eom, values))
-        atomic_write_text(out / "equations.tex", equations_latex(eom, values))
-        written += [out / "model.toml", out / "equations.md", out / "equations.tex"]
+        written.append(out / "model.toml")
     interrupted = results.partial and results.solver.get("status") == "interrupted"
     if stop.requested:
         return _stopped(out, written, [], interrupted, results)
     before = {p.name: p.stat().st_mtime_ns for p in out.iterdir()}
-    try:
+    try:  # the equations (minutes for the largest models) and the plots: a signal stops them at once
+        values = eom.constant_values(model)
+        atomic_write_text(out / "equations.md", equations_markdown(eom, values))
+        atomic_write_text(out / "equations.tex", equations_latex(eom, values))
+        written += [out / "equations.md", out / "equations.tex"]
         if pdf:
             pdf_path, message = render_pdf(out / "equations.tex")
             if pdf_path is not None:
@@ -175,15 +176,15 @@ def _run_phases(model, out: Path, stop, *, t_end, dt_out, rtol, atol, method, qu
 def _stopped(out: Path, written: list, plots: list, interrupted: bool, results) -> int:
     """Report a stop request honoured after the integration; return exit code 130.
 
-    ``written``: the files complete before the plots; ``plots``: the figures complete when the
-    plots were stopped. ``interrupted``: whether the integration itself was cut short.
+    ``written``: the files complete before the equations and plots; ``plots``: the other files
+    complete when they were stopped. ``interrupted``: whether the integration itself was cut short.
     """
     files = ", ".join([p.name for p in written] + plots)
     if interrupted:
         s = results.solver
         print(f"flexkane: interrupted at t = {s['t_reached']:.6g} s; the files hold the results up to "
-              f"there (marked partial): {files} in {out}; the plots were not written", file=sys.stderr)
+              f"there (marked partial): {files} in {out}; the other files were not written", file=sys.stderr)
     else:
         print(f"flexkane: interrupted after the integration; complete files in {out}: {files}; the other "
-              "plots were not written", file=sys.stderr)
+              "files were not written", file=sys.stderr)
     return 130
