@@ -121,3 +121,60 @@ def test_an_existing_file_is_not_an_output_dir(tmp_path):
     path.write_text("")
     with pytest.raises(ModelError, match="a file of that name exists"):
         prepare_output_dir(path, force=True)
+
+
+# ------------------------------------------------------------------ signals (a command's stop request)
+def _signal_self():
+    import os
+    import signal
+
+    os.kill(os.getpid(), signal.SIGTERM)
+
+
+def test_a_signal_while_writing_removes_the_temporary_file_and_keeps_the_old_target(tmp_path):
+    import pytest
+
+    from flexkane.atomic import atomic_writer
+    from flexkane.interruption import StopRequest
+
+    target = tmp_path / "results.csv"
+    target.write_text("old\n")
+    with pytest.raises(KeyboardInterrupt), StopRequest():
+        with atomic_writer(target, "w") as handle:
+            handle.write("new, half written")
+            _signal_self()
+            handle.write(" never reached\n")
+    assert target.read_text() == "old\n" and sorted(p.name for p in tmp_path.iterdir()) == ["results.csv"]
+
+
+def test_a_signal_during_the_rename_is_honoured_once_the_file_is_complete(tmp_path, monkeypatch):
+    import os
+
+    import pytest
+
+    from flexkane import atomic
+    from flexkane.interruption import StopRequest
+
+    replace = os.replace
+
+    def replace_after_a_signal(source, destination):
+        _signal_self()
+        replace(source, destination)
+
+    monkeypatch.setattr(atomic.os, "replace", replace_after_a_signal)
+    target = tmp_path / "figure.png"
+    with pytest.raises(KeyboardInterrupt), StopRequest():
+        atomic.atomic_write_bytes(target, b"complete")
+    assert target.read_bytes() == b"complete" and [p.name for p in tmp_path.iterdir()] == ["figure.png"]
+
+
+def test_a_signal_in_a_deferred_section_is_recorded_not_raised(tmp_path):
+    from flexkane.atomic import atomic_write_text
+    from flexkane.interruption import StopRequest
+
+    with StopRequest() as stop, stop.deferred():
+        atomic_write_text(tmp_path / "a.txt", "a")
+        _signal_self()
+        atomic_write_text(tmp_path / "b.txt", "b")
+        assert stop.requested
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.txt", "b.txt"]

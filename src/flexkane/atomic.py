@@ -4,7 +4,9 @@ A file flexkane writes appears complete or not at all: the data go to a temporar
 same directory, which is flushed, synced to disk and then renamed over the target with
 :func:`os.replace` (atomic on POSIX and Windows within one file system). If anything fails
 before the rename, the temporary file is removed and a previous version of the target is left
-untouched. A symbolic link at the target is replaced by a regular file.
+untouched. A symbolic link at the target is replaced by a regular file. Under a command's
+:class:`~flexkane.interruption.StopRequest`, a signal cannot cut the creation or the removal of the
+temporary file or the rename: an interruption leaves no temporary file behind.
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ from collections.abc import Iterator
 from typing import IO
 
 from .errors import ModelError
+from .interruption import held_signals
 
 __all__ = ["OutputExistsError", "atomic_write_bytes", "atomic_write_text", "atomic_writer",
            "prepare_output_dir"]
@@ -88,12 +91,14 @@ def atomic_writer(path: str | os.PathLike, mode: str = "wb", *,
     if mode not in _MODES:
         raise ValueError(f"mode must be one of {_MODES}, not {mode!r}")
     target = pathlib.Path(path)
-    handle = tempfile.NamedTemporaryFile(
-        mode="w" if mode == "w" else "wb", encoding=encoding if mode == "w" else None,
-        dir=target.parent, prefix=f".{target.name}.", suffix=f".tmp{target.suffix}",
-        delete=False)
-    temporary = pathlib.Path(handle.name)
+    handle = temporary = None
     try:
+        with held_signals():  # a signal here is raised at the end of the block, inside the try
+            handle = tempfile.NamedTemporaryFile(
+                mode="w" if mode == "w" else "wb", encoding=encoding if mode == "w" else None,
+                dir=target.parent, prefix=f".{target.name}.", suffix=f".tmp{target.suffix}",
+                delete=False)
+            temporary = pathlib.Path(handle.name)
         if mode == "path":
             handle.close()
             yield temporary
@@ -104,12 +109,16 @@ def atomic_writer(path: str | os.PathLike, mode: str = "wb", *,
                 yield handle
                 handle.flush()
                 os.fsync(handle.fileno())
-        os.chmod(temporary, _default_file_mode())
-        os.replace(temporary, target)
+        with held_signals():
+            os.chmod(temporary, _default_file_mode())
+            os.replace(temporary, target)
     except BaseException:
-        handle.close()
-        with contextlib.suppress(OSError):
-            temporary.unlink()
+        with held_signals():
+            if handle is not None:
+                handle.close()
+            if temporary is not None:
+                with contextlib.suppress(OSError):
+                    temporary.unlink()
         raise
     _sync_directory(target.parent)
 

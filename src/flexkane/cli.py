@@ -56,14 +56,17 @@ def main(argv: list[str] | None = None) -> int:
     if not getattr(args, "handler", None):
         parser.print_help()
         return EXIT_USAGE
-    try:
-        try:
-            return int(args.handler(args) or EXIT_OK)
-        except BaseException:
-            from .commands._common import remove_unused_out
+    from .interruption import StopRequest
 
-            remove_unused_out()   # a directory made for the outputs of a command that failed before writing
-            raise
+    try:
+        with StopRequest():  # SIGTERM as Ctrl-C in every phase of every command (exit 130)
+            try:
+                return int(args.handler(args) or EXIT_OK)
+            except BaseException:
+                from .commands._common import remove_unused_out
+
+                remove_unused_out()   # a directory made for the outputs of a command that failed before writing
+                raise
     except ModelError as exc:
         from .commands._common import cli_path
 

@@ -31,8 +31,9 @@ expressions are pickled with their arguments and rebuilt without re-evaluation (
 in canonical form), which is what makes loading cheap.
 
 The cache directory is ``<default_cache_dir()>/derived`` (``$FLEXKANE_CACHE_DIR`` or
-``~/.cache/flexkane``). Files are written atomically; an unreadable file is derived again and
-replaced. Like any pickle, the files must come from a trusted source: they are only ever written by
+``~/.cache/flexkane``); when that is a file, cannot be created or is read-only, a temporary cache
+is used with a warning (:func:`flexkane.numerics.jit_module.usable_cache_dir`). Files are written
+atomically; an unreadable file is derived again and replaced. Like any pickle, the files must come from a trusted source: they are only ever written by
 flexkane into the user's own cache.
 """
 
@@ -168,11 +169,10 @@ def _key(model: Model) -> str:
 
 
 def _cache_root(cache_dir) -> Path:
-    if cache_dir is not None:
-        return Path(cache_dir)
-    from .numerics.jit_module import default_cache_dir
+    """The cache root, or a temporary one (with a warning) when it is not a writable directory."""
+    from .numerics.jit_module import usable_cache_dir
 
-    return default_cache_dir()
+    return usable_cache_dir(cache_dir)
 
 
 def cache_path(model: Model, cache_dir=None) -> Path:
@@ -261,7 +261,7 @@ def _bind(eom, model: Model):
 
 
 # ---------------------------------------------------------------------- public functions
-def cached_derive(model: Model, cache_dir=None):
+def cached_derive(model: Model, cache_dir=None, *, announce=None):
     """Derive Kane's equations of ``model``, or load them from the cache of its structure.
 
     Parameters
@@ -270,6 +270,8 @@ def cached_derive(model: Model, cache_dir=None):
         A model (validated here).
     cache_dir : path-like, optional
         Root of the cache; default :func:`flexkane.numerics.default_cache_dir`.
+    announce : callable, optional
+        Called without arguments before deriving, when the cache does not hold the equations.
 
     Returns
     -------
@@ -292,6 +294,8 @@ def cached_derive(model: Model, cache_dir=None):
     except Exception:  # noqa: BLE001 - a damaged or incompatible file is derived again
         eom = None
     if eom is None:
+        if announce is not None:
+            announce()
         eom = derive(model)
         try:
             _write_atomically(path, _dumps({"format": _FORMAT, "eom": eom}))

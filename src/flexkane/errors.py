@@ -2,13 +2,13 @@
 
 Every error a user can cause carries enough to fix it without reading code: the key path of the
 offending field (``beams.arm.EI``), what was expected (with the unit) and what was given. The
-command-line interface turns :class:`ModelError` into exit code 2 and :class:`SolverFailure` into
-exit code 3, without a traceback.
+command-line interface turns :class:`ModelError` and :class:`ResultsError` into exit code 2 and
+:class:`SolverFailure` into exit code 3, without a traceback.
 """
 
 from __future__ import annotations
 
-__all__ = ["FlexkaneError", "ModelError", "ModelErrors", "SolverFailure", "describe_value"]
+__all__ = ["FlexkaneError", "ModelError", "ModelErrors", "ResultsError", "SolverFailure", "describe_value"]
 
 
 def describe_value(value: object, limit: int = 60) -> str:
@@ -113,3 +113,20 @@ class SolverFailure(FlexkaneError, RuntimeError):
         self.t_reached = float(t_reached)
         self.cause = cause
         super().__init__(f"integration stopped at t = {self.t_reached:.6g} s: {cause}")
+
+
+class ResultsError(FlexkaneError, ValueError):
+    """A results file cannot be read: it is truncated, damaged, not a results file or incomplete.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    problem : str
+        What is wrong with it, e.g. ``"array 'state' is missing"``.
+    """
+
+    def __init__(self, path, problem: str):
+        self.path = str(path)
+        self.problem = problem
+        super().__init__(f"{self.path}: not a readable flexkane results file: {problem}")

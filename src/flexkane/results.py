@@ -138,7 +138,8 @@ class Results:
         arrays = {"t": self.t, "state": self.state,
                   "state_names": np.array(self.state_names, dtype=str),
                   "output_names": np.array(list(self.outputs), dtype=str),
-                  "outputs": np.array([self.outputs[k] for k in self.outputs]).reshape(len(self.outputs), -1),
+                  "outputs": np.array([self.outputs[k] for k in self.outputs],
+                                      dtype=float).reshape(len(self.outputs), len(self.t)),
                   "model_text": np.array(self.model_text),
                   "parameters": np.array(json.dumps(self.parameters, sort_keys=True)),
                   "solver": np.array(json.dumps(self.solver, sort_keys=True, default=str)),
@@ -164,20 +165,121 @@ def csv_text(results: Results) -> str:
     return "\n".join(lines) + "\n"
 
 
+#: Arrays of results.npz: name -> (dtype kinds accepted, number of dimensions).
+NPZ_ARRAYS = {"t": ("f", 1), "state": ("f", 2), "state_names": ("U", 1), "output_names": ("U", 1),
+              "outputs": ("f", 2), "model_text": ("U", 0), "parameters": ("U", 0), "solver": ("U", 0),
+              "partial": ("b", 0), "version": ("U", 0)}
+#: Arrays that files of older versions lack, with their kind and rank.
+OPTIONAL_NPZ_ARRAYS = {"warnings": ("U", 0)}
+_ZIP_MAGIC = b"PK\x03\x04"
+_NPY_MAGIC = b"\x93NUMPY"
+
+
+def _read_arrays(path: Path) -> dict:
+    """Every array of ``NPZ_ARRAYS`` from the archive at ``path``, checked for dtype and rank.
+
+    Raises
+    ------
+    ResultsError
+        If the file is not a ZIP archive, is truncated or damaged (a bad CRC, a broken header),
+        or an array is missing or has the wrong kind or number of dimensions.
+    """
+    from .errors import ResultsError
+
+    try:
+        with open(path, "rb") as handle:
+            magic = handle.read(len(_NPY_MAGIC))
+    except OSError as exc:
+        raise ResultsError(path, f"cannot be opened ({exc.strerror or exc})") from None
+    if magic.startswith(_NPY_MAGIC):
+        raise ResultsError(path, "it is a single NumPy array (.npy), not a results archive (.npz)")
+    if not magic.startswith(_ZIP_MAGIC):
+        raise ResultsError(path, "it is not an NPZ (ZIP) archive" + (" (the file is empty)" if not magic else ""))
+    arrays = {}
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            missing = [name for name in NPZ_ARRAYS if name not in data.files]
+            if missing:
+                held = ", ".join(map(repr, data.files)) or "nothing"
+                raise ResultsError(path, f"array{'s' if len(missing) > 1 else ''} {', '.join(map(repr, missing))} "
+                                         f"missing (the archive holds {held}); it is incomplete or not written "
+                                         "by flexkane")
+            for name in NPZ_ARRAYS:
+                arrays[name] = data[name]
+            for name in OPTIONAL_NPZ_ARRAYS:   # absent from files written before they existed
+                if name in data.files:
+                    arrays[name] = data[name]
+    except ResultsError:
+        raise
+    except (Exception, MemoryError) as exc:  # noqa: BLE001 - zipfile, NumPy and OS errors of a damaged file
+        reason = str(exc) or type(exc).__name__
+        raise ResultsError(path, f"it is truncated or damaged ({type(exc).__name__}: {reason})") from None
+    for name, (kinds, ndim) in {**NPZ_ARRAYS, **OPTIONAL_NPZ_ARRAYS}.items():
+        if name not in arrays:
+            continue
+        value = arrays[name]
+        if value.dtype.kind not in kinds or value.ndim != ndim:
+            expected = {"f": "floating-point numbers", "U": "text", "b": "a boolean"}[kinds]
+            raise ResultsError(path, f"array {name!r} should hold {expected} with {ndim} dimension(s), "
+                                     f"it holds {value.dtype} with shape {value.shape}")
+    return arrays
+
+
 def load_results(path: str | Path) -> Results:
-    """Read ``results.npz`` (or the directory that holds it) back into :class:`Results`."""
-    from .errors import ModelError
+    """Read ``results.npz`` (or the directory that holds it) back into :class:`Results`.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        A run directory or its ``results.npz``.
+
+    Returns
+    -------
+    Results
+
+    Raises
+    ------
+    ModelError
+        If there is no such file.
+    ResultsError
+        If the file is not a complete, consistent results archive: not an NPZ, truncated,
+        damaged (a flipped byte fails a CRC or a header), an array missing, of the wrong type, or of
+        a shape inconsistent with the others (``state`` (N, n) for ``t`` (N,) and ``n`` state
+        names, ``outputs`` (k, N) for ``k`` output names), or metadata that is not JSON. Never a
+        pickle: the file is read with ``allow_pickle=False``.
+    """
+    from .errors import ModelError, ResultsError
 
     path = Path(path)
     if path.is_dir():
         path = path / "results.npz"
     if not path.is_file():
         raise ModelError("RUN_DIR", "a run directory holding results.npz (or the file itself)", str(path))
-    with np.load(path, allow_pickle=False) as data:
-        names = [str(n) for n in data["output_names"]]
-        outputs = {n: data["outputs"][i] for i, n in enumerate(names)}
-        return Results(t=data["t"], state=data["state"], state_names=[str(n) for n in data["state_names"]],
-                       outputs=outputs, model_text=str(data["model_text"]),
-                       parameters=json.loads(str(data["parameters"])), solver=json.loads(str(data["solver"])),
-                       partial=bool(data["partial"]), version=str(data["version"]),
-                       warnings=json.loads(str(data["warnings"])) if "warnings" in data.files else [])
+    data = _read_arrays(path)
+    t, state, outputs = data["t"], data["state"], data["outputs"]
+    state_names = [str(n) for n in data["state_names"]]
+    names = [str(n) for n in data["output_names"]]
+    n_rows = t.shape[0]
+    if state.shape != (n_rows, len(state_names)):
+        raise ResultsError(path, f"array 'state' has shape {state.shape}, expected ({n_rows}, {len(state_names)}) "
+                                 f"for {n_rows} output times and {len(state_names)} state names")
+    if outputs.shape[0] != len(names) or (names and outputs.shape[1] != n_rows):
+        raise ResultsError(path, f"array 'outputs' has shape {outputs.shape}, expected ({len(names)}, {n_rows}) "
+                                 f"for {len(names)} output names and {n_rows} output times")
+    metadata = {"warnings": []}
+    for key in ("parameters", "solver", "warnings"):
+        if key not in data:
+            continue
+        try:
+            metadata[key] = json.loads(str(data[key]))
+        except ValueError as exc:
+            raise ResultsError(path, f"array {key!r} is not JSON ({exc})") from None
+        kind = list if key == "warnings" else dict
+        if not isinstance(metadata[key], kind):
+            raise ResultsError(path, f"array {key!r} should be a JSON {'list' if kind is list else 'object'}, "
+                                     f"it is {type(metadata[key]).__name__}")
+    return Results(t=t, state=state, state_names=state_names,
+                   outputs={n: outputs[i] for i, n in enumerate(names)}, model_text=str(data["model_text"]),
+                   parameters=metadata["parameters"], solver=metadata["solver"],
+                   partial=bool(data["partial"]), version=str(data["version"]),
+                   warnings=[str(w) for w in metadata["warnings"]])

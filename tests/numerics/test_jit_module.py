@@ -111,3 +111,26 @@ def test_processes_building_the_same_key_at_once_leave_one_intact_file(tmp_path,
     written = (tmp_path / "cache" / key / f"flexkane_generated_{key}.py").read_text()
     assert written == compose_module_source(source, key)
     assert not list((tmp_path / "cache" / key).glob("*.tmp"))
+
+
+@pytest.mark.slow
+def test_a_new_structure_is_compiled_by_a_child_process_into_the_cache(tmp_path, models):
+    """With in_subprocess, a child process compiles the right-hand side and the integrators into
+    Numba's cache (and marks the module compiled); this process then loads them from there."""
+    from flexkane.numerics import jit_module
+
+    source = generate_rhs_source(models.pendulum())
+    key = structure_key(source, "child-compile")
+    announced = []
+    with jit_module.compile_in_subprocess(announce=lambda: announced.append(True)):
+        module = build_module(source, key, tmp_path)
+    directory = tmp_path / key
+    cached = {p.name.split(".")[1].split("-")[0] for p in (directory / "__pycache__").glob("*.nbi")}
+    assert {"rhs", "fd_jacobian", "dop853_chunk", "radau5_chunk"} <= cached
+    assert announced == [True] and list(directory.glob("*.compiled"))
+    dy = np.empty(2)
+    assert module.rhs(0.0, np.array([1.0, 0.0]), np.array([1.0, 1.0, 9.81]), dy) == 0
+    assert np.all(np.isfinite(dy))
+    with jit_module.compile_in_subprocess(announce=lambda: announced.append(True)):
+        build_module(source, key, tmp_path)                 # compiled already: no child, no announce
+    assert announced == [True]

@@ -104,7 +104,7 @@ def test_results_npz_loads_and_is_marked_partial(interrupted_run):
     assert saved.t[-1] <= saved.solver["t_reached"] < T_END
     rows = [line for line in (out / "results.csv").read_text().splitlines()[1:] if not line.startswith("#")]
     assert len(saved.t) == len(rows)
-    assert (out / "model.toml").exists() and (out / "equations.md").exists()
+    assert (out / "model.toml").exists()   # the equations and plots are skipped: the stop is honoured at once
     assert not [p.name for p in out.iterdir() if p.name.startswith(".") or ".tmp" in p.name]
 
 

@@ -39,7 +39,8 @@ def add_model_arguments(parser: argparse.ArgumentParser, default: str | None = "
     parser.add_argument("model", nargs="?" if default else None, default=default, metavar="MODEL",
                         help=f"built-in model name or model file (.toml){' [default: ' + default + ']' if default else ''}")
     parser.add_argument("--n-modes", type=int, default=None, metavar="N",
-                        help="number of shape functions of every beam, 1 to 200 (overrides the model)")
+                        help="number of shape functions of every beam, 1 to 40, at most 40 over all beams "
+                             "(overrides the model)")
     parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="settings",
                         help="override a parameter, an initial condition or any value by key path "
                              "(e.g. --set g=0 --set u3=2 --set beams.B.EI=40 --set 'bodies.RB.points.Q=[0.1, 0]'); "

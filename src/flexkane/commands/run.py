@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import signal
 import sys
 import time
 from pathlib import Path
 
 from ..errors import ModelError, SolverFailure
+from ..interruption import StopRequest
 from ._common import add_max_steps_argument, add_model_arguments, default_out, model_from_args
 from .animate import add_animation_arguments
 
@@ -62,22 +62,6 @@ def energy_balance_text(results) -> str:
             " (relative, trapezoidal work on the output grid)")
 
 
-class _StopRequest:
-    """Records SIGTERM and SIGINT during the integration; the progress callback, which runs between
-    the compiled integrator's chunks, turns the request into KeyboardInterrupt there (raising it from
-    the signal handler itself could land inside compiled code)."""
-
-    def __init__(self):
-        self.requested = False
-
-    def __call__(self, signum, frame):
-        self.requested = True
-
-    def check(self):
-        if self.requested:
-            raise KeyboardInterrupt
-
-
 def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None, method=None, max_steps=None,
               force=False, quiet=False, animation=None, pdf=False, plots=True) -> int:
     """Run a validated model into directory ``out``; return the exit code (0 ok, 3 solver failure).
@@ -86,13 +70,6 @@ def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None
     ``trace``) to also write animation.gif, or None. ``pdf``: also render equations.tex to a PDF.
     ``plots``: write the PNG plots (:func:`flexkane.plots.write_plots`).
     """
-    from ..atomic import atomic_write_text
-    from ..derivation_cache import cached_derive
-    from ..model import dumps_model
-    from ..progress import ProgressBar
-    from ..report import equations_latex, equations_markdown, render_pdf
-    from ..simulation import compile_model, simulate
-
     sim = model.simulation
     t_end = t_end if t_end is not None else sim.t_end
     if t_end is None:
@@ -107,13 +84,42 @@ def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None
 
     validate_run_arguments(t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol, method=method, max_steps=max_steps)
     out = prepare_out(out, force=force)
+    with StopRequest() as stop:
+        return _run_phases(model, out, stop, t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol, method=method,
+                           max_steps=max_steps, quiet=quiet, animation=animation, pdf=pdf, plots=plots)
+
+
+def _say(quiet: bool, text: str) -> None:
+    if not quiet:
+        print(f"flexkane: {text}", file=sys.stderr, flush=True)
+
+
+def _run_phases(model, out: Path, stop, *, t_end, dt_out, rtol, atol, method, max_steps, quiet, animation, pdf,
+                plots) -> int:
+    """The phases of :func:`run_model` under the command's stop request ``stop``.
+
+    Derivation, code generation and waiting for the compilation (a child process) stop at once on a
+    signal (:class:`KeyboardInterrupt`, exit 130, nothing written). From the integration until
+    the results files are written, a signal is deferred: the integration stops between chunks and
+    the files hold the rows computed (marked partial); results.csv and results.npz are written
+    first, then model.toml. A signal while the equations and the plots are written stops them at
+    once, leaves no temporary file, and the message says which files are complete.
+    """
+    from ..atomic import atomic_write_text
+    from ..derivation_cache import cached_derive
+    from ..model import dumps_model
+    from ..numerics.jit_module import compile_in_subprocess
+    from ..progress import ProgressBar
+    from ..report import equations_latex, equations_markdown, render_pdf
+    from ..simulation import compile_model, simulate
+
     started = time.perf_counter()
-    eom = cached_derive(model)
+    eom = cached_derive(model, announce=lambda: _say(quiet, f"deriving the equations of motion of {model.name}"))
     derive_time = time.perf_counter() - started
-    compiled = compile_model(eom)
-    stop = _StopRequest()
-    previous = {sig: signal.signal(sig, stop) for sig in (signal.SIGTERM, signal.SIGINT)}
-    try:
+    with compile_in_subprocess(announce=lambda: _say(quiet, "compiling the equations (first run of this "
+                                                            "model structure)")):
+        compiled = compile_model(eom)
+    with stop.deferred():
         with ProgressBar(t_end, enabled=not quiet, unit="s") as bar:
             def progress(t_reached, t_total):
                 bar.update(t_reached, t_total)
@@ -121,30 +127,39 @@ def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None
 
             results = simulate(compiled, t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol, method=method,
                                model=model, progress=progress, max_steps=max_steps)
-    finally:
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)
-    results.solver["derive_time"] = derive_time
-    written = results.write(out)
-    atomic_write_text(out / "model.toml", dumps_model(model))
-    values = eom.constant_values(model)
-    atomic_write_text(out / "equations.md", equations_markdown(eom, values))
-    atomic_write_text(out / "equations.tex", equations_latex(eom, values))
-    written.append(out / "equations.tex")
-    if pdf:
-        pdf_path, message = render_pdf(out / "equations.tex")
-        if pdf_path is not None:
-            written.append(pdf_path)
-        if message:
-            print(f"flexkane: {message}", file=sys.stderr)
-    if plots and len(results.t) > 1:
-        from ..plots import write_plots
+        results.solver["derive_time"] = derive_time
+        written = results.write(out)
+        atomic_write_text(out / "model.toml", dumps_model(model))
+        written.append(out / "model.toml")
+    interrupted = results.partial and results.solver.get("status") == "interrupted"
+    if stop.requested:
+        return _stopped(out, written, [], interrupted, results)
+    before = {p.name: p.stat().st_mtime_ns for p in out.iterdir()}
+    try:  # the equations (minutes for the largest models) and the plots: a signal stops them at once
+        values = eom.constant_values(model)
+        atomic_write_text(out / "equations.md", equations_markdown(eom, values))
+        atomic_write_text(out / "equations.tex", equations_latex(eom, values))
+        written += [out / "equations.md", out / "equations.tex"]
+        if pdf:
+            pdf_path, message = render_pdf(out / "equations.tex")
+            if pdf_path is not None:
+                written.append(pdf_path)
+            if message:
+                print(f"flexkane: {message}", file=sys.stderr)
+        if plots and len(results.t) > 1:
+            from ..plots import write_plots
 
-        written += write_plots(results, eom, out)
-    if animation is not None and len(results.t) > 0:
-        from .animate import animate_run
+            written += write_plots(results, eom, out)
+        if animation is not None and len(results.t) > 0:
+            from .animate import animate_run
 
-        written += animate_run(results, out / "animation.gif", animation, quiet=quiet)
+            written += animate_run(results, out / "animation.gif", animation, quiet=quiet)
+    except KeyboardInterrupt:
+        done = sorted(p.name for p in out.iterdir() if not p.name.startswith(".")
+                      and p.name not in {w.name for w in written} and before.get(p.name) != p.stat().st_mtime_ns)
+        return _stopped(out, written, done, interrupted, results)
+    if stop.requested:  # came while a file was being renamed into place, once the last one was done
+        return _stopped(out, written, [], interrupted, results)
     s = results.solver
     if not quiet or results.partial:
         drift = ""
@@ -154,7 +169,7 @@ def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None
         print(f"{model.name}: {s['method']}, {s['nsteps']} steps, {s['nfev']} evaluations, "
               f"derive {derive_time:.2f} s, compile {s['compile_time']:.2f} s, integrate {s['wall_time']:.3f} s"
               f"{drift}", file=stream)
-        print(f"wrote {len(written) + 2} files to {out}", file=stream)
+        print(f"wrote {len(written)} files to {out}", file=stream)
     for warning in results.warnings:
         print(f"flexkane: warning: {warning}", file=sys.stderr)
     if results.partial:
@@ -164,3 +179,20 @@ def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None
             return 130
         raise SolverFailure(s["t_reached"], f"{s['message']}; partial results written to {out}")
     return 0
+
+
+def _stopped(out: Path, written: list, plots: list, interrupted: bool, results) -> int:
+    """Report a stop request honoured after the integration; return exit code 130.
+
+    ``written``: the files complete before the equations and plots; ``plots``: the other files
+    complete when they were stopped. ``interrupted``: whether the integration itself was cut short.
+    """
+    files = ", ".join([p.name for p in written] + plots)
+    if interrupted:
+        s = results.solver
+        print(f"flexkane: interrupted at t = {s['t_reached']:.6g} s; the files hold the results up to "
+              f"there (marked partial): {files} in {out}; the other files were not written", file=sys.stderr)
+    else:
+        print(f"flexkane: interrupted after the integration; complete files in {out}: {files}; the other "
+              "files were not written", file=sys.stderr)
+    return 130

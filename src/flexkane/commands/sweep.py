@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import signal
 import sys
 from dataclasses import replace
 from pathlib import Path
 
 from ..errors import ModelError
+from ..interruption import StopRequest
 from ._common import add_max_steps_argument, add_model_arguments, add_out_arguments, model_from_args, prepare_out
 
 __all__ = ["register"]
@@ -120,21 +120,19 @@ def _is_sweep_directory(directory: Path) -> bool:
     return (directory / SPEC_NAME).is_file() or (directory / LOG_NAME).is_file()
 
 
-def _terminate(signum, frame):  # SIGTERM behaves as Ctrl-C: the table keeps what is finished
-    raise KeyboardInterrupt
-
-
 def _handle(args) -> int:
+    from ..numerics.jit_module import compile_in_subprocess
     from ..sweep import SweepInterrupted, default_metric, describe_outcome, plot_metric, run_sweep
 
     model = model_from_args(args)
     spec = sweep_spec_from_args(args)
     out = prepare_out(args.out, force=args.force, resumable=_is_sweep_directory)
-    previous = signal.signal(signal.SIGTERM, _terminate)
     try:
-        outcome = run_sweep(model, spec, out=out, workers=args.workers, scheduler=args.scheduler,
-                            batch_size=args.batch_size, retry_failed=args.retry_failed,
-                            progress=not args.quiet, force=args.force)
+        # SIGTERM behaves as Ctrl-C: the table keeps what is finished; a first compilation can be stopped
+        with StopRequest(), compile_in_subprocess():
+            outcome = run_sweep(model, spec, out=out, workers=args.workers, scheduler=args.scheduler,
+                                batch_size=args.batch_size, retry_failed=args.retry_failed,
+                                progress=not args.quiet, force=args.force)
     except ModelError as exc:
         if exc.path != "out":
             raise
@@ -146,8 +144,6 @@ def _handle(args) -> int:
               f"{exc.outcome.variants} variants; run the same command again to compute the rest",
               file=sys.stderr)
         return 130
-    finally:
-        signal.signal(signal.SIGTERM, previous)
     if not args.quiet:
         print(describe_outcome(outcome))
     if outcome.failed:

@@ -28,7 +28,7 @@ def parse_mode_counts(text: str, flag: str = "--n-modes") -> list[int]:
     Returns
     -------
     list of int
-        Increasing, each from 1 to 200.
+        Increasing, each from 1 to :data:`~flexkane.model.validate.MAX_MODES`.
     """
     text = str(text).strip()
     try:
@@ -39,8 +39,10 @@ def parse_mode_counts(text: str, flag: str = "--n-modes") -> list[int]:
             counts = [int(v) for v in text.split(",")]
     except ValueError:
         counts = []
-    if not counts or any(c < 1 or c > 200 for c in counts) or counts != sorted(set(counts)):
-        raise ModelError(flag, "mode counts as 1..N, a list A,B,C (increasing) or N, each 1 to 200", text)
+    from ..model.validate import MAX_MODES
+
+    if not counts or any(c < 1 or c > MAX_MODES for c in counts) or counts != sorted(set(counts)):
+        raise ModelError(flag, f"mode counts as 1..N, a list A,B,C (increasing) or N, each 1 to {MAX_MODES}", text)
     return counts
 
 

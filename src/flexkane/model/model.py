@@ -134,8 +134,15 @@ class Model:
 
         Beams whose shape roots were typed explicitly keep them only when their count matches.
         """
-        if isinstance(n_modes, bool) or not isinstance(n_modes, int) or not 1 <= n_modes <= 200:
-            raise ModelError("n_modes", "an integer from 1 to 200", n_modes)
+        from .validate import MAX_ELASTIC_COORDINATES, MAX_MODES
+
+        if isinstance(n_modes, bool) or not isinstance(n_modes, int) or not 1 <= n_modes <= MAX_MODES:
+            raise ModelError("n_modes", f"an integer from 1 to {MAX_MODES}", n_modes)
+        total = n_modes * len(self.beams) + sum(beam.n_axial or 0 for beam in self.beams.values())
+        if total > MAX_ELASTIC_COORDINATES:
+            raise ModelError("n_modes", f"at most {MAX_ELASTIC_COORDINATES} shape functions over all beams "
+                             "(n_modes + n_axial summed)", n_modes,
+                             f"{total} with n_modes {n_modes} on {len(self.beams)} beam(s)")
         new = self.copy()
         for beam in new.beams.values():
             beam.n_modes = n_modes

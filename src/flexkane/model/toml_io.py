@@ -155,7 +155,7 @@ def _model_from_dict(data: dict) -> Model:
         model.beams[name] = Beam(
             name, _get(beam, "L", path, "the length [m]"), _get(beam, "EI", path, "the flexural rigidity [N m^2]"),
             _get(beam, "rho", path, "the mass per unit length [kg/m]"),
-            _get(beam, "n_modes", path, "the number of shape functions, an integer from 1 to 200"),
+            _get(beam, "n_modes", path, "the number of shape functions, a positive integer"),
             shape=_shape(beam, "shape", path, "clamped-free"),
             damping=damping if isinstance(damping, list) else [damping],
             gravity=beam.get("gravity", "distributed"), elastic_forces=beam.get("elastic_forces", "strain-energy"),

@@ -37,10 +37,17 @@ from .parts import (DISTRIBUTED_FRAMES, ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, 
                     DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody, ShapeSpec,
                     Simulation)
 
-__all__ = ["validate_model", "validate_run_arguments", "MAX_MODES", "MAX_OUTPUT_ROWS", "METHODS", "is_name"]
+__all__ = ["validate_model", "validate_run_arguments", "MAX_MODES", "MAX_ELASTIC_COORDINATES", "MAX_STIFFENED_MODES",
+           "MAX_OUTPUT_ROWS", "METHODS", "is_name"]
 
-#: Largest number of shape functions of one beam (transverse or axial).
-MAX_MODES = 200
+#: Largest number of shape functions of one beam (transverse or axial), and of all the beams of a
+#: model together (n_modes + n_axial summed) (measured in benchmarks/RESULTS.md; 200 modes exhausted
+#: 24 GB).
+MAX_MODES = 40
+MAX_ELASTIC_COORDINATES = 40
+#: Largest number of shape functions of a beam with geometric stiffening, whose derivation grows
+#: fastest (spin-up: 10 modes derive in 32 s of CPU time, 20 did not in 270 s and 1.3 GB).
+MAX_STIFFENED_MODES = 10
 #: Largest number of rows of an output grid (t_end / dt_out).
 MAX_OUTPUT_ROWS = 10_000_000
 #: Most problems one validation reports together.
@@ -140,6 +147,22 @@ def _choice(path: str, value, choices) -> None:
     if not isinstance(value, str) or value not in choices:
         raise ModelError(path, "one of " + ", ".join(repr(c) for c in choices), value,
                          _suggest(value, choices) if isinstance(value, str) else None)
+
+
+def _check_elastic_coordinates(beams: dict) -> None:
+    """Refuse more than MAX_ELASTIC_COORDINATES shape functions over all the beams of a model, and
+    more than MAX_STIFFENED_MODES on a beam with geometric stiffening."""
+    counts = {name: beam.n_modes + (beam.n_axial or 0) for name, beam in beams.items()}
+    for name, beam in beams.items():
+        if beam.geometric_stiffening is True and counts[name] > MAX_STIFFENED_MODES:
+            raise ModelError(f"beams.{name}.n_modes", f"at most {MAX_STIFFENED_MODES} shape functions "
+                             "(n_modes + n_axial) with geometric_stiffening (more do not derive within bounded "
+                             "time and memory)", counts[name], "lower n_modes (or --n-modes)")
+    if sum(counts.values()) > MAX_ELASTIC_COORDINATES:
+        raise ModelError("beams", f"at most {MAX_ELASTIC_COORDINATES} shape functions over all beams "
+                         "(n_modes + n_axial summed; more do not run within bounded time and memory)",
+                         ", ".join(f"{name}: {n}" for name, n in counts.items()),
+                         "lower n_modes (or --n-modes)")
 
 
 def _integer(path: str, value, low: int, high: int, what: str) -> int:
@@ -272,6 +295,8 @@ def validate_model(model: Model) -> None:
     for beam in beams.values():
         with problems.part():
             lengths[beam.name] = _check_beam(beam, values)
+    with problems.part():   # over the beams that passed their own checks
+        _check_elastic_coordinates({name: beams[name] for name in lengths})
     problems.raise_found()   # joints and ends refer to parts and beam lengths
     for joint in model.joints.values():
         with problems.part():

@@ -7,13 +7,28 @@ fragments (``rhs``, ``outputs``), the DOP853 and Radau templates. Every Numba fu
 of compiling. Numba checks the file's modification time and size, so the file is written only
 when it is missing or different, through a temporary file and ``os.replace`` (atomic): two
 processes building the same key at once both end up with a complete, identical file.
+
+The cache directory must be a writable directory. When ``$FLEXKANE_CACHE_DIR`` is a file, cannot
+be created or is read-only, flexkane warns once (naming the path and the reason) and uses a
+temporary cache for the process instead (:func:`usable_cache_dir`): nothing is kept for the next
+run, nothing fails.
+
+Numba compiles a function on its first call, in C, for seconds to minutes, and Python cannot handle
+a signal meanwhile. Within :func:`compile_in_subprocess` (used by the command line), a structure
+met for the first time is therefore compiled by a child process that fills the on-disk cache; this
+process waits for it (a signal stops the child at once and raises :class:`KeyboardInterrupt`) and
+then loads the machine code from the cache.
 """
 
 from __future__ import annotations
 
+import atexit
+import contextlib
 import hashlib
 import importlib.util
 import os
+import shutil
+import subprocess
 import sys
 import tempfile
 from pathlib import Path
@@ -24,8 +39,8 @@ import numba
 import flexkane
 from flexkane.numerics import dop853, linear_algebra, radau
 
-__all__ = ["TEMPLATE_BEGIN", "TEMPLATE_END", "build_module", "compose_module_source",
-           "default_cache_dir", "structure_key", "template_text"]
+__all__ = ["TEMPLATE_BEGIN", "TEMPLATE_END", "build_module", "compile_in_subprocess", "compose_module_source",
+           "default_cache_dir", "structure_key", "template_text", "usable_cache_dir"]
 
 TEMPLATE_BEGIN = "# >>> flexkane template >>>"
 TEMPLATE_END = "# <<< flexkane template <<<"
@@ -59,6 +74,53 @@ def default_cache_dir() -> Path:
     """Return ``$FLEXKANE_CACHE_DIR`` if set, else ``~/.cache/flexkane``."""
     env = os.environ.get("FLEXKANE_CACHE_DIR")
     return Path(env) if env else Path.home() / ".cache" / "flexkane"
+
+
+_fallback: dict[str, Path] = {}
+
+
+def _warn(text: str) -> None:
+    print(f"flexkane: warning: {text}", file=sys.stderr)
+
+
+def usable_cache_dir(cache_dir: Path | str | None = None) -> Path:
+    """Return the cache root to use: ``cache_dir`` (default :func:`default_cache_dir`) if it is, or
+    can be made, a writable directory, else a temporary directory for this process.
+
+    Parameters
+    ----------
+    cache_dir : path-like, optional
+        The cache root asked for.
+
+    Returns
+    -------
+    pathlib.Path
+        ``cache_dir`` itself, created if missing; or, when it is a file, cannot be created or is
+        not writable, a temporary directory (removed when the process ends), after a warning on
+        standard error that names the path and the reason (once per path and process).
+    """
+    root = Path(cache_dir) if cache_dir is not None else default_cache_dir()
+    if str(root) in _fallback:
+        return _fallback[str(root)]
+    reason = None
+    if root.exists() and not root.is_dir():
+        reason = "it is a file, not a directory"
+    else:
+        try:
+            root.mkdir(parents=True, exist_ok=True)
+            probe = tempfile.NamedTemporaryFile(dir=root, prefix=".flexkane-probe-")
+            probe.close()
+        except OSError as exc:
+            reason = ("it cannot be created" if not root.is_dir() else "it is not writable") \
+                + f" ({exc.strerror or exc})"
+    if reason is None:
+        return root
+    temporary = Path(tempfile.mkdtemp(prefix="flexkane-cache-"))
+    atexit.register(shutil.rmtree, temporary, ignore_errors=True)
+    _fallback[str(root)] = temporary
+    _warn(f"cache directory {root} (FLEXKANE_CACHE_DIR) is unusable: {reason}; using the temporary cache "
+          f"{temporary} for this run (compiled models and derivations are not kept)")
+    return temporary
 
 
 def structure_key(*parts: str) -> str:
@@ -108,7 +170,92 @@ def _write_atomically(path: Path, text: str) -> None:
         raise
 
 
-def build_module(source: str, key: str, cache_dir: Path | None = None) -> ModuleType:
+_in_subprocess: list = []
+
+
+@contextlib.contextmanager
+def compile_in_subprocess(announce=None):
+    """Within the block, :func:`build_module` compiles a structure new to the cache in a child process.
+
+    Parameters
+    ----------
+    announce : callable, optional
+        Called without arguments just before a child process starts compiling (e.g. to tell the
+        user that a first compilation takes a while).
+    """
+    _in_subprocess.append(announce or (lambda: None))
+    try:
+        yield
+    finally:
+        _in_subprocess.pop()
+
+
+def _compiled_marker(path: Path) -> Path:
+    return path.with_suffix(".compiled")
+
+
+def _text_digest(text: str) -> str:
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def _compile_file(path: str) -> None:
+    """Import the generated module at ``path`` and compile (into Numba's cache) everything a run calls.
+
+    Run in the child process of :func:`_compile_in_child`. The functions are called with arrays of
+    the types a run passes (contiguous float64) on dummy values: what they compute does not matter,
+    only that Numba compiles and caches them.
+    """
+    import numpy as np
+
+    from flexkane.numerics.integrate import METHODS, _compile
+
+    path = Path(path)
+    spec = importlib.util.spec_from_file_location(path.stem, path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[path.stem] = module
+    spec.loader.exec_module(module)
+    n = module.NQ + module.NU
+    y = np.zeros(n)
+    p = np.ones(len(module.CONSTANT_NAMES))
+    f = np.zeros(n)
+    atol = np.full(n, 1e-10)
+    steps = [lambda: module.rhs(0.0, y, p, f),
+             lambda: module.fd_jacobian(0.0, y, f, p, np.zeros((n, n)), np.empty(n), np.empty(n))]
+    steps += [lambda name=name: _compile(getattr(module, name), 0.0, y, p, 1e-6, atol, np.empty((1, n)))
+              for name in METHODS.values()]
+    for step in steps:
+        with contextlib.suppress(Exception):  # a dummy value may fail at run time, after compiling
+            step()
+    _write_atomically(_compiled_marker(path), _text_digest(path.read_text(encoding="utf-8")))
+
+
+def _compile_in_child(path: Path) -> bool:
+    """Compile the module at ``path`` into Numba's cache in a child process; return whether it worked.
+
+    The child runs in a session of its own (Ctrl-C in the terminal reaches this process only). On any
+    exception here, a signal among them (:class:`KeyboardInterrupt`), the child is killed first.
+    """
+    package_root = str(Path(flexkane.__file__).resolve().parent.parent)
+    code = ("import sys; sys.path.insert(0, sys.argv[1]); "
+            "from flexkane.numerics.jit_module import _compile_file; _compile_file(sys.argv[2])")
+    with tempfile.TemporaryFile() as errors:
+        child = subprocess.Popen([sys.executable, "-c", code, package_root, str(path)],
+                                 stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=errors,
+                                 start_new_session=True)
+        try:
+            while True:
+                try:
+                    return child.wait(timeout=0.1) == 0
+                except subprocess.TimeoutExpired:
+                    continue
+        finally:
+            if child.poll() is None:
+                child.kill()
+                child.wait()
+
+
+def build_module(source: str, key: str, cache_dir: Path | None = None, *,
+                 in_subprocess: bool | None = None) -> ModuleType:
     """Write the generated module for ``key`` (if needed) and import it.
 
     Parameters
@@ -120,7 +267,11 @@ def build_module(source: str, key: str, cache_dir: Path | None = None) -> Module
         Identifier of the model structure, e.g. ``structure_key(source)``; letters, digits,
         ``_`` and ``-`` only.
     cache_dir : pathlib.Path, optional
-        Root of the cache; default :func:`default_cache_dir`.
+        Root of the cache; default :func:`default_cache_dir` (through :func:`usable_cache_dir`).
+    in_subprocess : bool, optional
+        Compile a module not compiled before in a child process (see the module docstring);
+        default: within :func:`compile_in_subprocess` only. If the child fails, the functions are
+        compiled here on their first call, as without it.
 
     Returns
     -------
@@ -132,7 +283,7 @@ def build_module(source: str, key: str, cache_dir: Path | None = None) -> Module
     if not key or not all(ch.isalnum() or ch in "_-" for ch in key):
         raise ValueError(f"key must be letters, digits, '_' or '-', got {key!r}")
     key = key.replace("-", "_")
-    root = Path(cache_dir) if cache_dir is not None else default_cache_dir()
+    root = usable_cache_dir(cache_dir)
     directory = root / key
     directory.mkdir(parents=True, exist_ok=True)
     module_name = f"flexkane_generated_{key}"
@@ -148,6 +299,18 @@ def build_module(source: str, key: str, cache_dir: Path | None = None) -> Module
         current = None
     if current != text:
         _write_atomically(path, text)
+    if in_subprocess is None:
+        in_subprocess = bool(_in_subprocess)
+    if in_subprocess:
+        marker = _compiled_marker(path)
+        try:
+            compiled = marker.read_text(encoding="utf-8") == _text_digest(text)
+        except (OSError, UnicodeDecodeError):
+            compiled = False
+        if not compiled:
+            if _in_subprocess:
+                _in_subprocess[-1]()
+            _compile_in_child(path)
     spec = importlib.util.spec_from_file_location(module_name, path)
     module = importlib.util.module_from_spec(spec)
     sys.modules[module_name] = module

@@ -23,8 +23,9 @@ import shutil
 from collections import deque
 from pathlib import Path
 
-from ..errors import ModelError
+from ..errors import FlexkaneError, ModelError
 from ..extras import require
+from ..interruption import deferred_signals
 from .worker import run_batch, run_variant
 
 __all__ = ["run_serial", "run_on_dask", "dask_client", "default_worker_count", "BatchSizer",
@@ -102,26 +103,31 @@ def dask_client(*, workers: int | None = None, scheduler: str | None = None, scr
         return
     import dask
 
+    # Dask's start and close cannot be cut by KeyboardInterrupt (it leaves the cluster half started and
+    # Dask fails with its own errors): a signal meanwhile is honoured once the cluster is up, or closed.
+    # Workers stopped with the cluster log heartbeat failures (with tracebacks) at level ERROR: the
+    # sweep reports lost variants itself, so only CRITICAL messages of the cluster are shown.
     options = {}
     if scratch is not None:
         scratch = Path(scratch)
         scratch.mkdir(parents=True, exist_ok=True)
         options["local_directory"] = str(scratch)
+    cluster = client = None
     try:
-        with dask.config.set({"temporary-directory": str(scratch)} if scratch is not None else {}):
-            cluster = LocalCluster(n_workers=workers or default_worker_count(), threads_per_worker=1, processes=True,
-                                   dashboard_address=":0", silence_logs=logging.ERROR, **options)
+        with deferred_signals(), dask.config.set({"temporary-directory": str(scratch)} if scratch is not None else {}):
+            cluster = LocalCluster(n_workers=workers or default_worker_count(), threads_per_worker=1,
+                                   processes=True, dashboard_address=":0", silence_logs=logging.CRITICAL,
+                                   **options)
             client = Client(cluster)
             with contextlib.suppress(Exception):
                 client.run(_ignore_interrupts)
-            try:
-                yield client
-            finally:
-                with contextlib.suppress(Exception):
-                    client.close()
-                with contextlib.suppress(Exception):
-                    cluster.close()
+        yield client
     finally:
+        with deferred_signals():
+            for part in (client, cluster):
+                if part is not None:
+                    with contextlib.suppress(Exception):
+                        part.close()
         if scratch is not None:
             shutil.rmtree(scratch, ignore_errors=True)
 
