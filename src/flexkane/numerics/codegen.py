@@ -26,6 +26,7 @@ from collections.abc import Mapping, Sequence
 
 import sympy
 from sympy.printing.codeprinter import PrintMethodNotImplementedError
+from sympy.printing.precedence import precedence
 from sympy.printing.pycode import PythonCodePrinter
 
 from flexkane.numerics import large_rhs
@@ -36,6 +37,8 @@ __all__ = ["UNROLL_LDL_MAX", "generate_outputs_source", "generate_rhs_source"]
 # Largest number of speeds for which L D L^T is written as scalar statements (no allocation,
 # about 20 ns saved per call); above it a loop over an allocated array is used.
 UNROLL_LDL_MAX = 8
+# Largest |n| of an exponent printed as an integer (``x**n``); larger ones are printed as floats.
+_INTEGER_EXPONENT_MAX = 64
 
 
 # Names of the generated functions' arguments, and names no model symbol may take.
@@ -53,11 +56,26 @@ class _MathPrinter(PythonCodePrinter):
     def _print_Float(self, expr):
         return repr(float(expr))
 
+    # Every constant is printed as a float: an integer such as 3**50 (from ``(3*t)**50``) does not
+    # fit Numba's int64, and a float keeps the arithmetic in double precision. Only small integer
+    # exponents stay integers (``x**2``, which Numba computes by multiplication).
+    def _print_Integer(self, expr):
+        return repr(float(expr))
+
+    _print_Zero = _print_One = _print_NegativeOne = _print_Integer
+
     def _print_Rational(self, expr):
-        return f"({int(expr.p)}/{int(expr.q)})"
+        return repr(float(expr))
 
     def _print_Half(self, expr):
         return "0.5"
+
+    def _print_Pow(self, expr, rational=False):
+        exp = expr.exp
+        if exp.is_Integer and 1 < abs(int(exp)) <= _INTEGER_EXPONENT_MAX:
+            base = self.parenthesize(expr.base, precedence(expr), strict=False)
+            return f"{base}**{int(exp)}" if exp > 0 else f"{base}**({int(exp)})"
+        return super()._print_Pow(expr, rational=rational)
 
     def _print_Piecewise(self, expr):
         # Without an "otherwise" branch the value is undefined there: NaN, which the integrator
