@@ -3,7 +3,8 @@
 ``results.csv``: header ``t``, the generalized coordinates, the generalized speeds (by name), then the
 outputs of :mod:`flexkane.kane.outputs` (tip deflections, energy, ...), one row per output time.
 ``results.npz``: the same arrays, the model file text, the parameter values, solver statistics and the
-flexkane version; :func:`load_results` reads it back.
+flexkane version; :func:`load_results` reads it back. Every array but ``timing`` (wall, compile and
+derive times) is the same for the same model and options on any machine load.
 """
 
 from __future__ import annotations
@@ -22,7 +23,11 @@ __all__ = ["Results", "load_results", "csv_text"]
 
 #: Output columns written to results.csv after the state, when present.
 CSV_OUTPUTS_PREFIXES = ("tip_", "effort_")
-CSV_OUTPUTS = ("kinetic", "potential_gravity", "strain", "potential_springs", "energy")
+CSV_OUTPUTS = ("kinetic", "potential_gravity", "strain", "potential_springs", "energy", "work",
+               "energy_balance")
+#: Entries of ``Results.solver`` that measure time: the only ones that vary between identical runs.
+#: results.npz keeps them apart, in the array ``timing``.
+TIMING_FIELDS = ("wall_time", "compile_time", "derive_time", "run_time")
 
 
 @dataclass
@@ -89,11 +94,26 @@ class Results:
                   "outputs": np.array([self.outputs[k] for k in self.outputs]).reshape(len(self.outputs), -1),
                   "model_text": np.array(self.model_text),
                   "parameters": np.array(json.dumps(self.parameters, sort_keys=True)),
-                  "solver": np.array(json.dumps(self.solver, sort_keys=True, default=str)),
+                  "solver": np.array(json.dumps({k: v for k, v in self.solver.items() if k not in TIMING_FIELDS},
+                                                sort_keys=True, default=str)),
+                  "timing": np.array(json.dumps({k: v for k, v in self.solver.items() if k in TIMING_FIELDS},
+                                                sort_keys=True, default=str)),
                   "partial": np.array(self.partial), "version": np.array(self.version)}
-        np.savez(buffer, **arrays)
+        _savez_fixed_dates(buffer, arrays)
         atomic_write_bytes(npz_path, buffer.getvalue())
         return [csv_path, npz_path]
+
+
+def _savez_fixed_dates(buffer, arrays: dict) -> None:
+    """``numpy.savez`` with a fixed date on every member, so that equal arrays give equal bytes."""
+    import zipfile
+
+    with zipfile.ZipFile(buffer, "w", zipfile.ZIP_STORED, allowZip64=True) as archive:
+        for name, value in arrays.items():
+            member = io.BytesIO()
+            np.lib.format.write_array(member, np.asanyarray(value), allow_pickle=False)
+            info = zipfile.ZipInfo(f"{name}.npy", date_time=(1980, 1, 1, 0, 0, 0))
+            archive.writestr(info, member.getvalue())
 
 
 def _fmt(x: float) -> str:
@@ -125,5 +145,7 @@ def load_results(path: str | Path) -> Results:
         outputs = {n: data["outputs"][i] for i, n in enumerate(names)}
         return Results(t=data["t"], state=data["state"], state_names=[str(n) for n in data["state_names"]],
                        outputs=outputs, model_text=str(data["model_text"]),
-                       parameters=json.loads(str(data["parameters"])), solver=json.loads(str(data["solver"])),
+                       parameters=json.loads(str(data["parameters"])),
+                       solver={**json.loads(str(data["solver"])),
+                               **(json.loads(str(data["timing"])) if "timing" in data.files else {})},
                        partial=bool(data["partial"]), version=str(data["version"]))

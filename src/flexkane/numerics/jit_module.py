@@ -25,7 +25,7 @@ import flexkane
 from flexkane.numerics import dop853, linear_algebra, radau
 
 __all__ = ["TEMPLATE_BEGIN", "TEMPLATE_END", "build_module", "compose_module_source",
-           "default_cache_dir", "structure_key", "template_text"]
+           "default_cache_dir", "is_compiled", "structure_key", "template_text"]
 
 TEMPLATE_BEGIN = "# >>> flexkane template >>>"
 TEMPLATE_END = "# <<< flexkane template <<<"
@@ -158,3 +158,30 @@ def build_module(source: str, key: str, cache_dir: Path | None = None) -> Module
         raise
     module.__flexkane_source__ = text
     return module
+
+
+def is_compiled(module: ModuleType) -> bool:
+    """Whether the integrators of a generated module are compiled or in Numba's disk cache.
+
+    Parameters
+    ----------
+    module : module
+        Generated module (:func:`build_module`).
+
+    Returns
+    -------
+    bool
+        True when ``dop853_chunk`` and ``radau5_chunk`` have a compiled signature in this process
+        or an entry for the module's current source in the on-disk cache index (a call will load
+        rather than compile them); False otherwise, or when the cache cannot be read.
+    """
+    for name in ("dop853_chunk", "radau5_chunk"):
+        dispatcher = getattr(module, name)
+        if dispatcher.signatures:
+            continue
+        try:
+            if not dispatcher._cache._cache_file._load_index():  # Numba's index of the disk cache
+                return False
+        except Exception:  # noqa: BLE001 - a private API of Numba: unknown means "not cached"
+            return False
+    return True
