@@ -234,7 +234,8 @@ def simulate(compiled: CompiledModel, *, t_end: float, dt_out: float, rtol: floa
               "message": result.message, "nfev": int(result.nfev), "nsteps": int(result.nsteps),
               "naccept": int(getattr(result, "naccept", 0)), "nreject": int(getattr(result, "nreject", 0)),
               "wall_time": float(result.wall_time), "t_reached": float(result.t_reached),
-              "compile_time": float(compiled.compile_time)}
+              "compile_time": float(compiled.compile_time),
+              "method_spans": {k: float(v) for k, v in sorted(result.method_spans.items())}}
     return Results(t=t, state=state, state_names=eom.state_names, outputs=outputs,
                    model_text=dumps_model(model), parameters={s.name: values[s] for s in eom.constants},
                    solver=solver, partial=n_valid < len(grid) or int(result.status) != 0)

@@ -44,7 +44,7 @@ _INTEGER_EXPONENT_MAX = 64
 # Names of the generated functions' arguments, and names no model symbol may take.
 _RESERVED = {"t", "y", "p", "dy", "math", "np", "njit", "min", "max", "abs", "range",
              "ldl_solve", "mass_matrix_failure", "float", "int", "complex", "bool", "len",
-             "rhs", "outputs", "PIVOT_RTOL", "w", "code", "system_rhs"}
+             "rhs", "outputs", "PIVOT_RTOL", "w", "system_rhs"}
 
 
 class _MathPrinter(PythonCodePrinter):
@@ -318,7 +318,7 @@ def _quadrature_lines(eom, name: str, system_name: str, quadratures: dict,
     nq, nu = len(eom.q), len(eom.u)
     subs, q_names, u_names, c_names, t_name = _symbol_table(eom, "t")
     ud_symbols = list(getattr(eom, "ud", None) or [])
-    ud_names = _safe_names(ud_symbols, {s.name for s in subs.values()} | {"code"})
+    ud_names = _safe_names(ud_symbols, {s.name for s in subs.values()})
     subs.update({s: sympy.Symbol(n, real=True) for s, n in zip(ud_symbols, ud_names)})
     applied = {k: v for k, v in subs.items() if not k.is_Symbol}
     values = [sympy.sympify(e) for e in quadratures.values()]
@@ -342,11 +342,11 @@ def _quadrature_lines(eom, name: str, system_name: str, quadratures: dict,
              '@njit(cache=True, error_model="numpy")',
              f"def {system_name}(t, y, p, dy):",
              f'    """Write [q\', u\', W\'] ({n + len(quadratures)},) into dy; return 0, 2 or 4."""',
-             f"    code = {name}(t, y, p, dy)",
-             "    if code != 0:",
-             f"        for k in range({n}, {n + len(quadratures)}):",
-             "            dy[k] = math.nan",
-             "        return code"]
+             f"    _code = {name}(t, y, p, dy)",
+             "    if _code != 0:",
+             f"        for _i in range({n}, {n + len(quadratures)}):",
+             "            dy[_i] = math.nan",
+             "        return _code"]
     lines += ["    " + line for line in loads + body]
     lines.append("    return 0")
     return lines, sum(_operation_count(line) for line in body)

@@ -9,7 +9,8 @@ tolerance and on how much each mode is excited, so it is tried:
 1. the run starts with the method of :func:`~flexkane.numerics.integrate.choose_method`;
 2. while DOP853 runs, its stiffness test (the share of accepted steps limited by stability, see
    :mod:`flexkane.numerics.dop853`) tells whether its steps are held back by the fast modes; if
-   most of them are (over at least 50 accepted steps), the next chunks are a *trial* of Radau;
+   ``STIFF_SHARE`` of them are (over at least 50 accepted steps), the next chunks are a *trial*
+   of Radau;
 3. a trial (``TRIAL_STEPS`` accepted steps or ``TRIAL_SPAN_FRACTION`` of the span, over one or
    more chunks) compares the simulated time per unit of work (:func:`chunk_work`) of the two
    methods over neighbouring stretches of the run; the cheaper one (by a margin ``SWITCH_GAIN``
@@ -34,8 +35,10 @@ __all__ = ["MethodSwitch", "RECHECK_FRACTION", "RETRY_MARGIN", "STIFF_SHARE", "S
 TRIAL_STEPS = {"dop853": 200, "radau": 40}
 # A trial also ends after this fraction of the span.
 TRIAL_SPAN_FRACTION = 0.05
-# Share of stability-limited accepted DOP853 steps in a chunk that calls for a trial of Radau.
-STIFF_SHARE = 0.5
+# Share of stability-limited accepted DOP853 steps in a window that calls for a trial of Radau
+# (at its stability limit the step size of DOP853 oscillates about it: about half of the steps
+# are limited by it, a non-stiff run has almost none).
+STIFF_SHARE = 0.4
 # The other method takes over when its rate exceeds the current one's by this factor.
 SWITCH_GAIN = 1.3
 # Fraction of the span between two trials.
