@@ -74,7 +74,9 @@ class _MathPrinter(PythonCodePrinter):
         exp = expr.exp
         if exp.is_Integer and 1 < abs(int(exp)) <= _INTEGER_EXPONENT_MAX:
             base = self.parenthesize(expr.base, precedence(expr), strict=False)
-            return f"{base}**{int(exp)}" if exp > 0 else f"{base}**({int(exp)})"
+            # a negative integer power of 0 raises ZeroDivisionError in Numba whatever the error
+            # model; a division gives inf, which the integrators report as non-finite
+            return f"{base}**{int(exp)}" if exp > 0 else f"(1.0/{base}**{-int(exp)})"
         return super()._print_Pow(expr, rational=rational)
 
     def _print_Piecewise(self, expr):

@@ -376,19 +376,23 @@ def compile_integrators(module) -> None:
         Generated module (:func:`~flexkane.numerics.jit_module.build_module`).
     """
     n = module.NQ + module.NU + _quadrature_count(module)
-    p = np.zeros(len(module.CONSTANT_NAMES))
+    p = np.ones(len(module.CONSTANT_NAMES))
     y = np.zeros(n)
     t_out = np.zeros(3)[1:]  # a slice, as integrate passes
     Y = np.empty((3, n))[1:]
     atol = np.ones(n)
+    calls = [(getattr(module, name), (0.0, y, 0.0, t_out, p, 1e-6, atol, 1, Y, 0.0))
+             for name in METHODS.values()]
+    calls += [(_system(module), (0.0, y, p, np.empty(n))),
+              (module.rhs, (0.0, np.zeros(module.NQ + module.NU), p, np.empty(module.NQ + module.NU))),
+              (module.fd_jacobian, (0.0, y, np.zeros(n), p, np.zeros((n, n)), np.empty(n), np.empty(n)))]
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore")
-        for name in METHODS.values():
-            getattr(module, name)(0.0, y, 0.0, t_out, p, 1e-6, atol, 1, Y, 0.0)
-        f0 = np.empty(n)
-        _system(module)(0.0, y, p, f0)
-        module.rhs(0.0, np.zeros(module.NQ + module.NU), p, np.empty(module.NQ + module.NU))
-        module.fd_jacobian(0.0, y, np.zeros(n), p, np.zeros((n, n)), np.empty(n), np.empty(n))
+        for function, args in calls:
+            try:
+                function(*args)
+            except (ArithmeticError, ValueError):
+                pass  # compiled already: only the made-up numbers failed (e.g. a division by 0)
 
 
 def evaluate_outputs(module, t: np.ndarray, y: np.ndarray, p: np.ndarray,
