@@ -32,6 +32,9 @@ def test_driven_damped_arm_power_balance(damping):
     scale = np.abs(e).max()
     assert scale > 0.1
     assert np.abs(e - e[0] - work).max() < 2e-6 * scale
+    # the work integrated with the motion: the balance is the solver's error (rtol 1e-10)
+    assert np.abs(res["energy_balance"]).max() < 1e-9 * scale
+    assert np.abs(res["work"] - work).max() < 2e-6 * scale
     if damping:
         assert work[-1] < np.trapezoid(np.clip(res["power_nonconservative"], 0, None), res.t)
 

@@ -73,7 +73,7 @@ def test_every_state_variable_tip_effort_and_energy_is_plotted_with_a_curve(tmp_
     assert labels["tip_deflection.png"] == ("t [s]", "tip_beam [m]")
     energy = captured_figures["energy.png"]
     assert energy.axes[0].get_ylabel() == "energy [J]" and energy.axes[1].get_xlabel() == "t [s]"
-    assert energy.axes[1].get_ylabel().startswith("drift")
+    assert energy.axes[1].get_ylabel().startswith("balance (E - E0 - W)")
 
 
 def test_tip_deflection_plot_has_one_curve_per_beam_in_its_frame(tmp_path, captured_figures):
@@ -123,3 +123,32 @@ def test_run_with_no_plots_writes_no_png(tmp_path, capsys):
     assert {"results.csv", "results.npz", "equations.md"} <= written
     assert not [name for name in written if name.endswith(".png")]
 
+
+def test_energy_plot_shows_energies_work_and_the_balance(tmp_path, captured_figures):
+    _, res = synthetic_run("flexible-arm")
+    e = res["energy"]
+    res.outputs["work"] = (e - e[0]) * (1 + 1e-6)  # made up: a balance of 1e-6 (E - E0)
+    res.outputs["energy_balance"] = e - e[0] - res.outputs["work"]
+    plots.plot_energy(res, tmp_path / "energy.png")
+    upper, lower = captured_figures["energy.png"].axes
+    labels = [line.get_label() for line in upper.get_lines()]
+    assert labels[0] == "total E" and "kinetic" in labels and "strain" in labels
+    assert "E0 + work W" in labels
+    scale = max(np.abs(e).max(), np.abs(res["kinetic"]).max())
+    np.testing.assert_allclose(lower.get_lines()[0].get_ydata(), res["energy_balance"] / scale)
+
+
+def test_results_npz_keeps_timing_apart_and_its_bytes_do_not_depend_on_the_clock(tmp_path):
+    _, res = synthetic_run("flexible-arm", rows=7)
+    for name in "abc":
+        (tmp_path / name).mkdir()
+    res.solver = {"method": "dop853", "nsteps": 12, "wall_time": 0.5, "compile_time": 2.0}
+    res.write(tmp_path / "a")
+    res.solver = {"method": "dop853", "nsteps": 12, "wall_time": 0.7, "compile_time": 3.0}
+    res.write(tmp_path / "b")
+    with np.load(tmp_path / "a" / "results.npz") as a, np.load(tmp_path / "b" / "results.npz") as b:
+        assert "wall_time" not in str(a["solver"]) and "wall_time" in str(a["timing"])
+        assert all(a[k].tobytes() == b[k].tobytes() for k in a.files if k != "timing")
+    assert load_results(tmp_path / "b").solver["wall_time"] == 0.7
+    res.write(tmp_path / "c")
+    assert (tmp_path / "b" / "results.npz").read_bytes() == (tmp_path / "c" / "results.npz").read_bytes()

@@ -1,4 +1,4 @@
-"""Plots of a run: every coordinate and speed against t, tip deflections, energy and its drift.
+"""Plots of a run: every coordinate and speed against t, tip deflections, energies and the energy balance.
 
 The chapter's notebook plots u1, u2, u3, u4, q3 and q4 against t; :func:`write_plots` draws those
 and every other state variable, each as ``<name>.png``, with labelled axes and units.
@@ -65,6 +65,7 @@ def units(eom) -> dict[str, str]:
             out[name] = "N m" if role == "angle" else "N"
         elif name == "power_nonconservative":
             out[name] = "W"
+    out["work"] = out["energy_balance"] = "J"
     return out
 
 
@@ -93,20 +94,36 @@ def plot_series(results: Results, names: list[str], unit: str, path: Path, title
 
 
 def plot_energy(results: Results, path: Path, title: str = "") -> Path:
-    """Total energy [J] and its relative drift (E - E0)/max|E| against t."""
+    """Energies [J] and the work done, and the energy balance ``(E - E0 - W)/max|E|`` against t.
+
+    The upper panel shows the total energy ``E``, its kinetic, potential (gravity and springs) and
+    strain parts, and the work ``W`` of drivers, loads and dampers (integrated with the motion);
+    the lower one the balance ``E - E0 - W``, which the solver's error alone keeps from 0.
+    """
     energy = results["energy"]
     scale = max(np.max(np.abs(energy)), np.max(np.abs(results["kinetic"])), 1e-300)
-    drift = (energy - energy[0]) / scale
-    fig, (ax1, ax2) = _new_figure(6.4, 5.2, 2, 1, sharex=True)
-    ax1.plot(results.t, energy, lw=1.4, label="total")
+    outputs = results.outputs
+    work = outputs["work"] if "work" in outputs else np.zeros_like(energy)
+    balance = outputs["energy_balance"] if "energy_balance" in outputs else energy - energy[0] - work
+    fig, (ax1, ax2) = _new_figure(6.4, 5.6, 2, 1, sharex=True)
+    ax1.plot(results.t, energy, lw=1.6, color="k", label="total E")
     ax1.plot(results.t, results["kinetic"], lw=1.0, ls="--", label="kinetic")
+    potential = sum((outputs[k] for k in ("potential_gravity", "potential_springs") if k in outputs),
+                    np.zeros_like(energy))
+    if np.any(potential):
+        ax1.plot(results.t, potential, lw=1.0, ls="-.", label="potential")
+    if "strain" in outputs and np.any(outputs["strain"]):
+        ax1.plot(results.t, outputs["strain"], lw=1.0, ls=":", label="strain")
+    if np.any(work):
+        ax1.plot(results.t, energy[0] + work, lw=1.0, color="C3", alpha=0.8, label="E0 + work W")
     ax1.set_ylabel("energy [J]")
-    ax1.legend(fontsize=8)
+    ax1.legend(fontsize=8, loc="best")
     ax1.grid(alpha=0.3)
-    ax2.plot(results.t, drift, lw=1.2, color="C3")
-    ax2.set_ylabel("drift (E - E0)/max|E| [-]")
+    ax2.plot(results.t, balance / scale, lw=1.2, color="C3")
+    ax2.set_ylabel("balance (E - E0 - W)/max|E| [-]", fontsize=9)
     ax2.set_xlabel("t [s]")
     ax2.grid(alpha=0.3)
+    ax2.ticklabel_format(axis="y", style="sci", scilimits=(-2, 2))
     if title:
         ax1.set_title(title, fontsize=10)
     _margins(fig, title=bool(title))

@@ -3,7 +3,9 @@
 ``results.csv``: header ``t``, the generalized coordinates, the generalized speeds (by name), then the
 outputs of :mod:`flexkane.kane.outputs` (tip deflections, energy, ...), one row per output time.
 ``results.npz``: the same arrays, the model file text, the parameter values, solver statistics, the
-validity warnings and the flexkane version; :func:`load_results` reads it back.
+validity warnings and the flexkane version; :func:`load_results` reads it back. Every array but
+``timing`` (wall, compile and derive times) is the same for the same model and options on any
+machine load.
 """
 
 from __future__ import annotations
@@ -22,7 +24,11 @@ __all__ = ["Results", "load_results", "csv_text"]
 
 #: Output columns written to results.csv after the state, when present.
 CSV_OUTPUTS_PREFIXES = ("tip_", "effort_")
-CSV_OUTPUTS = ("kinetic", "potential_gravity", "strain", "potential_springs", "energy")
+CSV_OUTPUTS = ("kinetic", "potential_gravity", "strain", "potential_springs", "energy", "work",
+               "energy_balance")
+#: Entries of ``Results.solver`` that measure time: the only ones that vary between identical runs.
+#: results.npz keeps them apart, in the array ``timing``.
+TIMING_FIELDS = ("wall_time", "compile_time", "derive_time", "run_time")
 
 
 @dataclass
@@ -142,12 +148,27 @@ class Results:
                                       dtype=float).reshape(len(self.outputs), len(self.t)),
                   "model_text": np.array(self.model_text),
                   "parameters": np.array(json.dumps(self.parameters, sort_keys=True)),
-                  "solver": np.array(json.dumps(self.solver, sort_keys=True, default=str)),
+                  "solver": np.array(json.dumps({k: v for k, v in self.solver.items() if k not in TIMING_FIELDS},
+                                                sort_keys=True, default=str)),
+                  "timing": np.array(json.dumps({k: v for k, v in self.solver.items() if k in TIMING_FIELDS},
+                                                sort_keys=True, default=str)),
                   "partial": np.array(self.partial), "version": np.array(self.version),
                   "warnings": np.array(json.dumps(list(self.warnings)))}
-        np.savez(buffer, **arrays)
+        _savez_fixed_dates(buffer, arrays)
         atomic_write_bytes(npz_path, buffer.getvalue())
         return [csv_path, npz_path]
+
+
+def _savez_fixed_dates(buffer, arrays: dict) -> None:
+    """``numpy.savez`` with a fixed date on every member, so that equal arrays give equal bytes."""
+    import zipfile
+
+    with zipfile.ZipFile(buffer, "w", zipfile.ZIP_STORED, allowZip64=True) as archive:
+        for name, value in arrays.items():
+            member = io.BytesIO()
+            np.lib.format.write_array(member, np.asanyarray(value), allow_pickle=False)
+            info = zipfile.ZipInfo(f"{name}.npy", date_time=(1980, 1, 1, 0, 0, 0))
+            archive.writestr(info, member.getvalue())
 
 
 def _fmt(x: float) -> str:
@@ -170,7 +191,7 @@ NPZ_ARRAYS = {"t": ("f", 1), "state": ("f", 2), "state_names": ("U", 1), "output
               "outputs": ("f", 2), "model_text": ("U", 0), "parameters": ("U", 0), "solver": ("U", 0),
               "partial": ("b", 0), "version": ("U", 0)}
 #: Arrays that files of older versions lack, with their kind and rank.
-OPTIONAL_NPZ_ARRAYS = {"warnings": ("U", 0)}
+OPTIONAL_NPZ_ARRAYS = {"warnings": ("U", 0), "timing": ("U", 0)}
 _ZIP_MAGIC = b"PK\x03\x04"
 _NPY_MAGIC = b"\x93NUMPY"
 
@@ -266,8 +287,8 @@ def load_results(path: str | Path) -> Results:
     if outputs.shape[0] != len(names) or (names and outputs.shape[1] != n_rows):
         raise ResultsError(path, f"array 'outputs' has shape {outputs.shape}, expected ({len(names)}, {n_rows}) "
                                  f"for {len(names)} output names and {n_rows} output times")
-    metadata = {"warnings": []}
-    for key in ("parameters", "solver", "warnings"):
+    metadata = {"warnings": [], "timing": {}}
+    for key in ("parameters", "solver", "timing", "warnings"):
         if key not in data:
             continue
         try:
@@ -280,6 +301,6 @@ def load_results(path: str | Path) -> Results:
                                      f"it is {type(metadata[key]).__name__}")
     return Results(t=t, state=state, state_names=state_names,
                    outputs={n: outputs[i] for i, n in enumerate(names)}, model_text=str(data["model_text"]),
-                   parameters=metadata["parameters"], solver=metadata["solver"],
+                   parameters=metadata["parameters"], solver={**metadata["solver"], **metadata["timing"]},
                    partial=bool(data["partial"]), version=str(data["version"]),
                    warnings=[str(w) for w in metadata["warnings"]])

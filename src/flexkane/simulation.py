@@ -20,8 +20,8 @@ from .model import Model, dumps_model
 from .model.validate import MAX_OUTPUT_ROWS
 from .results import Results
 
-__all__ = ["CompiledModel", "compile_model", "simulate", "output_grid", "output_times", "initial_state_vector",
-           "OutputEvaluator"]
+__all__ = ["COMPILING_MESSAGE", "CompiledModel", "compile_model", "simulate", "output_grid", "output_times",
+           "initial_state_vector", "OutputEvaluator", "work_integrands"]
 
 
 def output_grid(t_end: float, dt_out: float) -> np.ndarray:
@@ -188,7 +188,8 @@ class CompiledModel:
     key : str
         Cache key of the generated module.
     compile_time : float
-        Seconds spent generating and loading the module [s].
+        Seconds spent generating, loading and compiling the module [s] (timing: the only field
+        that depends on the machine).
     """
 
     eom: EquationsOfMotion
@@ -210,18 +211,54 @@ class CompiledModel:
         return dy
 
 
-def compile_model(eom: EquationsOfMotion, cache_dir=None) -> CompiledModel:
-    """Generate, build (or load from the cache) the right-hand side of an equation set."""
+#: Message of :func:`compile_model` while Numba compiles a new model structure.
+COMPILING_MESSAGE = "compiling the right-hand side of this model structure (once)"
+
+
+def work_integrands(eom: EquationsOfMotion) -> dict:
+    """Integrands of the quadrature states of a run: ``{"work": power}`` [W], or ``{}``.
+
+    The power of the non-conservative forces (drivers with their efforts, applied loads, actuator
+    torques, dampers; :mod:`flexkane.kane.outputs`) is integrated with the motion, so the work
+    ``W`` and the balance ``E - E0 - W`` are exact to the solver's tolerance. A model without such
+    forces (power identically 0) gets none.
+    """
+    power = eom.outputs.get("power_nonconservative", sp.Integer(0))
+    return {} if power == 0 else {"work": power}
+
+
+def compile_model(eom: EquationsOfMotion, cache_dir=None, *, announce=None) -> CompiledModel:
+    """Generate, build (or load from the cache) and compile the right-hand side of an equation set.
+
+    Parameters
+    ----------
+    eom : EquationsOfMotion
+    cache_dir : path-like, optional
+        Root of the compiled-model cache (default: ``$FLEXKANE_CACHE_DIR`` or ``~/.cache/flexkane``).
+    announce : callable, optional
+        ``announce(text)`` is called with :data:`COMPILING_MESSAGE` before Numba compiles a model
+        structure that is not in the cache yet.
+
+    Returns
+    -------
+    CompiledModel
+        Its integrators are compiled (or loaded from the disk cache) already, so that
+        ``compile_time`` holds the whole compilation and a simulation's ``wall_time`` none of it.
+    """
     from .numerics.codegen import generate_rhs_source
 
     if not isinstance(eom, EquationsOfMotion):
         raise ModelError("eom", "EquationsOfMotion from flexkane.derive", type(eom).__name__)
-    from .numerics.jit_module import build_module, structure_key
+    from .numerics.integrate import compile_integrators
+    from .numerics.jit_module import build_module, is_compiled, structure_key
 
     start = time.perf_counter()
-    source = generate_rhs_source(eom)
+    source = generate_rhs_source(eom, quadratures=work_integrands(eom))
     key = structure_key(__version__, source)
     module = build_module(source, key, cache_dir)
+    if announce is not None and not is_compiled(module):
+        announce(COMPILING_MESSAGE)
+    compile_integrators(module)
     return CompiledModel(eom, module, key, time.perf_counter() - start)
 
 
@@ -309,6 +346,8 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
     if max_steps is not None:
         kwargs["max_steps"] = max_steps
     result = integrate(compiled.module, y0, grid, p, **kwargs)
+    quadratures = dict(zip(getattr(compiled.module, "QUADRATURE_NAMES", ()),
+                           np.asarray(result.quadratures).T))
     n_valid = result.n_valid
     partial = n_valid < len(grid) or int(result.status) != 0
     t = grid[:n_valid]
@@ -321,11 +360,20 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
         nq = len(eom.q)
         ud = np.array([compiled.rhs(ti, yi, p)[nq:] for ti, yi in zip(t, state)]).reshape(n_valid, -1)
     outputs = compiled.outputs(t, state, p, ud) if n_valid else {k: np.zeros(0) for k in compiled.outputs.names}
+    if "energy" in outputs:
+        # work of the non-conservative forces, integrated with the motion (0 for a conservative
+        # model), and the balance E - E0 - W, which only the solver's error keeps from 0
+        work = quadratures.get("work", np.zeros(n_valid))
+        outputs["work"] = np.array(work, dtype=float)
+        energy = outputs["energy"]
+        outputs["energy_balance"] = energy - energy[:1] - outputs["work"] if n_valid else np.zeros(0)
+    # timing fields (wall_time, compile_time) are the only ones that depend on the machine
     solver = {"method": result.method, "rtol": rtol, "atol": atol, "status": result.status.name.lower(),
               "message": result.message, "nfev": int(result.nfev), "nsteps": int(result.nsteps),
               "naccept": int(getattr(result, "naccept", 0)), "nreject": int(getattr(result, "nreject", 0)),
               "wall_time": float(result.wall_time), "t_reached": float(result.t_reached),
-              "compile_time": float(compiled.compile_time)}
+              "compile_time": float(compiled.compile_time),
+              "method_spans": {k: float(v) for k, v in sorted(result.method_spans.items())}}
     from .validity import validity_warnings
 
     return Results(t=t, state=state, state_names=eom.state_names, outputs=outputs,

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 import sympy as sp
@@ -128,3 +130,21 @@ def test_symbol_names_that_clash_with_arguments_are_renamed(models):
     assert "s_y = y[0]" in source and "s_lambda = p[0]" in source
     outputs = generate_outputs_source({"e": p ** 2 + lam * y ** 2}, eom)
     compile(outputs, "<generated>", "exec")
+
+
+def test_every_generated_constant_is_a_float(models):
+    """``(3*t)**50`` is 3**50 * t**50: an integer beyond int64 that Numba refused to compile."""
+    from flexkane.numerics.codegen import _MathPrinter
+
+    t, x = sp.symbols("t x")
+    printer = _MathPrinter()
+    assert printer.doprint((3 * t) ** 50) == f"{float(3 ** 50)!r}*t**50"
+    assert printer.doprint(2 * x + 1) == "2.0*x + 1.0"
+    assert printer.doprint(x / 3) == f"({1 / 3!r})*x"
+    assert printer.doprint(x ** 2) == "x**2" and printer.doprint(x ** 100) == "x**100.0"
+    # Numba's integer power raises ZeroDivisionError at 0 for a negative exponent: a division
+    # gives inf instead, which the integrators report as a non-finite derivative
+    assert printer.doprint(x ** -3) == "(1.0/x**3)"
+    eom = models.eom(t, [x], [sp.Symbol("v")], [], [sp.Symbol("v")], [[1]], [(3 * t) ** 50])
+    source = generate_rhs_source(eom)
+    assert not re.search(r"(?<![\w.])\d{19,}(?![\d.e])", source)  # no integer literal beyond int64

@@ -6,7 +6,10 @@ Names of the outputs (columns of results files):
   kinetic energy ``1/2 sum m v.v + 1/2 I w^2 + 1/2 int rho v_P.v_P dx``, gravity potential
   ``-sum m g.r - int rho g.r_P dx`` (or the whole weight at the deformed midpoint for ``midpoint``
   beams), strain energy ``1/2 q^T H q`` (eq. 8.32) plus axial, spring energy, and their sum;
-* ``power_nonconservative`` [W]: power of drivers, applied loads and dampers;
+* ``power_nonconservative`` [W]: power of drivers (their efforts, constraint forces of closed loops
+  included), applied loads, actuator torques and dampers; :func:`flexkane.simulate` integrates it
+  with the motion as a quadrature state and adds the outputs ``work`` [J] and ``energy_balance``
+  ``= energy - energy[0] - work`` [J];
 * ``x_<link>``, ``y_<link>``, ``theta_<link>`` [m, m, rad]: mass centre of each body, root of each
   beam, and the frame angle;
 * ``tip_<beam>`` [m]: deflection of the beam's tip in the beam frame, ``sum_i Phi_i(L) q_i``;

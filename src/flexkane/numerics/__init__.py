@@ -3,8 +3,8 @@
 Pipeline: :func:`generate_rhs_source` (SymPy equations -> source text; large models through
 :mod:`~flexkane.numerics.large_rhs`, term tables and parts), :func:`build_module` (source ->
 compiled, disk-cached module), :func:`integrate` (module -> :class:`IntegrationResult` on a grid
-of output times; ``method="auto"`` switches between DOP853 and Radau IIA by measured cost, see
-:mod:`~flexkane.numerics.switching`).
+of output times; ``method="auto"`` switches between DOP853 and Radau IIA by counted work, never
+by time, see :mod:`~flexkane.numerics.switching`).
 """
 
 from flexkane.numerics.codegen import generate_outputs_source, generate_rhs_source
@@ -14,6 +14,7 @@ from flexkane.numerics.integrate import (
     Status,
     StiffnessEstimate,
     choose_method,
+    compile_integrators,
     estimate_stiffness,
     evaluate_outputs,
     integrate,
@@ -27,6 +28,7 @@ __all__ = [
     "StiffnessEstimate",
     "build_module",
     "choose_method",
+    "compile_integrators",
     "default_cache_dir",
     "estimate_stiffness",
     "evaluate_outputs",

@@ -26,6 +26,7 @@ from collections.abc import Mapping, Sequence
 
 import sympy
 from sympy.printing.codeprinter import PrintMethodNotImplementedError
+from sympy.printing.precedence import precedence
 from sympy.printing.pycode import PythonCodePrinter
 
 from flexkane.numerics import large_rhs
@@ -36,12 +37,14 @@ __all__ = ["UNROLL_LDL_MAX", "generate_outputs_source", "generate_rhs_source"]
 # Largest number of speeds for which L D L^T is written as scalar statements (no allocation,
 # about 20 ns saved per call); above it a loop over an allocated array is used.
 UNROLL_LDL_MAX = 8
+# Largest |n| of an exponent printed as an integer (``x**n``); larger ones are printed as floats.
+_INTEGER_EXPONENT_MAX = 64
 
 
 # Names of the generated functions' arguments, and names no model symbol may take.
 _RESERVED = {"t", "y", "p", "dy", "math", "np", "njit", "min", "max", "abs", "range",
              "ldl_solve", "mass_matrix_failure", "float", "int", "complex", "bool", "len",
-             "rhs", "outputs", "PIVOT_RTOL", "w"}
+             "rhs", "outputs", "PIVOT_RTOL", "w", "system_rhs"}
 
 
 class _MathPrinter(PythonCodePrinter):
@@ -53,11 +56,28 @@ class _MathPrinter(PythonCodePrinter):
     def _print_Float(self, expr):
         return repr(float(expr))
 
+    # Every constant is printed as a float: an integer such as 3**50 (from ``(3*t)**50``) does not
+    # fit Numba's int64, and a float keeps the arithmetic in double precision. Only small integer
+    # exponents stay integers (``x**2``, which Numba computes by multiplication).
+    def _print_Integer(self, expr):
+        return repr(float(expr))
+
+    _print_Zero = _print_One = _print_NegativeOne = _print_Integer
+
     def _print_Rational(self, expr):
-        return f"({int(expr.p)}/{int(expr.q)})"
+        return repr(float(expr))
 
     def _print_Half(self, expr):
         return "0.5"
+
+    def _print_Pow(self, expr, rational=False):
+        exp = expr.exp
+        if exp.is_Integer and 1 < abs(int(exp)) <= _INTEGER_EXPONENT_MAX:
+            base = self.parenthesize(expr.base, precedence(expr), strict=False)
+            # a negative integer power of 0 raises ZeroDivisionError in Numba whatever the error
+            # model; a division gives inf, which the integrators report as non-finite
+            return f"{base}**{int(exp)}" if exp > 0 else f"(1.0/{base}**{-int(exp)})"
+        return super()._print_Pow(expr, rational=rational)
 
     def _print_Piecewise(self, expr):
         # Without an "otherwise" branch the value is undefined there: NaN, which the integrator
@@ -171,7 +191,13 @@ def _unrolled_ldl(nu: int, nq: int, indent: str) -> list[str]:
     return out
 
 
-def generate_rhs_source(eom, name: str = "rhs") -> str:
+def _operation_count(text: str) -> int:
+    """Floating-point operations of a printed expression: operators, and 20 per ``math`` call."""
+    return sum(text.count(op) for op in "+-*/") + 20 * text.count("math.")
+
+
+def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.Expr] | None = None
+                        ) -> str:
     """Return the Python source of the Numba function ``name(t, y, p, dy) -> int``.
 
     Parameters
@@ -183,15 +209,25 @@ def generate_rhs_source(eom, name: str = "rhs") -> str:
         ``forcing`` (Matrix (nu, 1)). ``q`` and ``u`` may also be ``f(t)`` applications.
     name : str
         Name of the generated function; the module-level tuples it also defines are
-        ``STATE_NAMES``, ``CONSTANT_NAMES`` and the integers ``NQ``, ``NU`` (prefixed by
-        ``NAME_`` when ``name != "rhs"``).
+        ``STATE_NAMES``, ``CONSTANT_NAMES``, ``QUADRATURE_NAMES`` and the integers ``NQ``,
+        ``NU``, ``NW`` (number of quadratures) and ``RHS_OPERATIONS`` (floating-point operations
+        of one call of the integrated system, counted in the source; the integrators' work model
+        uses it, see :mod:`flexkane.numerics.switching`), prefixed by ``NAME_`` when
+        ``name != "rhs"``.
+    quadratures : mapping of str to sympy.Expr, optional
+        Integrands ``w_k`` of quadrature states ``W_k`` (``W_k' = w_k``, e.g. the power of the
+        non-conservative forces, whose integral is their work), expressions of ``t``, ``q``,
+        ``u``, the constants and ``u'`` (the symbols ``eom.ud``). The integrators integrate the
+        function ``NAME_system(t, y, p, dy)`` (``system_rhs`` for ``name == "rhs"``) of the state
+        ``y = [q, u, W]`` (nq + nu + nw,): it calls ``name`` for ``[q', u']`` then writes
+        ``W'``; without quadratures it is ``name`` itself.
 
     Returns
     -------
     str
         Source text: a comment header giving the order of ``y`` and ``p``, the module-level
-        constants and the ``@njit(cache=True)`` function. It writes ``dy`` (nq + nu,) in place
-        and returns 0 (ok), 2 (non-finite mass matrix) or 4 (singular mass matrix).
+        constants and the ``@njit(cache=True)`` functions. ``name`` writes ``dy`` (nq + nu,) in
+        place and returns 0 (ok), 2 (non-finite mass matrix) or 4 (singular mass matrix).
 
     Raises
     ------
@@ -233,13 +269,22 @@ def generate_rhs_source(eom, name: str = "rhs") -> str:
                + [f"_f{i}" if unrolled else f"dy[{nq + i}]" for i in range(nu)])
     statements += [Statement(target, text, expr)
                    for target, text, expr in zip(targets, texts, reduced)]
+    system_name = "system_rhs" if name == "rhs" else f"{name.upper()}_system"
+    quadratures = dict(quadratures or {})
+    system_lines, system_operations = _quadrature_lines(eom, name, system_name, quadratures,
+                                                        printer)
+    operations = sum(_operation_count(st.text) for st in statements) \
+        + (nu ** 3 + 6 * nu ** 2) // 3 + system_operations
     lines = _header(eom, q_names, u_names, c_names, f"generated right-hand side {name}")
     lines += ["# Kinematic equations q' = qdot(q, u, t); dynamic equations M(q, t) u' = f(q, u, t)",
               "# solved by M = L D L^T (upper triangle of M only).",
               f"{prefix}NQ = {nq}",
               f"{prefix}NU = {nu}",
+              f"{prefix}NW = {len(quadratures)}",
               f"{prefix}STATE_NAMES = {tuple(str(s) for s in [*eom.q, *eom.u])!r}",
               f"{prefix}CONSTANT_NAMES = {tuple(str(s) for s in eom.constants)!r}",
+              f"{prefix}QUADRATURE_NAMES = {tuple(quadratures)!r}",
+              f"{prefix}RHS_OPERATIONS = {operations}",
               "",
               ""]
     loads = {n: f"y[{k}]" for k, n in enumerate([*q_names, *u_names])}
@@ -249,7 +294,7 @@ def generate_rhs_source(eom, name: str = "rhs") -> str:
     if split:
         lines += large_rhs.large_rhs_lines(name, statements, lambda e: _print(printer, e),
                                            [*q_names, *u_names], c_names, t_name, nq, nu)
-        return "\n".join(lines) + "\n"
+        return "\n".join(lines + system_lines) + "\n"
     lines += ['@njit(cache=True, error_model="numpy")',
               f"def {name}(t, y, p, dy):",
               f'    """Write [q\', u\'] (nq + nu = {nq + nu},) into dy; return 0, 2 or 4."""']
@@ -263,7 +308,50 @@ def generate_rhs_source(eom, name: str = "rhs") -> str:
         lines.append(f"{ind}return 0")
     else:
         lines.append(f"{ind}return ldl_solve(_M, dy[{nq}:])")
-    return "\n".join(lines) + "\n"
+    return "\n".join(lines + system_lines) + "\n"
+
+
+def _quadrature_lines(eom, name: str, system_name: str, quadratures: dict,
+                      printer: _MathPrinter) -> tuple[list[str], int]:
+    """Source of the integrated system ``[q', u', W']`` and its extra operations."""
+    if not quadratures:
+        return ["", "", f"# No quadrature states: the integrators integrate {name} itself.",
+                f"{system_name} = {name}"], 0
+    nq, nu = len(eom.q), len(eom.u)
+    subs, q_names, u_names, c_names, t_name = _symbol_table(eom, "t")
+    ud_symbols = list(getattr(eom, "ud", None) or [])
+    ud_names = _safe_names(ud_symbols, {s.name for s in subs.values()})
+    subs.update({s: sympy.Symbol(n, real=True) for s, n in zip(ud_symbols, ud_names)})
+    applied = {k: v for k, v in subs.items() if not k.is_Symbol}
+    values = [sympy.sympify(e) for e in quadratures.values()]
+    if applied:
+        values = [e.xreplace(applied) for e in values]
+    values = [e.xreplace(subs) for e in values]
+    _check_free_symbols(values, subs, "the quadrature integrands")
+    replacements, reduced = sympy.cse(values, symbols=sympy.numbered_symbols("_c"), order="none")
+    used = set().union(*(e.free_symbols for _, e in replacements), *(e.free_symbols for e in reduced))
+    used = {s.name for s in used}
+    n = nq + nu
+    body = [f"{var} = {_print(printer, expr)}" for var, expr in replacements]
+    body += [f"dy[{n + k}] = {_print(printer, expr)}" for k, expr in enumerate(reduced)]
+    loads = [f"{v} = y[{k}]" for k, v in enumerate([*q_names, *u_names]) if v in used]
+    loads += [f"{v} = dy[{nq + k}]" for k, v in enumerate(ud_names) if v in used]
+    loads += [f"{v} = p[{k}]" for k, v in enumerate(c_names) if v in used]
+    if t_name != "t" and t_name in used:
+        loads.append(f"{t_name} = t")
+    lines = ["", "",
+             f"# Quadrature states W = y[{n}:] with W' = the integrands of " + ", ".join(quadratures),
+             '@njit(cache=True, error_model="numpy")',
+             f"def {system_name}(t, y, p, dy):",
+             f'    """Write [q\', u\', W\'] ({n + len(quadratures)},) into dy; return 0, 2 or 4."""',
+             f"    _code = {name}(t, y, p, dy)",
+             "    if _code != 0:",
+             f"        for _i in range({n}, {n + len(quadratures)}):",
+             "            dy[_i] = math.nan",
+             "        return _code"]
+    lines += ["    " + line for line in loads + body]
+    lines.append("    return 0")
+    return lines, sum(_operation_count(line) for line in body)
 
 
 def generate_outputs_source(exprs: Mapping[str, sympy.Expr], args, name: str = "outputs",

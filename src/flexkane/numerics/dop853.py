@@ -9,8 +9,9 @@ orders 5 and 3 and a dense output of order 7, with the step-size control of
 The tableau numbers are SciPy's (``scipy.integrate._ivp.dop853_coefficients``), read at import.
 
 The text between the template markers is copied into each generated module after the generated
-``rhs(t, y, p, dy) -> int`` (0 ok, 2 non-finite, 4 singular mass matrix), which it calls as a
-global, so that one Numba on-disk cache holds the right-hand side and the loop compiled together.
+``system_rhs(t, y, p, dy) -> int`` (0 ok, 2 non-finite, 4 singular mass matrix; the right-hand
+side ``rhs`` with the quadrature states appended, see :mod:`flexkane.numerics.codegen`), which it
+calls as a global, so that one Numba on-disk cache holds the right-hand side and the loop compiled together.
 
 Contract of :func:`dop853_chunk` (also followed by ``radau5_chunk``)
 ------------------------------------------------------------------
@@ -26,7 +27,7 @@ Contract of :func:`dop853_chunk` (also followed by ``radau5_chunk``)
    non-finite state or derivative, 3 ``max_steps`` attempted steps used, 4 singular mass matrix)
    and counts; ``nstiff`` counts the accepted steps whose size was limited by stability rather
    than accuracy (Hairer's test ``h |lambda| > 6.1`` of DOP853, Sec. IV.2 of Hairer & Wanner's
-   volume II; always 0 for Radau).
+   volume II); for Radau the last count is the number of LU decompositions instead.
 4. ``h <= 0`` on entry asks for an automatic starting step.
 """
 
@@ -111,7 +112,7 @@ def starting_step(t, y, f0, p, rtol, atol, order, t_end, work_y, work_f):
     h0 = min(h0, t_end - t)
     for i in range(n):
         work_y[i] = y[i] + h0 * f0[i]
-    code = rhs(t + h0, work_y, p, work_f)
+    code = system_rhs(t + h0, work_y, p, work_f)
     if code != 0 or not all_finite(work_f):
         return h0, 1
     d2 = 0.0
@@ -148,7 +149,7 @@ def dop853_dense_fill(t, h, y, K, rc, t_out, i_out, t_new, Y_out, p, ytmp):
             for j in range(s):
                 acc += DOP853_A[s, j] * K[j, i]
             ytmp[i] = y[i] + h * acc
-        code = rhs(t + DOP853_C[s] * h, ytmp, p, K[s])
+        code = system_rhs(t + DOP853_C[s] * h, ytmp, p, K[s])
         nfev += 1
         if code != 0:
             return i_out, nfev, code
@@ -198,7 +199,7 @@ def dop853_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.i
     nstiff = 0
     t_end = t_out[-1]
     i_out = fill_rows_at(t, y, t_out, 0, Y_out)
-    code = rhs(t, y, p, K[0])
+    code = system_rhs(t, y, p, K[0])
     nfev += 1
     if code != 0:
         return t, y, h, code, nfev, naccept, nreject, nstiff
@@ -231,7 +232,7 @@ def dop853_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.i
                 for j in range(s):
                     acc += DOP853_A[s, j] * K[j, i]
                 ytmp[i] = y[i] + h * acc
-            code = rhs(t + DOP853_C[s] * h, ytmp, p, K[s])
+            code = system_rhs(t + DOP853_C[s] * h, ytmp, p, K[s])
             nfev += 1
             if code != 0:
                 bad = code
@@ -242,7 +243,7 @@ def dop853_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.i
                 for j in range(12):
                     acc += DOP853_B[j] * K[j, i]
                 ynew[i] = y[i] + h * acc
-            code = rhs(t + h, ynew, p, K[12])
+            code = system_rhs(t + h, ynew, p, K[12])
             nfev += 1
             if code != 0:
                 bad = code
@@ -320,6 +321,9 @@ def dop853_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.i
 # <<< flexkane template <<<
 
 
-def rhs(t, y, p, dy):  # pragma: no cover - placeholder, replaced in generated modules
+def system_rhs(t, y, p, dy):  # pragma: no cover - placeholder, replaced in generated modules
     """Placeholder for the generated right-hand side that the template calls."""
     raise NotImplementedError("dop853 is a template: use flexkane.numerics.build_module")
+
+
+rhs = system_rhs

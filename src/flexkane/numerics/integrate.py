@@ -5,30 +5,40 @@ chunks of the output grid; between chunks it reports progress, and a ``KeyboardI
 failure ends the run with the rows computed so far. The stiff/non-stiff choice of
 ``method="auto"`` is :func:`choose_method` at the start, then
 :class:`~flexkane.numerics.switching.MethodSwitch` during the run.
+
+Nothing here depends on the clock: chunks end after a share of the span or a number of steps
+fixed by the model's operation count, and the method choice weighs counted work, so a run gives
+the same numbers on any machine load (only ``wall_time`` differs).
 """
 
 from __future__ import annotations
 
 import enum
 import time
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from flexkane.errors import ModelError
-from flexkane.numerics.switching import MethodSwitch
+from flexkane.numerics.switching import MethodSwitch, chunk_work, evaluation_work
 
 __all__ = ["METHODS", "IntegrationResult", "Status", "StiffnessEstimate", "choose_method",
-           "estimate_stiffness", "evaluate_outputs", "integrate"]
+           "compile_integrators", "estimate_stiffness", "evaluate_outputs", "integrate"]
 
 # Method name -> name of the compiled chunk function in a generated module.
 METHODS = {"dop853": "dop853_chunk", "radau": "radau5_chunk"}
 
 # Work per call of a chunk function: about this fraction of the span (its last step is not
-# shortened to end there), and at most this wall time [s].
+# shortened to end there), and at most this many floating-point operations (counted, see
+# :func:`~flexkane.numerics.switching.evaluation_work`; about 0.05 s), in steps of
+# CHUNK_STEPS_MIN to CHUNK_STEPS_MAX.
 CHUNK_SPAN_FRACTION = 0.01
-CHUNK_TARGET_SECONDS = 0.1
+CHUNK_WORK = 5e7
+CHUNK_STEPS_MIN, CHUNK_STEPS_MAX = 50, 100_000
+# Evaluations per step, by method, for the chunk's step budget.
+_EVALUATIONS_PER_STEP = {"dop853": 12, "radau": 10}
 
 
 class Status(enum.IntEnum):
@@ -71,8 +81,12 @@ class IntegrationResult:
     ----------
     t : ndarray (n_valid,)
         Output times reached [s].
-    y : ndarray (n_valid, n)
+    y : ndarray (n_valid, nq + nu)
         States ``[q, u]`` at ``t`` (dense output).
+    quadratures : ndarray (n_valid, nw)
+        Quadrature states ``W`` at ``t`` (``module.QUADRATURE_NAMES``; e.g. the work of the
+        non-conservative forces since ``t_out[0]``), integrated with the state to the same
+        tolerances.
     status : Status
         ``Status.OK`` when the whole grid was computed.
     message : str
@@ -80,7 +94,8 @@ class IntegrationResult:
     nfev, nsteps, naccept, nreject : int
         Right-hand-side evaluations (Jacobians included), attempted, accepted, rejected steps.
     wall_time : float
-        Elapsed time [s], compilation on first use included.
+        Elapsed time [s] (compilation included if :func:`compile_integrators` was not called
+        first); the only quantity of a run that depends on the machine.
     method : str
         ``"dop853"`` or ``"radau"`` (when ``"auto"`` was asked: the one that covered most of
         the span).
@@ -106,6 +121,7 @@ class IntegrationResult:
     t_reached: float
     n_valid: int
     method_spans: dict = field(default_factory=dict)
+    quadratures: np.ndarray | None = None
 
     @property
     def success(self) -> bool:
@@ -174,9 +190,10 @@ def estimate_stiffness(module, t0: float, y0: np.ndarray, p: np.ndarray, span: f
         Fast *decaying* modes (large ``-Re lambda``) make a model stiff; fast lightly damped
         oscillations do not, since both methods must resolve them.
     """
+    y0 = _with_quadratures(module, y0)
     n = y0.shape[0]
     f0 = np.empty(n)
-    code = module.rhs(t0, y0, p, f0)
+    code = _system(module)(t0, y0, p, f0)
     J = np.zeros((n, n))
     if code == 0 and np.all(np.isfinite(f0)):
         module.fd_jacobian(t0, y0, f0, p, J, np.empty(n), np.empty(n))
@@ -207,6 +224,29 @@ def _message(status: Status, t: float, max_steps: int) -> str:
     return _MESSAGES[status].format(t=t, max_steps=max_steps)
 
 
+def _system(module):
+    """The integrated right-hand side of a generated module (``[q', u', W']``)."""
+    return getattr(module, "system_rhs", module.rhs)
+
+
+def _quadrature_count(module) -> int:
+    return int(getattr(module, "NW", 0))
+
+
+def _with_quadratures(module, y: np.ndarray) -> np.ndarray:
+    """``[q, u]`` with the quadrature states (0) appended; a full state is returned as is."""
+    nw = _quadrature_count(module)
+    if nw and y.shape[0] == module.NQ + module.NU:
+        return np.concatenate([y, np.zeros(nw)])
+    return y
+
+
+def _chunk_budget(name: str, n: int, rhs_operations: int) -> int:
+    """Steps per chunk call: about CHUNK_WORK operations (counted, not timed)."""
+    per_step = _EVALUATIONS_PER_STEP[name] * evaluation_work(rhs_operations, n)
+    return int(min(max(CHUNK_WORK / per_step, CHUNK_STEPS_MIN), CHUNK_STEPS_MAX))
+
+
 def integrate(module, y0, t_out, p, *, rtol: float, atol, method: str = "auto",
               progress: Callable[[float, float], None] | None = None,
               max_steps: int = 1_000_000) -> IntegrationResult:
@@ -216,22 +256,24 @@ def integrate(module, y0, t_out, p, *, rtol: float, atol, method: str = "auto",
     ----------
     module : module
         Generated module from :func:`~flexkane.numerics.jit_module.build_module`.
-    y0 : array_like (n,)
-        State ``[q, u]`` at ``t_out[0]``, in the order of ``module.STATE_NAMES``.
+    y0 : array_like (nq + nu,)
+        State ``[q, u]`` at ``t_out[0]``, in the order of ``module.STATE_NAMES``; the quadrature
+        states of the module (``module.NW``, if any) start at 0.
     t_out : array_like (N,)
         Strictly increasing output times [s]; the integration starts at ``t_out[0]``.
     p : array_like (n_p,)
         Constants, in the order of ``module.CONSTANT_NAMES`` (units of the model).
     rtol : float
         Relative tolerance (1e-13 < rtol < 1).
-    atol : float or array_like (n,)
-        Absolute tolerance, in the units of each state.
+    atol : float or array_like (nq + nu,) or (nq + nu + nw,)
+        Absolute tolerance, in the units of each state (a scalar also applies to the quadrature
+        states; an array of nq + nu entries gives them its largest entry).
     method : {"auto", "dop853", "radau"}
         ``"auto"`` starts with :func:`choose_method` at ``t_out[0]`` and may switch methods
-        during the run where the other one is measured to be faster
+        during the run where the other one is found to do less work
         (:mod:`flexkane.numerics.switching`).
     progress : callable, optional
-        ``progress(t_reached, t_end)`` called between chunks.
+        ``progress(t_reached, t_end)`` called before the first chunk and between chunks.
     max_steps : int
         Maximum number of attempted steps.
 
@@ -239,24 +281,34 @@ def integrate(module, y0, t_out, p, *, rtol: float, atol, method: str = "auto",
     -------
     IntegrationResult
         Partial (``n_valid < N``) when the status is not ``Status.OK``. A ``KeyboardInterrupt``
-        between chunks gives ``Status.INTERRUPTED`` and the rows computed so far.
+        between chunks gives ``Status.INTERRUPTED`` and the rows computed so far. Everything but
+        ``wall_time`` is independent of the machine and its load.
     """
     start = time.perf_counter()
     t_out = _as_vector(t_out, "t_out", None, "a 1-D array of output times [s]")
     if t_out.shape[0] < 1 or not np.all(np.isfinite(t_out)) or np.any(np.diff(t_out) <= 0):
         raise ModelError("t_out", "strictly increasing finite output times [s]", "not so",
                          show_given=False)
-    n = module.NQ + module.NU
-    y0 = _as_vector(y0, "y0", n, f"{n} initial values {module.STATE_NAMES}")
+    n_motion = module.NQ + module.NU
+    nw = _quadrature_count(module)
+    n = n_motion + nw
+    y0 = _as_vector(y0, "y0", n_motion, f"{n_motion} initial values {module.STATE_NAMES}")
     p = _as_vector(p, "p", len(module.CONSTANT_NAMES),
                    f"{len(module.CONSTANT_NAMES)} constants {module.CONSTANT_NAMES}")
     if not 1e-13 <= rtol < 1.0:
         raise ModelError("rtol", "a relative tolerance between 1e-13 and 1", rtol)
-    atol = np.ascontiguousarray(np.broadcast_to(np.asarray(atol, dtype=np.float64), (n,)))
+    atol = np.asarray(atol, dtype=np.float64)
+    if atol.ndim == 1 and atol.shape[0] == n_motion and nw:
+        atol = np.concatenate([atol, np.full(nw, atol.max() if atol.size else 1.0)])
+    try:
+        atol = np.ascontiguousarray(np.broadcast_to(atol, (n,)))
+    except ValueError:
+        raise ModelError("atol", f"a scalar or {n_motion} absolute tolerances", atol) from None
     if np.any(atol <= 0) or not np.all(np.isfinite(atol)):
         raise ModelError("atol", "positive absolute tolerances", atol)
     if not (isinstance(max_steps, (int, np.integer)) and max_steps > 0):
         raise ModelError("max_steps", "a positive integer", max_steps)
+    y0 = _with_quadratures(module, y0)
     t0, t_end = float(t_out[0]), float(t_out[-1])
     switch = None
     if method == "auto":
@@ -265,36 +317,32 @@ def integrate(module, y0, t_out, p, *, rtol: float, atol, method: str = "auto",
         method = switch.current
     if method not in METHODS:
         raise ModelError("method", f"one of 'auto', {', '.join(map(repr, METHODS))}", method)
+    operations = int(getattr(module, "RHS_OPERATIONS", 100))
     Y = np.full((t_out.shape[0], n), np.nan)
     t, y = t0, y0.copy()
     h_of = {name: 0.0 for name in METHODS}  # step size to try next, by method (0: automatic)
-    budget = {name: 200 for name in METHODS}  # steps per call, adapted to CHUNK_TARGET_SECONDS
-    warm = set()
+    budget = {name: _chunk_budget(name, n, operations) for name in METHODS}
     started = False  # whether row 0 (y0 at t0) has been written by a chunk call
     nfev = naccept = nreject = 0
     status = Status.OK
     span_step = CHUNK_SPAN_FRACTION * (t_end - t0)
     try:
+        if progress is not None:
+            progress(t0, t_end)
         while not started or t < t_end:
             name, limit = switch.next_chunk() if switch is not None else (method, None)
             chunk = getattr(module, METHODS[name])
-            if switch is not None and name not in warm:
-                _compile(chunk, t, y, p, rtol, atol, Y)
-                warm.add(name)
             steps = budget[name] if limit is None else limit
             i_row = int(np.searchsorted(t_out, t, side="right")) if started else 0
-            tic, cpu = time.perf_counter(), time.thread_time()
             result = chunk(t, y, h_of[name], t_out[i_row:], p, rtol, atol,
                            min(steps, max_steps - naccept - nreject), Y[i_row:], t + span_step)
-            cpu = time.thread_time() - cpu
-            elapsed = time.perf_counter() - tic
             t_new, y, h_of[name], code, fe, na, nr, ns = result
             t_before, t, started = t, float(t_new), True
             nfev, naccept, nreject = nfev + fe, naccept + na, nreject + nr
-            if limit is None and na + nr > 0 and elapsed > 0:
-                budget[name] = int(min(max((na + nr) / elapsed * CHUNK_TARGET_SECONDS, 50), 1e7))
             if switch is not None:
-                switch.record(name, t_before, t, cpu, na, ns)
+                nlu = ns if name == "radau" else 0
+                switch.record(name, t_before, t, chunk_work(name, n, operations, fe, na + nr, nlu),
+                              na, ns if name == "dop853" else 0)
             if code == Status.MAX_STEPS and naccept + nreject < max_steps:
                 code = Status.OK  # only this call's share of the steps is used up
             if code != Status.OK:
@@ -305,17 +353,46 @@ def integrate(module, y0, t_out, p, *, rtol: float, atol, method: str = "auto",
     except KeyboardInterrupt:
         status = Status.INTERRUPTED
     i_row = int(np.searchsorted(t_out, t, side="right")) if started else 0
+    rows = Y if i_row == Y.shape[0] else Y[:i_row]
     return IntegrationResult(
-        t=t_out[:i_row].copy(), y=Y if i_row == Y.shape[0] else Y[:i_row].copy(), status=status,
+        t=t_out[:i_row].copy(), y=np.ascontiguousarray(rows[:, :n_motion]), status=status,
         message=_message(status, t, max_steps), nfev=nfev, nsteps=naccept + nreject,
         naccept=naccept, nreject=nreject, wall_time=time.perf_counter() - start,
         method=switch.main_method if switch is not None else method, t_reached=t, n_valid=i_row,
-        method_spans=dict(switch.covered) if switch is not None else {method: t - t0})
+        method_spans=dict(switch.covered) if switch is not None else {method: t - t0},
+        quadratures=np.ascontiguousarray(rows[:, n_motion:]))
 
 
-def _compile(chunk, t, y, p, rtol, atol, Y) -> None:
-    """Call ``chunk`` on an empty span so that it is compiled (or loaded) before it is timed."""
-    chunk(t, y, 0.0, np.array([t]), p, rtol, atol, 1, np.empty((1, Y.shape[1])), t)
+def compile_integrators(module) -> None:
+    """Compile (or load from Numba's disk cache) everything :func:`integrate` calls.
+
+    Numba compiles a function at its first call; calling each integrator once here, on an
+    empty span with the argument types of :func:`integrate`, moves that cost out of the first
+    integration (so its time is integration only, and a caller can say that it compiles).
+
+    Parameters
+    ----------
+    module : module
+        Generated module (:func:`~flexkane.numerics.jit_module.build_module`).
+    """
+    n = module.NQ + module.NU + _quadrature_count(module)
+    p = np.ones(len(module.CONSTANT_NAMES))
+    y = np.zeros(n)
+    t_out = np.zeros(3)[1:]  # a slice, as integrate passes
+    Y = np.empty((3, n))[1:]
+    atol = np.ones(n)
+    calls = [(getattr(module, name), (0.0, y, 0.0, t_out, p, 1e-6, atol, 1, Y, 0.0))
+             for name in METHODS.values()]
+    calls += [(_system(module), (0.0, y, p, np.empty(n))),
+              (module.rhs, (0.0, np.zeros(module.NQ + module.NU), p, np.empty(module.NQ + module.NU))),
+              (module.fd_jacobian, (0.0, y, np.zeros(n), p, np.zeros((n, n)), np.empty(n), np.empty(n)))]
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")
+        for function, args in calls:
+            try:
+                function(*args)
+            except (ArithmeticError, ValueError):
+                pass  # compiled already: only the made-up numbers failed (e.g. a division by 0)
 
 
 def evaluate_outputs(module, t: np.ndarray, y: np.ndarray, p: np.ndarray,

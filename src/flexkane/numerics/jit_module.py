@@ -40,7 +40,7 @@ import flexkane
 from flexkane.numerics import dop853, linear_algebra, radau
 
 __all__ = ["TEMPLATE_BEGIN", "TEMPLATE_END", "build_module", "compile_in_subprocess", "compose_module_source",
-           "default_cache_dir", "structure_key", "template_text", "usable_cache_dir"]
+           "default_cache_dir", "is_compiled", "structure_key", "template_text", "usable_cache_dir"]
 
 TEMPLATE_BEGIN = "# >>> flexkane template >>>"
 TEMPLATE_END = "# <<< flexkane template <<<"
@@ -201,31 +201,18 @@ def _text_digest(text: str) -> str:
 def _compile_file(path: str) -> None:
     """Import the generated module at ``path`` and compile (into Numba's cache) everything a run calls.
 
-    Run in the child process of :func:`_compile_in_child`. The functions are called with arrays of
-    the types a run passes (contiguous float64) on dummy values: what they compute does not matter,
-    only that Numba compiles and caches them.
+    Run in the child process of :func:`_compile_in_child`, through the one function that compiles a
+    module's integrators (:func:`~flexkane.numerics.integrate.compile_integrators`), so that the
+    parent loads exactly the signatures it will call.
     """
-    import numpy as np
-
-    from flexkane.numerics.integrate import METHODS, _compile
+    from flexkane.numerics.integrate import compile_integrators
 
     path = Path(path)
     spec = importlib.util.spec_from_file_location(path.stem, path)
     module = importlib.util.module_from_spec(spec)
     sys.modules[path.stem] = module
     spec.loader.exec_module(module)
-    n = module.NQ + module.NU
-    y = np.zeros(n)
-    p = np.ones(len(module.CONSTANT_NAMES))
-    f = np.zeros(n)
-    atol = np.full(n, 1e-10)
-    steps = [lambda: module.rhs(0.0, y, p, f),
-             lambda: module.fd_jacobian(0.0, y, f, p, np.zeros((n, n)), np.empty(n), np.empty(n))]
-    steps += [lambda name=name: _compile(getattr(module, name), 0.0, y, p, 1e-6, atol, np.empty((1, n)))
-              for name in METHODS.values()]
-    for step in steps:
-        with contextlib.suppress(Exception):  # a dummy value may fail at run time, after compiling
-            step()
+    compile_integrators(module)
     _write_atomically(_compiled_marker(path), _text_digest(path.read_text(encoding="utf-8")))
 
 
@@ -321,3 +308,30 @@ def build_module(source: str, key: str, cache_dir: Path | None = None, *,
         raise
     module.__flexkane_source__ = text
     return module
+
+
+def is_compiled(module: ModuleType) -> bool:
+    """Whether the integrators of a generated module are compiled or in Numba's disk cache.
+
+    Parameters
+    ----------
+    module : module
+        Generated module (:func:`build_module`).
+
+    Returns
+    -------
+    bool
+        True when ``dop853_chunk`` and ``radau5_chunk`` have a compiled signature in this process
+        or an entry for the module's current source in the on-disk cache index (a call will load
+        rather than compile them); False otherwise, or when the cache cannot be read.
+    """
+    for name in ("dop853_chunk", "radau5_chunk"):
+        dispatcher = getattr(module, name)
+        if dispatcher.signatures:
+            continue
+        try:
+            if not dispatcher._cache._cache_file._load_index():  # Numba's index of the disk cache
+                return False
+        except Exception:  # noqa: BLE001 - a private API of Numba: unknown means "not cached"
+            return False
+    return True

@@ -75,7 +75,7 @@ RADAU_UNIT_ROUNDOFF = 2.220446049250313e-16
 def fd_jacobian(t, y, f0, p, J, work_y, work_f):
     """Forward-difference Jacobian ``J[i, j] = d f_i / d y_j`` (n, n) of ``rhs`` at ``(t, y)``.
 
-    ``f0`` (n,) is ``rhs(t, y)``; increments ``sqrt(eps * max(1e-5, |y_j|))`` (RADAU5's choice).
+    ``f0`` (n,) is ``system_rhs(t, y)``; increments ``sqrt(eps * max(1e-5, |y_j|))`` (RADAU5's choice).
     Returns ``(code, nfev)`` with the right-hand side's status code.
 
     Cost note (measured, planar pendulum chains from KanesMethod with n = 4, 8, 12 states):
@@ -93,7 +93,7 @@ def fd_jacobian(t, y, f0, p, J, work_y, work_f):
         delta = math.sqrt(RADAU_UNIT_ROUNDOFF * max(1e-5, abs(y[j])))
         work_y[j] = y[j] + delta
         delta = work_y[j] - y[j]
-        code = rhs(t, work_y, p, work_f)
+        code = system_rhs(t, work_y, p, work_f)
         work_y[j] = y[j]
         if code != 0:
             return code, j + 1
@@ -124,7 +124,8 @@ def radau_factor(J, h, LUr, pivr, LUc, pivc):
 def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.inf):
     """Integrate with Radau IIA (order 5) from ``t`` to ``t_out[-1]``, filling ``Y_out``.
 
-    Same arguments and returns as ``dop853_chunk``. Rows between step points come from the
+    Same arguments and returns as ``dop853_chunk``, except the last count: the number of LU
+    decompositions of the iteration matrices (each a real and a complex one). Rows between step points come from the
     collocation polynomial (order 3 there, order 5 at the step points).
     """
     t_start = t
@@ -150,16 +151,17 @@ def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.i
     nfev = 0
     naccept = 0
     nreject = 0
+    nlu = 0  # LU decompositions (of the real and the complex matrix)
     t_end = t_out[-1]
     i_out = fill_rows_at(t, y, t_out, 0, Y_out)
-    code = rhs(t, y, p, f0)
+    code = system_rhs(t, y, p, f0)
     nfev += 1
     if code != 0:
-        return t, y, h, code, nfev, naccept, nreject, 0
+        return t, y, h, code, nfev, naccept, nreject, nlu
     if not all_finite(f0):
-        return t, y, h, 2, nfev, naccept, nreject, 0
+        return t, y, h, 2, nfev, naccept, nreject, nlu
     if t >= t_end:
-        return t, y, h, 0, nfev, naccept, nreject, 0
+        return t, y, h, 0, nfev, naccept, nreject, nlu
     if h <= 0.0:
         h, extra = starting_step(t, y, f0, p, rtol, atol, 5, t_end, ytmp, ftmp)
         nfev += extra
@@ -167,7 +169,7 @@ def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.i
     code, extra = fd_jacobian(t, y, f0, p, J, ytmp, ftmp)
     nfev += extra
     if code != 0:
-        return t, y, h, code, nfev, naccept, nreject, 0
+        return t, y, h, code, nfev, naccept, nreject, nlu
     jac_current = True
     h_lu = -1.0
     eta_prev = 1.0
@@ -180,10 +182,10 @@ def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.i
     failure = 0
     while True:
         if naccept + nreject >= max_steps:
-            return t, y, h, 3, nfev, naccept, nreject, 0
+            return t, y, h, 3, nfev, naccept, nreject, nlu
         h_min = 16.0 * RADAU_UNIT_ROUNDOFF * max(abs(t), 1e-300)
         if h < h_min:
-            return t, y, h, failure if failure != 0 else 1, nfev, naccept, nreject, 0
+            return t, y, h, failure if failure != 0 else 1, nfev, naccept, nreject, nlu
         last = False
         h_untruncated = h
         if t + 1.01 * h >= t_end:
@@ -195,6 +197,7 @@ def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.i
                 h = 0.5 * h
                 continue
             h_lu = h
+            nlu += 1
         for i in range(n):
             scale[i] = atol[i] + rtol * abs(y[i])
         # Starting guess: the previous step's collocation polynomial, extrapolated.
@@ -221,7 +224,7 @@ def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.i
             for k in range(3):
                 for i in range(n):
                     ytmp[i] = y[i] + Z[k, i]
-                code = rhs(t + RADAU_C[k] * h, ytmp, p, F[k])
+                code = system_rhs(t + RADAU_C[k] * h, ytmp, p, F[k])
                 nfev += 1
                 if code != 0:
                     bad = code
@@ -273,7 +276,7 @@ def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.i
                 code, extra = fd_jacobian(t, y, f0, p, J, ytmp, ftmp)
                 nfev += extra
                 if code != 0:
-                    return t, y, h, code, nfev, naccept, nreject, 0
+                    return t, y, h, code, nfev, naccept, nreject, nlu
                 jac_current = True
                 h_lu = -1.0
             else:
@@ -291,7 +294,7 @@ def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.i
         if err_norm > 1.0 and (first or rejected):
             for i in range(n):
                 ytmp[i] = y[i] + err[i]
-            code = rhs(t, ytmp, p, ftmp)
+            code = system_rhs(t, ytmp, p, ftmp)
             nfev += 1
             if code == 0 and all_finite(ftmp):
                 for i in range(n):
@@ -313,7 +316,7 @@ def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.i
             continue
         # Accept: derivative at the new point first (it may leave the model's domain).
         t_new = t_end if last else t + h
-        code = rhs(t_new, ynew, p, ftmp)
+        code = system_rhs(t_new, ynew, p, ftmp)
         nfev += 1
         if code != 0 or not all_finite(ftmp):
             nreject += 1
@@ -356,7 +359,7 @@ def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.i
             code, extra = fd_jacobian(t, y, f0, p, J, ytmp, ftmp)
             nfev += extra
             if code != 0:
-                return t, y, h, code, nfev, naccept, nreject, 0
+                return t, y, h, code, nfev, naccept, nreject, nlu
             jac_current = True
             h_lu = -1.0
         h_new = h * factor
@@ -364,9 +367,9 @@ def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.i
             h_new = h
         if last:
             return t, y, max(h_new, h_untruncated) if h < h_untruncated else h_new, 0, nfev, \
-                naccept, nreject, 0
+                naccept, nreject, nlu
         if t >= t_stop > t_start:
-            return t, y, h_new, 0, nfev, naccept, nreject, 0
+            return t, y, h_new, 0, nfev, naccept, nreject, nlu
         h = h_new
 # <<< flexkane template <<<
 
@@ -374,5 +377,5 @@ def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.i
 
 # Outside the template: what the template finds in a generated module, for direct import.
 from flexkane.numerics.dop853 import (  # noqa: E402,F401
-    all_finite, fill_rows_at, rhs, rms_norm, starting_step)
+    all_finite, fill_rows_at, rms_norm, starting_step, system_rhs)
 from flexkane.numerics.linear_algebra import lu_factor, lu_solve  # noqa: E402

@@ -1,48 +1,99 @@
-"""Automatic choice between DOP853 and Radau IIA during a run, by measured cost.
+"""Automatic choice between DOP853 and Radau IIA during a run, by a model of the work done.
 
 A planar chain with many modes is stiff in a way that the eigenvalues at the start cannot settle:
 its fast modes oscillate (an explicit method must stay inside its stability region, ``h |lambda|
 <= 6``), but they carry amplitudes so small that an L-stable implicit method may step over them at
 a loose tolerance, damping them, and still meet the tolerance. Whether that pays depends on the
-tolerance and on how much each mode is excited, so it is measured:
+tolerance and on how much each mode is excited, so it is tried:
 
 1. the run starts with the method of :func:`~flexkane.numerics.integrate.choose_method`;
 2. while DOP853 runs, its stiffness test (the share of accepted steps limited by stability, see
    :mod:`flexkane.numerics.dop853`) tells whether its steps are held back by the fast modes; if
-   most of them are (over at least 50 accepted steps), the next chunks are a *trial* of Radau;
+   ``STIFF_SHARE`` of them are (over at least 50 accepted steps), the next chunks are a *trial*
+   of Radau;
 3. a trial (``TRIAL_STEPS`` accepted steps or ``TRIAL_SPAN_FRACTION`` of the span, over one or
-   more chunks) compares the simulated
-   time per CPU second of the two methods over neighbouring stretches of the run; the faster one
-   (by a margin ``SWITCH_GAIN`` in favour of the current one) continues;
+   more chunks) compares the simulated time per unit of work (:func:`chunk_work`) of the two
+   methods over neighbouring stretches of the run; the cheaper one (by a margin ``SWITCH_GAIN``
+   in favour of the current one) continues;
 4. while Radau runs, DOP853 gets a trial again every ``RECHECK_FRACTION`` of the span if Radau is
-   no longer ``RETRY_MARGIN`` times faster than DOP853 was, since the motion may change (a
+   no longer ``RETRY_MARGIN`` times cheaper than DOP853 was, since the motion may change (a
    manoeuvre ends, a mode is excited).
 
-Trials advance the solution like any other chunk (nothing is computed twice); their cost is a few
-per cent of the run. This is the idea of LSODA (switching on a stiffness test) with the decision
-made on measured cost rather than on an estimate.
+The work is counted, never timed: right-hand-side evaluations times the operations of one
+evaluation (counted in the generated source), plus the linear algebra of Radau's Newton
+iterations and LU decompositions, as LSODA weighs the cost of its two methods. So the same model
+and options take the same steps and give the same numbers on any machine and under any load.
+Trials advance the solution like any other chunk (nothing is computed twice).
 """
 
 from __future__ import annotations
 
 __all__ = ["MethodSwitch", "RECHECK_FRACTION", "RETRY_MARGIN", "STIFF_SHARE", "SWITCH_GAIN",
-           "TRIAL_SPAN_FRACTION", "TRIAL_STEPS"]
+           "TRIAL_SPAN_FRACTION", "TRIAL_STEPS", "chunk_work", "evaluation_work"]
 
 # Steps of a trial chunk, by method (enough to pass a start-up, few enough to be cheap).
 TRIAL_STEPS = {"dop853": 200, "radau": 40}
 # A trial also ends after this fraction of the span.
 TRIAL_SPAN_FRACTION = 0.05
-# Share of stability-limited accepted DOP853 steps in a chunk that calls for a trial of Radau.
-STIFF_SHARE = 0.5
+# Share of stability-limited accepted DOP853 steps in a window that calls for a trial of Radau
+# (at its stability limit the step size of DOP853 oscillates about it: about half of the steps
+# are limited by it, a non-stiff run has almost none).
+STIFF_SHARE = 0.4
 # The other method takes over when its rate exceeds the current one's by this factor.
 SWITCH_GAIN = 1.3
 # Fraction of the span between two trials.
 RECHECK_FRACTION = 0.2
-# Radau gives DOP853 another trial only when it is no longer this many times faster: a DOP853
+# Radau gives DOP853 another trial only when it is no longer this many times cheaper: a DOP853
 # trial at its stability limit leaves tolerance-sized oscillations of the fast modes, which Radau
 # then resolves instead of damping (measured: 80 times slower for the rest of the run).
 RETRY_MARGIN = 2.0
 _MIN_ACCEPTED = 50  # accepted steps of a window before its stiffness share means anything
+# Operations charged for a call of the right-hand side besides its arithmetic (call, loads).
+CALL_OVERHEAD = 50
+
+
+def evaluation_work(rhs_operations: int, n: int) -> float:
+    """Work of one right-hand-side evaluation [floating-point operations].
+
+    Parameters
+    ----------
+    rhs_operations : int
+        Operations of the generated right-hand side (``RHS_OPERATIONS`` of a generated module,
+        the solution of ``M u' = f`` included).
+    n : int
+        Number of states.
+    """
+    return float(rhs_operations + CALL_OVERHEAD + 2 * n)
+
+
+def chunk_work(method: str, n: int, rhs_operations: int, nfev: int, nsteps: int,
+               nlu: int = 0) -> float:
+    """Work of a chunk of integration [floating-point operations], from its counts.
+
+    Parameters
+    ----------
+    method : {"dop853", "radau"}
+        Method of the chunk.
+    n : int
+        Number of states.
+    rhs_operations : int
+        Operations of one right-hand side (see :func:`evaluation_work`).
+    nfev, nsteps, nlu : int
+        Evaluations (Jacobians included), attempted steps and LU decompositions of the chunk.
+
+    Returns
+    -------
+    float
+        DOP853: each evaluation plus its stage combination (about ``14 n``). Radau IIA: each
+        evaluation plus, per Newton iteration (one per 3 evaluations), a real and a complex
+        back substitution (``2 n^2 + 8 n^2``); per LU decomposition ``(2/3) n^3`` real and
+        ``4 (2/3) n^3`` complex; per step the error estimate (a real back substitution).
+    """
+    evaluation = evaluation_work(rhs_operations, n)
+    if method == "dop853":
+        return nfev * (evaluation + 14.0 * n)
+    return (nfev * (evaluation + (10.0 * n * n + 30.0 * n) / 3.0)
+            + nlu * (10.0 / 3.0 * n ** 3 + 4.0 * n * n) + nsteps * (2.0 * n * n + 10.0 * n))
 
 
 class _Window:
@@ -50,19 +101,19 @@ class _Window:
 
     def __init__(self, method: str):
         self.method = method
-        self.advanced = self.cpu = 0.0
+        self.advanced = self.work = 0.0
         self.naccept = self.nstiff = 0
 
-    def add(self, advanced: float, cpu: float, naccept: int, nstiff: int) -> None:
+    def add(self, advanced: float, work: float, naccept: int, nstiff: int) -> None:
         self.advanced += advanced
-        self.cpu += cpu
+        self.work += work
         self.naccept += naccept
         self.nstiff += nstiff
 
     @property
     def rate(self) -> float:
-        """Simulated time per CPU second [s/s]."""
-        return self.advanced / self.cpu if self.cpu > 0.0 else float("inf")
+        """Simulated time per unit of work [s/operation]."""
+        return self.advanced / self.work if self.work > 0.0 else float("inf")
 
 
 class MethodSwitch:
@@ -92,7 +143,7 @@ class MethodSwitch:
             return self.trial, max(TRIAL_STEPS[self.trial] - self._window.naccept, 1)
         return self.current, None
 
-    def record(self, method: str, t_before: float, t_after: float, cpu: float, naccept: int,
+    def record(self, method: str, t_before: float, t_after: float, work: float, naccept: int,
                nstiff: int) -> None:
         """Account for a finished chunk and decide on the next one.
 
@@ -102,14 +153,14 @@ class MethodSwitch:
             Method of the chunk.
         t_before, t_after : float
             Time at the start and at the end of the chunk [s].
-        cpu : float
-            CPU time of the chunk [s].
+        work : float
+            Work of the chunk (:func:`chunk_work`) [floating-point operations].
         naccept, nstiff : int
-            Accepted steps, and those of them limited by stability (DOP853 only).
+            Accepted steps, and those of them limited by stability (DOP853; 0 for Radau).
         """
         self.covered[method] = self.covered.get(method, 0.0) + (t_after - t_before)
         window = self._window
-        window.add(t_after - t_before, cpu, naccept, nstiff)
+        window.add(t_after - t_before, work, naccept, nstiff)
         if self.trial is not None:
             if window.naccept < TRIAL_STEPS[self.trial] \
                     and window.advanced < TRIAL_SPAN_FRACTION * self.span:

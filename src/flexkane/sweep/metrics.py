@@ -9,8 +9,8 @@ column                   meaning
 ``run_time``             wall time of the whole variant on its worker [s] (varies likewise)
 ``energy_error``         relative energy error: drift ``max |E - E0| / scale`` of a conservative
                          run, or power-balance error ``max |E - E0 - W_nc| / scale`` of a driven or
-                         damped one (``W_nc``: trapezoidal work of drivers, loads and dampers on the
-                         output grid); ``scale = max(max |E|, max T)`` [-]
+                         damped one (``W_nc``: work of drivers, loads and dampers, integrated with
+                         the motion; output ``work``); ``scale = max(max |E|, max T)`` [-]
 ``energy_check``         ``drift`` or ``power_balance``: which of the two ``energy_error`` is
 ``max_abs_tip_<beam>``   maximum over the output times of the tip deflection of each beam [m]
 ``final_<state>``        each coordinate [m or rad] and speed [m/s or rad/s] at ``t_reached``
@@ -55,6 +55,9 @@ def energy_error(results) -> tuple[float, str]:
     e = np.asarray(outputs["energy"], dtype=float)
     kinetic = np.asarray(outputs.get("kinetic", e), dtype=float)
     scale = max(float(np.abs(e).max()), float(np.abs(kinetic).max()), 1e-300)
+    if "energy_balance" in outputs and "work" in outputs:  # work integrated with the motion
+        kind = "power_balance" if np.any(np.asarray(outputs["work"])) else "drift"
+        return float(np.abs(np.asarray(outputs["energy_balance"], dtype=float)).max() / scale), kind
     power = np.asarray(outputs.get("power_nonconservative", np.zeros_like(e)), dtype=float)
     if not np.any(power):
         return float(np.abs(e - e[0]).max() / scale), "drift"

@@ -1,0 +1,41 @@
+"""compile_model compiles eagerly: a simulation after it compiles nothing, and the CLI says so.
+
+Deterministic signals instead of times: the Numba dispatchers hold their compiled signatures once
+``compile_model`` returns, and ``simulate`` adds none.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from flexkane.builtin import builtin_model
+from flexkane.derivation_cache import cached_derive
+from flexkane.numerics.jit_module import is_compiled
+from flexkane.simulation import compile_model, simulate
+
+FUNCTIONS = ("dop853_chunk", "radau5_chunk", "system_rhs", "rhs", "fd_jacobian")
+
+
+@pytest.fixture(scope="module")
+def falling_beam():
+    model = builtin_model("falling-beam")
+    return model, cached_derive(model)
+
+
+def test_integrators_are_compiled_before_simulate_and_not_after(falling_beam):
+    model, eom = falling_beam
+    messages = []
+    compiled = compile_model(eom, announce=messages.append)
+    module = compiled.module
+    before = {name: list(getattr(module, name).signatures) for name in FUNCTIONS}
+    assert all(before.values()), before
+    assert is_compiled(module)
+    for method in ("auto", "dop853", "radau"):
+        res = simulate(compiled, t_end=0.05, dt_out=0.01, method=method, model=model)
+        assert not res.partial
+        assert {"compile_time", "wall_time"} <= set(res.solver)
+    assert {name: list(getattr(module, name).signatures) for name in FUNCTIONS} == before
+    # compiled in this process now: compiling again announces nothing
+    again = []
+    compile_model(eom, announce=again.append)
+    assert again == []
