@@ -16,7 +16,6 @@ import sys
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 from flexkane.simulation import COMPILING_MESSAGE
 
@@ -66,11 +65,10 @@ atol = 1e-6
 def _run(model: Path, out: Path, cache: Path) -> subprocess.CompletedProcess:
     env = dict(os.environ, FLEXKANE_CACHE_DIR=str(cache),
                PYTHONPATH=os.pathsep.join([str(SRC), os.environ.get("PYTHONPATH", "")]))
-    return subprocess.run([sys.executable, "-m", "flexkane", "run", str(model), "--out", str(out)],
+    return subprocess.run([sys.executable, "-m", "flexkane", "run", str(model), "--out", str(out), "--no-plots"],
                           capture_output=True, text=True, env=env, timeout=900)
 
 
-@pytest.mark.slow
 def test_run_beside_a_busy_loop_gives_the_same_files(tmp_path):
     model = tmp_path / "stiff-elbow.toml"
     model.write_text(STIFF_ELBOW)
