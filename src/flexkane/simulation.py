@@ -366,7 +366,8 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
         work = quadratures.get("work", np.zeros(n_valid))
         outputs["work"] = np.array(work, dtype=float)
         energy = outputs["energy"]
-        outputs["energy_balance"] = energy - energy[:1] - outputs["work"] if n_valid else np.zeros(0)
+        with np.errstate(invalid="ignore"):   # a diverged run: inf - inf is NaN, as it should be
+            outputs["energy_balance"] = energy - energy[:1] - outputs["work"] if n_valid else np.zeros(0)
     # timing fields (wall_time, compile_time) are the only ones that depend on the machine
     solver = {"method": result.method, "rtol": rtol, "atol": atol, "status": result.status.name.lower(),
               "message": result.message, "nfev": int(result.nfev), "nsteps": int(result.nsteps),
