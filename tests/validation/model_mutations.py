@@ -155,8 +155,30 @@ def _change_text(rng: random.Random, text: str) -> bytes:
     return "".join(lines).encode("utf-8")
 
 
-def mutated_file(rng: random.Random, texts: dict[str, str]) -> tuple[str, bytes]:
-    """One mutant of one of ``texts``: (a description, the file's bytes)."""
+#: Values given on the command line with --set KEY=VALUE.
+SET_VALUES = ("0", "-1", "1e999", "nan", "inf", "5e-324", "1e300", "abc", "", "[1, 2]", "[1, 2", "[[0, 1]]",
+              "{a = 1}", "true", "'x'", "9**9**9", "(3*t)**50", "H_11", "u_pivot", "sin(t)", "1/0", "41", "200")
+
+
+def mutated_arguments(rng: random.Random, text: str) -> list[str]:
+    """Options of ``flexkane check`` that change the model: --set of a key path of ``text`` (or an
+    unknown one) to a hostile value, or --n-modes."""
+    if rng.random() < 0.3:
+        return ["--n-modes", str(rng.choice((0, -1, 1, 2, 40, 41, 200, 10**20, "x", "2.5")))]
+    try:
+        paths = [p for p, _ in _leaves(tomllib.loads(text)) if p[0] != "sweep"]
+    except tomllib.TOMLDecodeError:
+        paths = []
+    path = rng.choice(paths) if paths and rng.random() < 0.8 else (rng.choice(UNKNOWN_KEYS),)
+    key = "".join(f"[{k}]" if isinstance(k, int) else f".{k}" for k in path).lstrip(".")
+    if rng.random() < 0.3:   # a bare parameter or coordinate name
+        key = str(path[-1])
+    return ["--set", f"{key}={rng.choice(SET_VALUES)}"]
+
+
+def mutated_file(rng: random.Random, texts: dict[str, str]) -> tuple[str, bytes, list[str]]:
+    """One mutant of one of ``texts``: (a description, the file's bytes, options of check); one in
+    five also changes values with command-line options."""
     name = rng.choice(sorted(texts))
     text = texts[name]
     kinds = []
@@ -174,10 +196,11 @@ def mutated_file(rng: random.Random, texts: dict[str, str]) -> tuple[str, bytes]
         kinds.append("text")
     if kinds[-1] == "text":
         body = _change_text(rng, body.decode("utf-8"))
-    return f"{name}: {', '.join(kinds)}", body
+    options = mutated_arguments(rng, text) if rng.random() < 0.2 else []
+    return f"{name}: {', '.join(kinds)} {' '.join(options)}", body, options
 
 
-def mutated_files(seed: int, count: int) -> list[tuple[str, bytes]]:
+def mutated_files(seed: int, count: int) -> list[tuple[str, bytes, list[str]]]:
     """``count`` mutants of the example files and built-in models, the same for the same seed."""
     rng = random.Random(seed)
     texts = base_texts()

@@ -50,12 +50,12 @@ BATCH = 100
 _CHECKER = """
 import contextlib, io, json, resource, sys, traceback
 from flexkane.cli import main
-limit, paths = int(sys.argv[1]), sys.argv[2:]
+limit, cases = int(sys.argv[1]), json.load(open(sys.argv[2]))
 def cpu():
     usage = resource.getrusage(resource.RUSAGE_SELF)
     return usage.ru_utime + usage.ru_stime
 hard = resource.getrlimit(resource.RLIMIT_CPU)[1]
-for index, path in enumerate(paths):
+for index, (path, options) in enumerate(cases):
     start = cpu()
     resource.setrlimit(resource.RLIMIT_CPU, (int(start) + 1 + limit, hard))
     sys.stderr.write(f"{index}\\n")
@@ -63,7 +63,7 @@ for index, path in enumerate(paths):
     out = io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(out):
         try:
-            code = main(["check", path])
+            code = main(["check", path, *options])
         except SystemExit as exc:
             code = exc.code
         except BaseException:
@@ -89,8 +89,8 @@ def _environment(tmp_path) -> dict:
     return env
 
 
-def check_files(files: list[tuple[str, bytes]], tmp_path: pathlib.Path) -> list[dict]:
-    """Check ``files`` ((description, bytes) pairs) in batches of child processes; assert the outcome
+def check_files(files: list[tuple[str, bytes, list[str]]], tmp_path: pathlib.Path) -> list[dict]:
+    """Check ``files`` ((description, bytes, options of check) triples) in batches of child processes; assert the outcome
     of each; return their measurements."""
     folder = tmp_path / "files"
     folder.mkdir(exist_ok=True)
@@ -98,12 +98,13 @@ def check_files(files: list[tuple[str, bytes]], tmp_path: pathlib.Path) -> list[
     for first in range(0, len(files), BATCH):
         batch = files[first:first + BATCH]
         paths = []
-        for k, (_, body) in enumerate(batch, start=first):
+        for k, (_, body, options) in enumerate(batch, start=first):
             path = folder / f"mutant_{k:05d}.toml"
             path.write_bytes(body)
-            paths.append(str(path))
+            paths.append([str(path), options])
+        (folder / "batch.json").write_text(json.dumps(paths))
         hard = CHECK_CPU_SECONDS * (len(batch) + 1) + 60
-        child = subprocess.Popen([sys.executable, "-c", _CHECKER, str(CHECK_CPU_SECONDS), *paths],
+        child = subprocess.Popen([sys.executable, "-c", _CHECKER, str(CHECK_CPU_SECONDS), str(folder / "batch.json")],
                                  stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                  text=True, env=_environment(tmp_path),
                                  preexec_fn=_limits(CHECK_CPU_SECONDS + 60, hard))
@@ -116,7 +117,7 @@ def check_files(files: list[tuple[str, bytes]], tmp_path: pathlib.Path) -> list[
             problems.append(f"the checking child ended with {ended} (SIGXCPU: over the CPU limit) at "
                             f"{files[last][0]} ({folder / f'mutant_{last:05d}.toml'}):\n{err[-3000:]}")
         for index, code, text, cpu, peak in rows:
-            what = f"{files[first + index][0]} ({paths[index]}): {text}"
+            what = f"{files[first + index][0]} ({paths[index][0]}): {text}"
             if code not in (0, 2):
                 problems.append(f"exit {code}: {what}")
             elif "Traceback" in text or "MemoryError" in text:
@@ -145,7 +146,7 @@ def run_file(text: str, tmp_path: pathlib.Path, case: str, plots: bool = False) 
 
 
 # --------------------------------------------------------------------------------------- check
-def _hypothesis_files(count: int, seed_label: str) -> list[tuple[str, bytes]]:
+def _hypothesis_files(count: int, seed_label: str) -> list[tuple[str, bytes, list[str]]]:
     """``count`` mutants from the strategies of test_model_fuzz.py (derandomized: the same files on
     every run)."""
     files = []
@@ -156,7 +157,7 @@ def _hypothesis_files(count: int, seed_label: str) -> list[tuple[str, bytes]]:
     def collect(data):
         base = data.draw(st.sampled_from(BASES))
         try:
-            files.append((f"hypothesis {seed_label} {base}", tomli_w.dumps(_mutate(data.draw, base)).encode()))
+            files.append((f"hypothesis {seed_label} {base}", tomli_w.dumps(_mutate(data.draw, base)).encode(), []))
         except (TypeError, ValueError):   # not representable in TOML
             pass
 
