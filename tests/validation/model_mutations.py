@@ -218,6 +218,9 @@ def runnable_mutant(rng: random.Random, text: str, t_end: float) -> tuple[str, s
     simulation["max_steps"] = 100_000
     entries = [(p, v) for p, v in _leaves(data)
                if not isinstance(v, (dict, list)) and not isinstance(v, bool) and p[0] != "name"]
+    if rng.random() < 0.1:   # a name that is not a folder name (the default output folder is out/NAME)
+        data["name"] = rng.choice(("../../ESCAPED", "out/../../ESCAPED", "..", ".", "", "a/b", "x" * 300, "ä b:c*?"))
+        return f"name: {data['name']!r}", tomli_w.dumps(data)
     path, value = rng.choice(entries)
     parent, key = _parent(data, path), path[-1]
     kind = rng.choice(("number", "number", "number", "type", "delete", "rename"))
