@@ -129,12 +129,12 @@ def check_files(files: list[tuple[str, bytes, list[str]]], tmp_path: pathlib.Pat
     return measured
 
 
-def run_file(text: str, tmp_path: pathlib.Path, case: str, plots: bool = False) -> dict:
+def run_file(text: str, tmp_path: pathlib.Path, case: str, options: list[str], plots: bool = False) -> dict:
     """``flexkane run`` of one file in a child process under the CPU and memory limits."""
     folder = tmp_path / case
     folder.mkdir()
     (folder / "model.toml").write_text(text, "utf-8")
-    args = [sys.executable, "-m", "flexkane", "run", "model.toml", "--quiet", *([] if plots else ["--no-plots"])]
+    args = [sys.executable, "-m", "flexkane", "run", "model.toml", "--quiet", *([] if plots else ["--no-plots"]), *options]
     child = subprocess.Popen(args, cwd=folder, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                              stderr=subprocess.PIPE, text=True, env=_environment(tmp_path),
                              preexec_fn=_limits(RUN_CPU_SECONDS, RUN_CPU_SECONDS + 10))
@@ -188,23 +188,38 @@ def test_two_thousand_mutated_files_pass_check_with_exit_0_or_2(tmp_path):
 
 
 # ----------------------------------------------------------------------------------------- run
-def _run_cases(seed: int, count: int, bases: tuple[str, ...]) -> list[tuple[str, str]]:
+#: Options of ``flexkane run`` at and beyond their limits (none that lengthens a run).
+RUN_OPTIONS = (["--t-end", "0"], ["--t-end", "1e-320"], ["--t-end", "nan"], ["--dt-out", "1e-320"],
+               ["--dt-out", "-1"], ["--rtol", "0"], ["--rtol", "1e-300"], ["--atol", "inf"], ["--max-steps", "0"],
+               ["--max-steps", "1"], ["--method", "radau"], ["--animate", "--magnify", "nan"],
+               ["--animate", "--trace", "nowhere"], ["--animate", "--magnify", "auto", "--trace", "cm"],
+               ["--set", "g=1e300"], ["--set", "q_pivot=1e300"], ["--n-modes", "0"], ["--n-modes", "41"],
+               ["--trace", "nowhere"], ["--out", ""], ["--out", "model.toml"], ["--force"])
+
+
+def _run_cases(seed: int, count: int, bases: tuple[str, ...]) -> list[tuple[str, str, list[str]]]:
+    """``count`` runnable mutants of ``bases``, one in five also given options of RUN_OPTIONS."""
     rng = random.Random(seed)
     texts = base_texts()
-    return [(f"{base} #{k} " + (kind := runnable_mutant(rng, texts[base], t_end=0.02))[0], kind[1])
-            for k, base in enumerate(rng.choice(bases) for _ in range(count))]
+    cases = []
+    for k in range(count):
+        base = rng.choice(bases)
+        what, text = runnable_mutant(rng, texts[base], t_end=0.02)
+        options = list(rng.choice(RUN_OPTIONS)) if rng.random() < 0.2 else []
+        cases.append((f"{base} #{k} {what} {' '.join(options)}", text, options))
+    return cases
 
 
 def _check_runs(cases, tmp_path):
     results, problems = [], []
-    for k, (what, text) in enumerate(cases):
-        result = run_file(text, tmp_path, f"case{k:03d}", plots=k % 10 == 9)
+    for k, (what, text, options) in enumerate(cases):
+        result = run_file(text, tmp_path, f"case{k:03d}", options, plots=k % 10 == 9)
         killed = signal.Signals(-result["code"]).name if result["code"] < 0 else ""
         if result["code"] not in (0, 2, 3):
             problems.append(f"exit {result['code']} {killed}: {what}\n{text}\n{result['out'][-3000:]}")
         elif "Traceback" in result["out"] or "MemoryError" in result["out"]:
             problems.append(f"{what}\n{text}\n{result['out'][-3000:]}")
-        elif result["code"] == 0 and not list((result["folder"] / "out").glob("*/results.npz")):
+        elif result["code"] == 0 and not list(result["folder"].glob("**/results.npz")):
             problems.append(f"no results.npz: {what}\n{result['out']}")
         entries = {p.name for p in tmp_path.iterdir()}   # nothing written beside the cases' folders
         assert entries <= {"cache", "files"} | {f"case{j:03d}" for j in range(len(cases))}, entries
