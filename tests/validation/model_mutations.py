@@ -39,7 +39,8 @@ HOSTILE_EXPRESSIONS = ("9**9**9", "2**1000", "(3*t)**50", "(t + sin(t) + cos(t) 
                        "where(t < 0.01, t, 0)", "piecewise(t, t < 0.01, 0.01)", "sin(" * 60 + "t" + ")" * 60,
                        "+".join(f"t*{k}" for k in range(300)), "H_11", "m_link", "q1", "u_pivot", "unknown_name",
                        "__import__('os')", "().__class__", "lambda: 1", "[1 for _ in (1,)]", "t if t else 1",
-                       "x", "xi", "t", "pi", "L*", "(", "1e-320", "tan(pi/2)", "(-8)**(1/3)")
+                       "x", "xi", "t", "pi", "L*", "(", "1e-320", "tan(pi/2)", "(-8)**(1/3)",
+                       "20:80:50000", "20:80:100001", "0:1:0", "1:1:1", "a:b:c", "20:80:1e9", "-1:1:3", "1:2:3:4")
 #: Names a misspelt or invented key may take.
 UNKNOWN_KEYS = ("varry", "n_mode", "EII", "masss", "typ", "parnet", "t_ned", "dt-out", "H_11", "m_link",
                 "q_pivot", "u_pivot", "../x", "", " ", "a.b", "ü")
@@ -50,11 +51,21 @@ STRUCTURAL_KEYS = ("n_modes", "n_axial", "roots", "samples")
 DURATION_KEYS = ("t_end", "max_steps")
 
 
+#: Valid files of the corpus of untrusted model files that mutants start from too.
+VALID_CORPUS_FILES = ("sweep_valid.toml", "driver_abs.toml", "driver_where.toml", "driver_piecewise.toml",
+                      "torque_power_100.toml")
+
+
 def base_texts() -> dict[str, str]:
-    """Model files to start from: every example file and every built-in model (by name)."""
+    """Model files to start from: every example file, every built-in model (by name) and the valid
+    files of the corpus of untrusted model files (with a [sweep] table, drivers with kinks, powers)."""
     from flexkane.builtin import builtin_names
 
     texts = {p.stem: p.read_text("utf-8") for p in sorted((ROOT / "examples").glob("*.toml"))}
+    for path in sorted((ROOT / "tests" / "validation" / "untrusted_models").glob("*.toml")):
+        text = path.read_text("utf-8")   # valid files of the corpus (sweeps, drivers with kinks, powers)
+        if path.name in VALID_CORPUS_FILES:
+            texts[f"corpus:{path.stem}"] = text
     for name in builtin_names():
         text = builtin_text(name)
         if text not in texts.values():
