@@ -29,7 +29,6 @@ import resource
 import signal
 import subprocess
 import sys
-import tomllib
 
 import pytest
 import tomli_w
@@ -91,8 +90,8 @@ def _environment(tmp_path) -> dict:
 
 
 def check_files(files: list[tuple[str, bytes, list[str]]], tmp_path: pathlib.Path) -> list[dict]:
-    """Check ``files`` ((description, bytes, options of check) triples) in batches of child processes; assert the outcome
-    of each; return their measurements."""
+    """Check ``files`` ((description, bytes, options of check) triples) in batches of child
+    processes; assert the outcome of each; return their measurements."""
     folder = tmp_path / "files"
     folder.mkdir(exist_ok=True)
     measured, problems = [], []
@@ -135,7 +134,8 @@ def run_file(text: str, tmp_path: pathlib.Path, case: str, options: list[str], p
     folder = tmp_path / case
     folder.mkdir()
     (folder / "model.toml").write_text(text, "utf-8")
-    args = [sys.executable, "-m", "flexkane", "run", "model.toml", "--quiet", *([] if plots else ["--no-plots"]), *options]
+    args = [sys.executable, "-m", "flexkane", "run", "model.toml", "--quiet",
+            *([] if plots else ["--no-plots"]), *options]
     child = subprocess.Popen(args, cwd=folder, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                              stderr=subprocess.PIPE, text=True, env=_environment(tmp_path),
                              preexec_fn=_limits(RUN_CPU_SECONDS, RUN_CPU_SECONDS + 10))

@@ -23,8 +23,8 @@ from ..results import Results
 from .scene import TRACE_CENTRE_OF_MASS, TRACE_NONE, Scene
 from .writers import MP4_MISSING, GifWriter, Mp4Writer, ffmpeg_executable
 
-__all__ = ["animate", "render_frame", "frame_rows", "resolve_magnification", "check_animation_options", "Animation", "Scene",
-           "TRACE_NONE", "TRACE_CENTRE_OF_MASS", "ffmpeg_executable"]
+__all__ = ["animate", "render_frame", "frame_rows", "resolve_magnification", "check_animation_options",
+           "Animation", "Scene", "TRACE_NONE", "TRACE_CENTRE_OF_MASS", "ffmpeg_executable"]
 
 
 @dataclass
