@@ -15,7 +15,7 @@ Limits (each a wide margin over the largest use measured on a loaded 2-core mach
   child (measured: at most 19 s for the two together, a first compile included; a run from the
   cache takes about 2 s; the margin absorbs a slower machine and a larger new structure);
 * :data:`ADDRESS_SPACE` bytes of address space for every process (measured resident memory: at most
-  90 MB for a checking child, 360 MB for a run; NumPy, SymPy, Numba and LLVM map more than they use,
+  250 MB for a checking child, 360 MB for a run; NumPy, SymPy, Numba and LLVM map more than they use,
   so the address space is set well above).
 """
 
