@@ -23,8 +23,8 @@ from ..results import Results
 from .scene import TRACE_CENTRE_OF_MASS, TRACE_NONE, Scene
 from .writers import MP4_MISSING, GifWriter, Mp4Writer, ffmpeg_executable
 
-__all__ = ["animate", "render_frame", "frame_rows", "resolve_magnification", "Animation", "Scene",
-           "TRACE_NONE", "TRACE_CENTRE_OF_MASS", "ffmpeg_executable"]
+__all__ = ["animate", "render_frame", "frame_rows", "resolve_magnification", "check_animation_options",
+           "Animation", "Scene", "TRACE_NONE", "TRACE_CENTRE_OF_MASS", "ffmpeg_executable"]
 
 
 @dataclass
@@ -70,9 +70,24 @@ def frame_rows(n_rows: int, frames: int) -> np.ndarray:
 
 def resolve_magnification(scene: Scene, magnify) -> float:
     """A positive magnification factor; ``"auto"`` picks a round one (:meth:`Scene.auto_magnification`)."""
+    if isinstance(magnify, str) and magnify.strip().lower() == "auto":
+        return scene.auto_magnification()
+    return _magnification_number(magnify)
+
+
+def check_animation_options(model, magnify, trace) -> None:
+    """Refuse ``magnify`` or ``trace`` (as for :func:`animate`) that an animation of ``model`` could
+    not use, with a :class:`~flexkane.errors.ModelError`: checked before a run, not after it."""
+    if not (isinstance(magnify, str) and magnify.strip().lower() == "auto"):
+        _magnification_number(magnify)
+    if trace not in (None, "", "auto"):
+        names = [*model.bodies, *model.beams, TRACE_CENTRE_OF_MASS, TRACE_NONE]
+        if trace not in names and not (trace.startswith("tip_") and trace[4:] in model.beams):
+            raise ModelError("--trace", "one of " + ", ".join(names), trace)
+
+
+def _magnification_number(magnify) -> float:
     if isinstance(magnify, str):
-        if magnify.strip().lower() == "auto":
-            return scene.auto_magnification()
         try:
             magnify = float(magnify)
         except ValueError:

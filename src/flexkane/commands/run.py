@@ -86,6 +86,10 @@ def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None
     from ._common import prepare_out
 
     validate_run_arguments(t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol, method=method, max_steps=max_steps)
+    if animation is not None:
+        from ..animation import check_animation_options
+
+        check_animation_options(model, animation.magnify, animation.trace)
     out = prepare_out(out, force=force)
     with StopRequest() as stop:
         return _run_phases(model, out, stop, t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol, method=method,
