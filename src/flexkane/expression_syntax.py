@@ -265,7 +265,8 @@ class _Scan:
             if node.id != "pi" and node.id not in self.names:
                 raise NeedsSymbolic
             self.atom(level, node.id, scale)
-            self.used.add(node.id)
+            if node.id != "pi":
+                self.used.add(node.id)
             return None
         if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
             inner = self.value(node.operand, level, scale)
