@@ -1,6 +1,7 @@
 """Plots and results files of a run: every plot is rendered and checked for drawn curves and labelled
 axes; results.npz reads back what was written."""
 
+import pickle
 import numpy as np
 import pytest
 from PIL import Image
@@ -51,7 +52,7 @@ def captured_figures(monkeypatch):
     save = plots._save
 
     def keep(fig, path):
-        figures[path.name] = fig
+        figures[path.name] = pickle.loads(pickle.dumps(fig))   # as saved (a figure may be reused)
         return save(fig, path)
     monkeypatch.setattr(plots, "_save", keep)
     return figures

@@ -72,8 +72,8 @@ def test_modes_help_still_lists_every_family(capsys):
 
 
 def test_check_of_every_builtin_model_loads_no_scipy_numba_or_matplotlib():
-    """``check`` validates with the expression language and the chain's coordinates; it still needs
-    SymPy (the expressions are SymPy objects), but none of the numerical or plotting libraries."""
+    """``check`` validates with the expression language and the chain's coordinate names: none of the
+    numerical or plotting libraries."""
     from flexkane.builtin import builtin_names
 
     code = ("from flexkane.cli import main\n"
@@ -82,3 +82,21 @@ def test_check_of_every_builtin_model_loads_no_scipy_numba_or_matplotlib():
     found = heavy_modules_after(code)
     assert found["printed"].splitlines()[-1] == str([0] * len(builtin_names()))
     assert set(found["heavy"]) <= {"sympy"}
+
+
+def _uses_expression_shapes(name: str) -> bool:
+    from flexkane.builtin import builtin_model
+
+    model = builtin_model(name)
+    return any(spec is not None and spec.family == "expression"
+               for beam in model.beams.values() for spec in (beam.shape, beam.axial_shape))
+
+
+@pytest.mark.parametrize("name", __import__("flexkane.builtin", fromlist=["builtin_names"]).builtin_names())
+def test_check_of_a_builtin_model_loads_no_sympy(name):
+    """Values, time laws, distributed loads, parameters, shape families and coordinate names are checked
+    without SymPy; only shape functions given as expressions of xi (family ``expression``, differentiated
+    to check their boundary conditions) need it."""
+    found = heavy_modules_after(cli("check", name))
+    assert f"{name}: valid" in found["printed"]
+    assert found["heavy"] == (["sympy"] if _uses_expression_shapes(name) else [])

@@ -27,32 +27,24 @@ SymPy is asked to compute anything large.
 from __future__ import annotations
 
 import ast
-import bisect
 import difflib
-import keyword
 import math
 import numbers
 import operator
-import re
-import warnings
 from collections.abc import Mapping
 from typing import NamedTuple
 
 import sympy
 
 from .errors import ModelError
+from .expression_syntax import (_ADDITIVE, _BINARY, _EXPECTED, _MAX_COEFFICIENT_BITS, _MULTIPLICATIVE, FUNCTIONS,
+                                MAX_DEPTH, MAX_EXPONENT, MAX_INTEGER, MAX_LENGTH, MAX_NODES, RESERVED_NAMES, _check_size,
+                                _shorten, _Source, _syntax_tree, check_parameter_name, dependency_order)
 
 __all__ = ["FUNCTIONS", "MAX_DEPTH", "MAX_EXPANDED_TERMS", "MAX_EXPONENT", "MAX_INTEGER", "MAX_LENGTH",
            "MAX_NODES", "bounded_expand", "expansion_terms", "time_derivative",
            "RESERVED_NAMES", "free_names", "parse_condition", "parse_expression",
            "resolve_parameters", "to_float"]
-
-MAX_LENGTH = 2000  #: Maximum number of characters of an expression.
-MAX_NODES = 500  #: Maximum number of syntax elements (numbers, names, operations, calls).
-MAX_DEPTH = 50  #: Maximum nesting depth; a chain ``a + b - c + ...`` counts as one level.
-MAX_INTEGER = 10**15  #: Largest absolute value of an integer literal.
-MAX_EXPONENT = 100  #: Largest absolute value of a numeric exponent.
-_MAX_COEFFICIENT_BITS = 4096  # largest numeric coefficient SymPy may compute in a power
 
 #: One-argument functions: name -> (SymPy function, float function).
 _UNARY = {
@@ -62,25 +54,14 @@ _UNARY = {
     "tanh": (sympy.tanh, math.tanh), "abs": (sympy.Abs, abs),
 }
 _VARIADIC = {"min": (sympy.Min, min), "max": (sympy.Max, max)}
-#: Names of the functions an expression may call.
-FUNCTIONS = tuple(sorted([*_UNARY, *_VARIADIC, "where", "piecewise"]))
 _CONSTANTS = {"pi": (sympy.pi, math.pi)}
-#: Names that an expression always reads as functions or constants.
-RESERVED_NAMES = frozenset([*FUNCTIONS, *_CONSTANTS])
 
-_EXPECTED = ("an expression of numbers, names, + - * / ** and the functions "
-             + " ".join(FUNCTIONS))
-_BINARY = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/", ast.Pow: "**",
-           ast.Mod: "%", ast.FloorDiv: "//", ast.MatMult: "@", ast.LShift: "<<",
-           ast.RShift: ">>", ast.BitOr: "|", ast.BitXor: "^", ast.BitAnd: "&"}
-_ADDITIVE = (ast.Add, ast.Sub)
-_MULTIPLICATIVE = (ast.Mult, ast.Div)
+assert FUNCTIONS == tuple(sorted([*_UNARY, *_VARIADIC, "where", "piecewise"]))
+assert RESERVED_NAMES == frozenset([*FUNCTIONS, *_CONSTANTS])
 _COMPARISONS = {ast.Lt: ("<", sympy.Lt, operator.lt), ast.LtE: ("<=", sympy.Le, operator.le),
                 ast.Gt: (">", sympy.Gt, operator.gt), ast.GtE: (">=", sympy.Ge, operator.ge)}
 _REFUSED_COMPARISONS = {ast.Eq: "==", ast.NotEq: "!=", ast.Is: "is", ast.IsNot: "is not",
                         ast.In: "in", ast.NotIn: "not in"}
-_OPERATOR_NODES = (ast.expr_context, ast.operator, ast.unaryop, ast.cmpop, ast.boolop)
-_NEWLINE = re.compile(r"\r\n|\r|\n")
 
 
 def _describe_node(node: ast.AST) -> str:
@@ -101,10 +82,6 @@ def _describe_node(node: ast.AST) -> str:
         kind = {str: "string literal", bytes: "bytes literal", complex: "complex number"}
         return f"{kind.get(type(node.value), 'constant')} {_shorten(repr(node.value), 30)}"
     return names.get(type(node), f"'{type(node).__name__}' syntax")
-
-
-def _shorten(text: str, limit: int = 80) -> str:
-    return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
 def _as_float(number: sympy.Expr) -> float:
@@ -146,48 +123,6 @@ class _Value(NamedTuple):
 class _Condition(NamedTuple):
     expr: sympy.Basic
     estimate: bool | None
-
-
-class _Source:
-    """The text of an expression, with the bookkeeping needed to report columns."""
-
-    def __init__(self, text: str):
-        self.body = text.lstrip(" \t\f\r\n")
-        prefix_lines = _NEWLINE.split(text[: len(text) - len(self.body)])
-        self.line_shift = len(prefix_lines) - 1
-        self.column_shift = len(prefix_lines[-1])
-        self.multiline = _NEWLINE.search(text) is not None
-        self.lines = _NEWLINE.split(self.body)
-        self.starts = [0] + [match.end() for match in _NEWLINE.finditer(self.body)]
-
-    def index(self, lineno: int | None, byte_column: int | None) -> int:
-        """Character index in the body of an AST position (line from 1, column in UTF-8 bytes)."""
-        if not lineno or not 0 < lineno <= len(self.lines):
-            return 0
-        line = self.lines[lineno - 1].encode("utf-8")[: byte_column or 0]
-        return self.starts[lineno - 1] + len(line.decode("utf-8", "replace"))
-
-    def start(self, node: ast.AST) -> int:
-        return self.index(getattr(node, "lineno", None), getattr(node, "col_offset", None))
-
-    def end(self, node: ast.AST) -> int:
-        return self.index(getattr(node, "end_lineno", None), getattr(node, "end_col_offset", None))
-
-    def segment(self, node: ast.AST) -> str:
-        return _shorten(self.body[self.start(node): self.end(node)], 40)
-
-    def find(self, symbol: str, start: int, end: int) -> int:
-        """Index of ``symbol`` between two indices (``start`` when absent)."""
-        found = self.body.find(symbol, start, end)
-        return start if found < 0 else found
-
-    def where(self, index: int) -> str:
-        """``"column C"`` (``"line L, column C"`` for text of several lines), counted from 1."""
-        line = bisect.bisect_right(self.starts, index) - 1
-        column = index - self.starts[line] + (self.column_shift if line == 0 else 0)
-        if self.multiline:
-            return f"line {line + self.line_shift + 1}, column {column + 1}"
-        return f"column {column + 1}"
 
 
 class _Converter:
@@ -481,41 +416,6 @@ def _suggest(name: str, known, label: str) -> str:
     return f"{label}: {shown}" if known else f"no {label} here"
 
 
-def _syntax_tree(text: str, source: _Source, path: str) -> ast.Expression:
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            return ast.parse(source.body, mode="eval")
-    except SyntaxError as exc:
-        lineno = exc.lineno if exc.lineno and exc.lineno <= len(source.lines) else None
-        index = source.starts[lineno - 1] + max((exc.offset or 1) - 1, 0) if lineno else 0
-        where = source.where(min(index, len(source.body)))
-        hint = f"syntax error at {where}: {exc.msg}"
-    except (ValueError, RecursionError, MemoryError) as exc:
-        hint = f"syntax error: {exc}"
-    raise ModelError(path, _EXPECTED, _shorten(text), hint)
-
-
-def _check_size(tree: ast.Expression, converter: _Converter):
-    """Refuse a tree with too many elements or nested too deeply (before converting it)."""
-    count, stack = 0, [(tree.body, 1)]
-    while stack:
-        node, depth = stack.pop()
-        count += 1
-        if count > MAX_NODES:
-            converter.refuse(node, f"more than {MAX_NODES} elements",
-                             "define parts of the expression as parameters")
-        if depth > MAX_DEPTH:
-            converter.refuse(node, f"nesting deeper than {MAX_DEPTH} levels")
-        for child in ast.iter_child_nodes(node):
-            if not isinstance(child, _OPERATOR_NODES):
-                same_chain = (isinstance(node, ast.BinOp) and child is node.left
-                              and isinstance(child, ast.BinOp)
-                              and any(isinstance(node.op, kinds) and isinstance(child.op, kinds)
-                                      for kinds in (_ADDITIVE, _MULTIPLICATIVE)))
-                stack.append((child, depth if same_chain else depth + 1))
-
-
 def _convert(text: object, names: Mapping[str, sympy.Expr], path: str, as_condition: bool):
     if not isinstance(names, Mapping):
         raise TypeError(f"names must be a mapping of names to SymPy symbols, not {type(names)}")
@@ -530,7 +430,7 @@ def _convert(text: object, names: Mapping[str, sympy.Expr], path: str, as_condit
         raise ModelError(path, "an expression", text, "the text is empty")
     tree = _syntax_tree(text, source, path)
     converter = _Converter(text, source, names, path)
-    _check_size(tree, converter)
+    _check_size(tree, converter.refuse)
     try:
         if as_condition:
             return converter.condition(tree.body).expr
@@ -736,13 +636,7 @@ def resolve_parameters(definitions: Mapping[str, object], *,
 
     symbols = {}
     for name in definitions:
-        if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name) \
-                or keyword.iskeyword(name):
-            raise ModelError(path_of(str(name)), "a parameter name made of ASCII letters, digits "
-                             "and underscores, not starting with a digit", name)
-        if name in RESERVED_NAMES or name == "t":
-            raise ModelError(path_of(name), "a parameter name that is not reserved", name,
-                             f"'{name}' is " + ("time" if name == "t" else "a built-in name"))
+        check_parameter_name(name, path_of(str(name)))
         symbols[name] = sympy.Symbol(name)
     exprs = {}
     for name, value in definitions.items():
@@ -758,35 +652,9 @@ def resolve_parameters(definitions: Mapping[str, object], *,
     dependencies = {name: sorted(free_names(expr), key=position.__getitem__)
                     for name, expr in exprs.items()}
     values: dict[sympy.Symbol, float] = {}
-    for name in _dependency_order(dependencies, definitions, path_of):
+    for name in dependency_order(dependencies, definitions, path_of):
         values[symbols[name]] = to_float(exprs[name], values, path=path_of(name))
     return {name: values[symbols[name]] for name in definitions}
-
-
-def _dependency_order(dependencies: dict[str, list[str]], definitions, path_of) -> list[str]:
-    """Order names so that each comes after what it depends on; refuse a cycle."""
-    order, state = [], {}  # state: 1 while on the current path, 2 when done
-    for root in dependencies:
-        if state.get(root):
-            continue
-        path, stack = [root], [iter(dependencies[root])]
-        state[root] = 1
-        while stack:
-            child = next(stack[-1], None)
-            if child is None:
-                stack.pop()
-                done = path.pop()
-                state[done] = 2
-                order.append(done)
-            elif state.get(child) == 1:
-                cycle = path[path.index(child):] + [child]
-                raise ModelError(path_of(child), "parameter definitions without a cycle",
-                                 definitions[child], "cycle: " + " -> ".join(cycle))
-            elif not state.get(child):
-                state[child] = 1
-                path.append(child)
-                stack.append(iter(dependencies[child]))
-    return order
 
 
 # ------------------------------------------------------------------ symbolic work on user expressions

@@ -76,6 +76,32 @@ def _save(fig, path: Path) -> Path:
     return path
 
 
+class _SeriesFigure:
+    """One figure reused for every single-column plot of a run: its line's data, the labels and the
+    limits change from plot to plot; the figure, axes, grid and ticks are made once."""
+
+    def __init__(self):
+        self.fig = self.ax = self.line = None
+
+    def draw(self, results: Results, name: str, unit: str, path: Path, title: str) -> Path:
+        if self.fig is None:
+            self.fig, self.ax = _new_figure(6.4, 3.8)
+            (self.line,) = self.ax.plot(results.t, results[name], label=name, lw=1.4)
+            self.ax.set_xlabel("t [s]")
+            self.ax.grid(alpha=0.3)
+            self.title = self.ax.set_title(title, fontsize=10)
+            _margins(self.fig, title=True)
+        else:
+            self.line.set_data(results.t, results[name])
+            self.line.set_label(name)
+            self.ax.relim()
+            self.ax.autoscale_view()
+        self.ax.set_ylabel(f"{name} [{unit}]")
+        self.title.set_text(title)
+        _save(self.fig, path)
+        return path
+
+
 def plot_series(results: Results, names: list[str], unit: str, path: Path, title: str = "") -> Path:
     """One figure of the named columns against t [s]."""
     fig, ax = _new_figure(6.4, 3.8)
@@ -187,15 +213,16 @@ def write_plots(results: Results, eom, directory: Path) -> list[Path]:
     unit = units(eom)
     title = eom.model.name
     paths = []
+    single = _SeriesFigure()
     for name in results.state_names:
-        paths.append(plot_series(results, [name], unit.get(name, "-"), directory / f"{name}.png", title))
+        paths.append(single.draw(results, name, unit.get(name, "-"), directory / f"{name}.png", title))
     tips = [k for k in results.outputs if k.startswith("tip_")]
     if tips:
         paths.append(plot_series(results, tips, "m", directory / "tip_deflection.png",
                                  f"{title}: tip deflection in the beam frame"))
     efforts = [k for k in results.outputs if k.startswith("effort_")]
     for name in efforts:
-        paths.append(plot_series(results, [name], unit.get(name, "-"), directory / f"{name}.png",
+        paths.append(single.draw(results, name, unit.get(name, "-"), directory / f"{name}.png",
                                  f"{title}: driver effort"))
     if "energy" in results.outputs and len(results.t) > 1:
         paths.append(plot_energy(results, directory / "energy.png", title))

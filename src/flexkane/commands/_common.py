@@ -149,15 +149,15 @@ def model_from_args(args) -> Model:
 
 def _check_bare_names(model: Model, bare: set[str]) -> None:
     """Report a ``--set NAME=...`` whose name is neither a parameter nor a coordinate or speed."""
-    from ..kane.chain import build_chain
+    from ..model.coordinates import coordinate_names
 
     if not bare:
         return
     probe = model.copy()
     for name in bare:
         probe.initial.pop(name, None)
-    chain = build_chain(probe.validate())
-    names = [c.q.name for c in chain.coordinates] + [c.u.name for c in chain.coordinates]
+    coordinates = coordinate_names(probe.validate())
+    names = [c.q for c in coordinates] + [c.u for c in coordinates]
     for name in sorted(bare):
         if name not in names:
             options = list(model.parameters) + names

@@ -19,20 +19,20 @@ def register(subparsers) -> None:
 
 
 def _handle(args) -> int:
-    from ..kane.chain import build_chain
+    from ..model.coordinates import coordinate_names
 
     model = model_from_args(args)   # validates fields, references, shape families and the chain
     sweep = _check_sweep_table(args.model, model)
-    chain = build_chain(model)
-    free = [c for c in chain.coordinates if c.driver is None]
+    coordinates = coordinate_names(model)
+    free = [c for c in coordinates if c.driver is None]
     modes = ", ".join(f"{b.name}: {b.n_modes} {b.shape.family}" + (f" + {b.n_axial} axial" if b.n_axial else "")
                       for b in model.beams.values())
     print(f"{args.model}: valid ({len(model.bodies)} bodies, {len(model.beams)} beams"
           + (f" [{modes}]" if modes else "") + f", {len(model.joints)} joints"
           + (f", {len(model.constraints)} loop constraints" if model.constraints else "")
-          + f"; {len(chain.coordinates)} generalized coordinates: "
-          f"{', '.join(c.q.name for c in chain.coordinates)}"
-          + (f"; {len(chain.coordinates) - len(free)} prescribed by drivers" if len(free) < len(chain.coordinates)
+          + f"; {len(coordinates)} generalized coordinates: "
+          f"{', '.join(c.q for c in coordinates)}"
+          + (f"; {len(coordinates) - len(free)} prescribed by drivers" if len(free) < len(coordinates)
              else "") + ")" + (f"; [sweep] of {sweep} variant(s)" if sweep else ""))
     return 0
 

@@ -20,9 +20,9 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from ..errors import ModelError
 from ..model import Model
-from ..model.parts import JOINT_DOFS, Joint
+from ..model.coordinates import coordinate_names, tree_order
+from ..model.parts import Joint
 from ..model.values import TIME, FieldSymbols, GeneratedSymbol
 
 __all__ = ["Chain", "Coordinate", "build_chain"]
@@ -131,17 +131,7 @@ class Chain:
 
 
 def _tree_order(model: Model) -> list[Joint]:
-    by_parent: dict[str, list[Joint]] = {}
-    for joint in model.joints.values():
-        by_parent.setdefault(joint.parent, []).append(joint)
-    order: list[Joint] = []
-    stack = ["ground"]
-    while stack:
-        parent = stack.pop(0)
-        for joint in sorted(by_parent.get(parent, []), key=lambda j: j.name):
-            order.append(joint)
-            stack.append(joint.child)
-    return order
+    return tree_order(model)
 
 
 def build_chain(model: Model) -> Chain:
@@ -158,31 +148,10 @@ def build_chain(model: Model) -> Chain:
     """
     chain = Chain(model=model, symbols=FieldSymbols(model))
     chain.joints = _tree_order(model)
-    raw: list[tuple[str, str, int, str, str]] = []  # (owner, role, index, q name, u name)
-    for joint in chain.joints:
-        roles = JOINT_DOFS[joint.type]
-        for k, role in enumerate(roles):
-            suffix = "" if len(roles) == 1 else f"_{role}"
-            qn = joint.coordinates[k] if joint.coordinates else f"q_{joint.name}{suffix}"
-            un = joint.speeds[k] if joint.speeds else f"u_{joint.name}{suffix}"
-            raw.append((joint.name, role, 0, qn, un))
-        if joint.child in model.beams:
-            beam = model.beams[joint.child]
-            for i in range(1, beam.n_modes + 1):
-                raw.append((beam.name, "mode", i, f"q_{beam.name}_{i}", f"u_{beam.name}_{i}"))
-            for k in range(1, beam.n_axial + 1):
-                raw.append((beam.name, "axial", k, f"s_{beam.name}_{k}", f"v_{beam.name}_{k}"))
-    if model.naming == "sequential":
-        raw = [(o, r, i, f"q{n + 1}", f"u{n + 1}") for n, (o, r, i, _, _) in enumerate(raw)]
-    seen: dict[str, str] = {}
-    for owner, role, index, qn, un in raw:
-        for name in (qn, un):
-            if name in seen or name in model.parameters or name in ("t", "pi"):
-                raise ModelError(f"joints.{owner}" if role not in ("mode", "axial") else f"beams.{owner}",
-                                 "coordinate and speed names unique and distinct from parameters", name)
-            seen[name] = owner
-        chain.coordinates.append(Coordinate(GeneratedSymbol(qn, real=True), GeneratedSymbol(un, real=True),
-                                            owner, role, index))
+    names = coordinate_names(model)   # names checked, initial conditions too
+    for c in names:
+        chain.coordinates.append(Coordinate(GeneratedSymbol(c.q, real=True), GeneratedSymbol(c.u, real=True),
+                                            c.owner, c.role, c.index))
     for coord in chain.coordinates:
         chain.ud[coord.u] = GeneratedSymbol(f"{coord.u.name}'", real=True)
     for joint in chain.joints:
@@ -210,20 +179,4 @@ def build_chain(model: Model) -> Chain:
         if joint.child in model.beams:
             for coord in chain.of(joint.child):
                 chain.qdot[coord.q] = coord.u
-    names = {c.q.name for c in chain.coordinates} | {c.u.name for c in chain.coordinates}
-    for key in model.initial:
-        if key not in names:
-            import difflib
-
-            close = difflib.get_close_matches(key, sorted(names), n=1, cutoff=0.5)
-            raise ModelError(f"initial.{key}", "the name of a generalized coordinate or speed of this model"
-                             f" ({', '.join(sorted(names))})", key,
-                             f"did you mean {close[0]!r}?" if close else None)
-    for coord in chain.coordinates:
-        if coord.driver == "coordinate" and coord.q.name in model.initial:
-            raise ModelError(f"initial.{coord.q.name}", "no initial value for a coordinate prescribed by a driver",
-                             model.initial[coord.q.name])
-        if coord.driver is not None and coord.u.name in model.initial:
-            raise ModelError(f"initial.{coord.u.name}", "no initial value for a speed prescribed by a driver",
-                             model.initial[coord.u.name])
     return chain

@@ -29,8 +29,6 @@ import math
 import numbers
 import re
 
-import sympy as sp
-
 from ..errors import ModelError, ModelErrors
 from .model import NAMING_STYLES, Model
 from .parts import (DISTRIBUTED_FRAMES, ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES, Beam,
@@ -81,37 +79,76 @@ def _is_pair(value) -> bool:
     return isinstance(value, (tuple, list)) and len(value) == 2
 
 
-class _Values:
-    """Evaluates constant fields and time laws of one model, for range checks."""
+def _parameter_values(definitions) -> dict[str, float]:
+    """The parameters' values: without SymPy when every definition is simple, else by
+    :func:`~flexkane.expressions.resolve_parameters` (which also gives every message)."""
+    from ..expression_syntax import (NeedsSymbolic, check_parameter_name, dependency_order, simple_names,
+                                     simple_value)
 
-    def __init__(self, model: Model):
+    try:
+        if not isinstance(definitions, dict):
+            raise NeedsSymbolic
+        for name in definitions:
+            check_parameter_name(name, f"parameters.{name}")
+        position = {name: k for k, name in enumerate(definitions)}
+        dependencies = {name: sorted(simple_names(value, definitions), key=position.__getitem__)
+                        for name, value in definitions.items()}
+        values: dict[str, float] = {}
+        for name in dependency_order(dependencies, definitions, lambda name: f"parameters.{name}"):
+            values[name] = simple_value(definitions[name], values)
+        return {name: values[name] for name in definitions}
+    except (NeedsSymbolic, ModelError):
         from ..expressions import resolve_parameters
 
-        numbers_ = resolve_parameters(model.parameters, path_prefix="parameters")
-        self.names = {name: sp.Symbol(name, real=True) for name in numbers_}
-        self.numbers = {self.names[name]: value for name, value in numbers_.items()}
-        self.t = sp.Symbol("t", real=True)
+        return resolve_parameters(definitions, path_prefix="parameters")
+
+
+class _Values:
+    """Evaluates constant fields and time laws of one model, for range checks.
+
+    Values are computed without SymPy (:func:`flexkane.expression_syntax.simple_value`) where that gives
+    the SymPy conversion's answer; any other expression goes through the conversion itself.
+    """
+
+    def __init__(self, model: Model):
+        #: The value of every parameter by name.
+        self.parameters = _parameter_values(model.parameters)
+
+    def evaluate(self, path: str, value, extra: dict) -> float:
+        """The value of an expression of the parameters and ``extra`` names (``t``, ``x``) [their units].
+
+        Raises ModelError as :func:`~flexkane.expressions.parse_expression` and
+        :func:`~flexkane.expressions.to_float` do (through them when the value needs SymPy).
+        """
+        from ..expression_syntax import field_value
+
+        return field_value(value, {**self.parameters, **extra}, path=path)
 
     def number(self, path: str, value, what: str, unit: str, *, time: bool = False) -> float:
         """The value of a field (at t = 0 for a time law); checks its type and that it is finite."""
-        from ..expressions import parse_expression, to_float
+        from ..expression_syntax import NeedsSymbolic, simple_value
 
         kind = f"{what} [{unit}]" + (", a number or an expression of t" if time else "")
         if not _is_value(value):
             raise ModelError(path, f"a number or an expression string ({kind})", value)
-        names = dict(self.names)
-        numbers_ = dict(self.numbers)
-        if time:
-            names["t"] = self.t
-            numbers_[self.t] = 0.0
+        known = {**self.parameters, "t": 0.0} if time else self.parameters
+        try:
+            return simple_value(value, known)
+        except NeedsSymbolic:
+            pass
+        import sympy as sp
+
+        from ..expressions import parse_expression, to_float
+
+        names = {name: sp.Symbol(name, real=True) for name in known}
         try:
             expr = parse_expression(value, names, path=path)
         except ModelError as exc:
             raise ModelError(exc.path, f"{kind}, written as {exc.expected}", exc.given, exc.hint) from None
         try:
-            return to_float(expr, numbers_, path=path)
+            return to_float(expr, {names[name]: number for name, number in known.items()}, path=path)
         except ModelError as exc:
-            where = " at t = 0" if time and expr.has(self.t) else ""
+            where = " at t = 0" if time and expr.has(names["t"]) else ""
             raise ModelError(path, f"{kind} with a finite real value{where}", value, exc.hint) from None
 
     @staticmethod
@@ -176,7 +213,7 @@ def _names_list(path: str, value, count: int, what: str) -> None:
         return
     if not isinstance(value, (list, tuple)) or len(value) != count:
         raise ModelError(path, f"a list of {count} {what} names", value)
-    from ..expressions import RESERVED_NAMES
+    from ..expression_syntax import RESERVED_NAMES
 
     for i, item in enumerate(value):
         _name(f"{path}[{i}]", item)
@@ -539,9 +576,6 @@ def _check_load(model: Model, load: Load, values: _Values, lengths: dict) -> Non
 
 
 def _check_distributed_load(model: Model, load: DistributedLoad, values: _Values, lengths: dict) -> None:
-    from ..expressions import parse_expression, to_float
-    from ..kane.distributed_loads import POSITION
-
     path = f"distributed_loads.{load.name}"
     beams = list(model.beams)
     if not isinstance(load.beam, str) or load.beam not in model.beams:
@@ -549,7 +583,7 @@ def _check_distributed_load(model: Model, load: DistributedLoad, values: _Values
                          load.beam, _suggest(load.beam, beams) if isinstance(load.beam, str) else None)
     _choice(f"{path}.frame", load.frame, DISTRIBUTED_FRAMES)
     _integer(f"{path}.quadrature_nodes", load.quadrature_nodes, 1, 200, "number of Gauss-Legendre nodes")
-    if "x" in values.names:
+    if "x" in values.parameters:
         raise ModelError("parameters.x", "parameter names other than 'x' in a model with distributed loads "
                          "(x is the position along the beam)", "x")
     kind = "force per unit length [N/m], a number or an expression of x [m], t [s] and the parameters"
@@ -558,15 +592,31 @@ def _check_distributed_load(model: Model, load: DistributedLoad, values: _Values
         value = getattr(load, key)
         if not _is_value(value):
             raise ModelError(f"{path}.{key}", kind, value)
-        expr = parse_expression(value, {**values.names, "t": values.t, "x": POSITION}, path=f"{path}.{key}")
+        _parses(f"{path}.{key}", value, values, ("t", "x"))
         for x in (0.0, 0.5 * length, length):
             try:
-                to_float(expr, {**values.numbers, values.t: 0.0, POSITION: x}, path=f"{path}.{key}")
+                values.evaluate(f"{path}.{key}", value, {"t": 0.0, "x": x})
             except ModelError as exc:
                 raise ModelError(f"{path}.{key}", f"{kind}, finite at t = 0 along the beam", value,
                                  f"at x = {x:g} m: {exc.hint or exc.expected}") from None
     if all(isinstance(v, (int, float)) and v == 0 for v in (load.fx, load.fy)):
         raise ModelError(path, "a non-zero component fx or fy [N/m]", None, show_given=False)
+
+
+def _parses(path: str, value, values: _Values, names: tuple[str, ...]) -> None:
+    """Check that an expression is in the language and uses only the parameters and ``names``."""
+    from ..expression_syntax import NeedsSymbolic, simple_names
+
+    try:
+        simple_names(value, {**values.parameters, **dict.fromkeys(names, 0.0)})
+        return
+    except NeedsSymbolic:
+        pass
+    import sympy as sp
+
+    from ..expressions import parse_expression
+
+    parse_expression(value, {name: sp.Symbol(name, real=True) for name in [*values.parameters, *names]}, path=path)
 
 
 def _check_end(model: Model, path: str, part, end: str, values: _Values, lengths: dict) -> None:
@@ -722,7 +772,7 @@ def _check_parameter_names(model: Model) -> None:
     The symbols are distinct whatever the names (see :class:`~flexkane.model.values.GeneratedSymbol`);
     the refusal keeps printed equations readable.
     """
-    from ..kane.beam_constants import generated_constant
+    from .constant_names import generated_constant
 
     label_beams = len(model.beams) > 1
     for name in model.parameters:
@@ -736,10 +786,10 @@ def _check_parameter_names(model: Model) -> None:
 
 def _family(spec: ShapeSpec, path: str, n: int, kind: str, values: _Values) -> None:
     """Build the shape family, check that it is of ``kind`` and provides ``n`` functions."""
-    from ..kane.equations import shape_family
+    from ..modes.from_spec import shape_family
 
     try:
-        family = shape_family(spec, path, {name: values.numbers[s] for name, s in values.names.items()})
+        family = shape_family(spec, path, values.parameters)
     except ModelError as exc:
         hint = exc.hint
         option = exc.path.rsplit(".", 1)[-1]
@@ -762,21 +812,21 @@ def _family(spec: ShapeSpec, path: str, n: int, kind: str, values: _Values) -> N
 
 def _check_structure(model: Model, values: _Values) -> None:
     """Shape families, the chain's coordinates, initial conditions and dependent speeds."""
-    from ..kane.chain import build_chain
+    from .coordinates import coordinate_names
 
     for beam in model.beams.values():
         path = f"beams.{beam.name}"
         _family(beam.shape, f"{path}.shape", beam.n_modes, "transverse", values)
         if beam.n_axial:
             _family(beam.axial_shape, f"{path}.axial_shape", beam.n_axial, "axial", values)
-    chain = build_chain(model)   # coordinate names; initial conditions name existing coordinates
+    coordinates = coordinate_names(model)   # names unique; initial conditions name existing coordinates
     units = {}
-    for coord in chain.coordinates:
+    for coord in coordinates:
         unit = _ROLE_UNIT[coord.role]
-        units[coord.q.name], units[coord.u.name] = unit, f"{unit}/s"
+        units[coord.q], units[coord.u] = unit, f"{unit}/s"
     for key, value in model.initial.items():
         values.number(f"initial.{key}", value, f"initial value of {key}", units[key])
-    free = {c.u.name for c in chain.coordinates if c.driver is None}
+    free = {c.u for c in coordinates if c.driver is None}
     chosen: dict[str, str] = {}
     for con in model.constraints.values():
         for i, name in enumerate(con.dependent or []):

@@ -30,7 +30,7 @@ from typing import Any
 from ..errors import ModelError
 from .axial import AxialFixedFixed, AxialFixedFree
 from .base import RigidMode, ShapeFamily
-from .expression import XI, Expression
+from .expression import Expression
 from .polynomial import Polynomial
 from .tip_mass import ClampedFreeTipMass
 from .transverse import (ClampedClamped, ClampedFree, ClampedPinned, FreeFree, PinnedFree,
@@ -89,3 +89,12 @@ def get_family(name: str, **options: Any) -> ShapeFamily:
             expected = ("options among " + ", ".join(accepted)) if accepted else "no options"
             raise ModelError(option, f"{expected} for family {name!r}", options[option])
     return cls(**options)
+
+
+def __getattr__(name: str):
+    """``XI``, the SymPy symbol of the abscissa x / L, is made on first use (SymPy is not loaded before)."""
+    if name == "XI":
+        from .expression import _xi
+
+        return _xi()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

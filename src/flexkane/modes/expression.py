@@ -7,21 +7,37 @@ them with ``sympy.Symbol("xi")`` or parse text with :func:`flexkane.expressions.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import sympy
 
 from ..errors import ModelError
 from .base import END_CONDITIONS, ShapeFamily, as_abscissae, parse_boundary
 
+if TYPE_CHECKING:
+    import sympy
+
 __all__ = ["Expression", "XI"]
 
 #: The symbol of the dimensionless abscissa ``x / L``.
-XI = sympy.Symbol("xi")
+#: (SymPy is imported when the family is first used: loading :mod:`flexkane.modes` needs no SymPy.)
 
 
-def _as_expression(value: Any, k: int) -> sympy.Expr:
+def __getattr__(name: str):
+    if name == "XI":
+        return _xi()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def _xi():
+    import sympy
+
+    return sympy.Symbol("xi")   # SymPy caches symbols: every call gives the same object
+
+
+def _as_expression(value: Any, k: int) -> "sympy.Expr":
+    import sympy
+
     path = f"expressions[{k}]"
     if isinstance(value, str):
         raise ModelError(path, "a SymPy expression in xi", value,
@@ -37,10 +53,10 @@ def _as_expression(value: Any, k: int) -> sympy.Expr:
         raise ModelError(path, "an expression of xi = x/L only", str(expr),
                          hint=f"unknown symbol(s) {', '.join(others)}")
     # adopt the package's xi, whatever assumptions the caller's symbol carries
-    return expr.xreplace({s: XI for s in expr.free_symbols})
+    return expr.xreplace({s: _xi() for s in expr.free_symbols})
 
 
-def _is_zero(value: sympy.Expr) -> bool:
+def _is_zero(value: "sympy.Expr") -> bool:
     """Whether a number found by substitution is zero (exactly, or to 1e-14 if a float)."""
     if value == 0:
         return True
@@ -66,6 +82,9 @@ class Expression(ShapeFamily):
     option_names = ("expressions", "boundary")
 
     def __init__(self, expressions: Any = None, boundary: str | None = None):
+        import sympy
+
+        XI = _xi()
         if expressions is None or isinstance(expressions, (str, sympy.Basic)) \
                 or not hasattr(expressions, "__len__") or len(expressions) == 0:
             raise ModelError("expressions", "a non-empty list of SymPy expressions in xi",
@@ -113,6 +132,9 @@ class Expression(ShapeFamily):
         ModelError
             Naming the expression, the condition and the value found.
         """
+        import sympy
+
+        XI = _xi()
         root, tip = parse_boundary(boundary)
         for end, point in ((root, 0), (tip, 1)):
             for order in END_CONDITIONS[end]:
