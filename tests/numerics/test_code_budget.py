@@ -70,3 +70,14 @@ def test_falling_beam_exact_with_40_modes_derives_and_its_rhs_compiles(monkeypat
                                       cache_dir=tmp_path)
     results = flexkane.simulate(compiled, t_end=0.01, dt_out=0.005)
     assert results.success and len(compiled.eom.u) == 40 + 3
+
+
+@pytest.mark.slow
+def test_spin_up_with_10_stiffened_modes_is_refused_by_its_size_not_a_timer(monkeypatch, capsys, tmp_path):
+    """27,544 straight-line operations (benchmarks/RESULTS.md): above the default budget."""
+    monkeypatch.delenv("FLEXKANE_COMPILE_OPERATIONS", raising=False)
+    code = main(["run", "spin-up", "--n-modes", "10", "--t-end", "0.01", "--dt-out", "0.005",
+                 "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert f"at most {DEFAULT_COMPILED_OPERATIONS} operations" in err and "Traceback" not in err

@@ -25,10 +25,11 @@ from ..kane.budget import _setting
 __all__ = ["DEFAULT_COMPILED_OPERATIONS", "check_compiled_operations", "compiled_operations"]
 
 #: Default largest number of straight-line operations of a generated right-hand side (outside term
-#: tables). Measured (benchmarks/RESULTS.md): the largest models that compile in a few minutes of CPU
-#: time have up to 2.3e4 (two-link-flexible-arm 10 + 10, flexible-arm 30); flexible-arm with 40 modes
-#: has 4.0e4 and did not finish compiling.
-DEFAULT_COMPILED_OPERATIONS = 30_000
+#: tables). Measured (benchmarks/RESULTS.md): generation and compile take about 20 s plus 7 ms of
+#: CPU time per operation up to flexible-arm with 40 modes (7,908 operations, 77 s, 0.67 GB);
+#: spin-up (geometric stiffening) with 10 modes, 27,544 operations, exhausts Python's compiler
+#: (RecursionError) before Numba starts.
+DEFAULT_COMPILED_OPERATIONS = 20_000
 
 # Lines of data, not code: the term tables and copy tables of large_rhs (module-level arrays).
 _DATA_LINE = re.compile(r"^\w+_(TABLE_COEF|TABLE_INDEX|COPY_DY|COPY_M) = ")
