@@ -235,6 +235,9 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
     ValueError
         If the shapes disagree, an expression contains an undeclared symbol or a function
         that cannot be printed.
+    ModelError
+        If the generated code exceeds the size budget of
+        :mod:`flexkane.numerics.code_budget` (checked before anything is compiled).
     """
     nq, nu = len(eom.q), len(eom.u)
     qdot = sympy.Matrix(eom.qdot)
