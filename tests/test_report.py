@@ -147,3 +147,32 @@ def test_grouping_by_speed_derivatives_equals_sympy_collect(name, modes):
         assert report._collect_linear(expanded, ud) == sp.collect(expanded, ud)
     x = sp.Symbol("x")
     assert report._collect_linear(sp.expand(ud[0] ** 2 + x * ud[0]), ud) is None      # not linear in u'
+
+
+def test_a_report_too_long_to_print_term_by_term_is_written_in_terms_of_intermediates(monkeypatch):
+    """Above TERM_BY_TERM_MAX printed nodes the forces are printed through their common
+    subexpressions, whose length grows with the distinct subexpressions only; below it the report
+    is unchanged. Substituting the intermediates back gives the forces exactly."""
+    import sympy as sp
+
+    import flexkane
+    from flexkane import report
+    from flexkane.kane.equations import derive
+
+    eom = derive(flexkane.builtin_model("flexible-arm"))
+    flat = [e for r in range(len(eom.all_speeds))
+            for e in (eom.F_r_star[r], *[v[r] for v in eom.F_r.values() if v[r] != 0])]
+    size = report.printed_size(flat)
+    assert size > len(flat)
+    full = report.format_equations(eom)
+    assert "x_0 =" not in full
+    monkeypatch.setattr(report, "TERM_BY_TERM_MAX", size - 1)
+    short = report.format_equations(eom)
+    assert short.startswith("x_0 = ") and len(short) < len(full)
+    intermediates, forces = report._forces(eom)
+    values = {}
+    for sym, expr in intermediates:
+        values[sym] = expr.xreplace(values)
+    assert sp.expand(forces[0][0].xreplace(values) - eom.F_r_star[0]) == 0
+    md = report.equations_markdown(eom)
+    assert "intermediates $x_k$" in md and "x_{0} &=" in md

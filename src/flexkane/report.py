@@ -39,6 +39,58 @@ _LINE = 150
 #: Expressions with more operations than this are grouped by u' without being expanded first.
 _EXPAND_LIMIT = 600
 
+#: Printed size (nodes of the expression trees of all F*_r and F_r, a repeated subtree counted each
+#: time it is printed) above which the forces are printed in terms of intermediates (common
+#: subexpressions) instead of term by term: printing term by term takes time in proportion to the
+#: printed size, which grows far faster than the equations' distinct subexpressions (for
+#: two-link-flexible-arm with 10 + 10 modes about 7 minutes of CPU time; benchmarks/RESULTS.md).
+TERM_BY_TERM_MAX = 200_000
+
+
+def printed_size(exprs) -> int:
+    """Nodes of the expression trees of ``exprs``, every repeated subtree counted where it occurs.
+
+    Computed over the distinct subexpressions (each visited once), so in time proportional to
+    their number, however large the printed form.
+    """
+    size: dict = {}
+    stack = [(e, False) for e in exprs]
+    while stack:
+        node, done = stack.pop()
+        if node in size:
+            continue
+        if done:
+            size[node] = 1 + sum(size[a] for a in node.args)
+        else:
+            stack.append((node, True))
+            stack.extend((a, False) for a in node.args if a not in size)
+    return sum(size[e] for e in exprs)
+
+
+def _forces(eom):
+    """The forces of the report: ``(intermediates, rows)``.
+
+    ``rows[r]`` is ``(F*_r, {kind: F_r by source})`` of the r-th speed. Up to
+    :data:`TERM_BY_TERM_MAX` printed nodes, each is grouped by u' (:func:`collect_terms`) and
+    ``intermediates`` is empty; above it, the common subexpressions of all of them are the
+    intermediates ``x_k = ...`` (in order of evaluation) and the forces are written in terms of them.
+    """
+    rows = [(eom.F_r_star[r], {k: v[r] for k, v in eom.F_r.items() if v[r] != 0})
+            for r in range(len(eom.all_speeds))]
+    flat = [e for star, active in rows for e in (star, *active.values())]
+    if printed_size(flat) <= TERM_BY_TERM_MAX:
+        return [], [(collect_terms(eom, star), {k: collect_terms(eom, v) for k, v in active.items()})
+                    for star, active in rows]
+    intermediates, reduced = sp.cse(flat, symbols=sp.numbered_symbols("x_", real=True), order="none")
+    it = iter(reduced)
+    return intermediates, [(next(it), {k: next(it) for k in active}) for _, active in rows]
+
+
+def _intermediates_note(intermediates) -> str:
+    return (f"The equations are too long to print term by term (more than {TERM_BY_TERM_MAX} printed "
+            f"nodes): they are written in terms of {len(intermediates)} intermediates $x_k$, their "
+            "common subexpressions, in order of evaluation.")
+
 
 def collect_terms(eom, expr: sp.Expr) -> sp.Expr:
     """Group an expression by the speed derivatives u', as eq. 8.23 is written.
@@ -262,9 +314,14 @@ def format_equations(eom, latex: bool = False) -> str:
     names = latex_names(eom) if latex else None
     ud = list(eom.chain.ud.values())
     lines = []
+    intermediates, forces = _forces(eom)
+    for sym, expr in intermediates:
+        if latex:
+            lines += _aligned(_latex(sym, names), _latex_lines(eom, expr, names))
+        else:
+            lines.append(f"{sym} = {_str(expr, ud)}")
     for r, u in enumerate(eom.all_speeds):
-        fs = collect_terms(eom, eom.F_r_star[r])
-        active = {k: collect_terms(eom, v[r]) for k, v in eom.F_r.items() if v[r] != 0}
+        fs, active = forces[r]
         if latex:
             lines += _aligned(rf"F^*_{{{_latex_symbol(u.name)}}}", _latex_lines(eom, fs, names))
             for kind, expr in active.items():
@@ -442,9 +499,14 @@ def equations_markdown(eom, values: dict | None = None) -> str:
     out += ["", "## Generalized inertia and active forces (eqs. 8.22, 8.23, 8.28-8.35)", "",
             "Vectors are resolved along the axes of the link they belong to. F*_r is grouped by the "
             "derivatives of the speeds, as eq. 8.23 is.", ""]
+    intermediates, forces = _forces(eom)
+    if intermediates:
+        out += [_intermediates_note(intermediates), "", "$$", "\\begin{aligned}"]
+        out += _intermediate_rows(eom, intermediates, names)
+        out += ["\\end{aligned}", "$$", ""]
     for r, u in enumerate(eom.all_speeds):
         out += ["$$", "\\begin{aligned}"]
-        out += _one_speed(eom, r, u, names)
+        out += _one_speed(eom, forces[r], u, names)
         out += ["\\end{aligned}", "$$", ""]
     out += ["## Equations of motion", "",
             f"State: {', '.join(eom.state_names)}. Mass matrix $M$ is {len(eom.u)} x {len(eom.u)}.", ""]
@@ -460,13 +522,20 @@ def equations_markdown(eom, values: dict | None = None) -> str:
     return "\n".join(out)
 
 
-def _one_speed(eom, r: int, u, names) -> list[str]:
+def _intermediate_rows(eom, intermediates, names) -> list[str]:
+    rows = []
+    for sym, expr in intermediates:
+        rows += _aligned(_latex(sym, names), _latex_lines(eom, expr, names))
+    return rows
+
+
+def _one_speed(eom, force, u, names) -> list[str]:
+    """Aligned rows of F*_r and F_r of one speed; ``force`` is its row of :func:`_forces`."""
     label = _latex_symbol(u.name)
-    rows = _aligned(rf"F^*_{{{label}}}", _latex_lines(eom, collect_terms(eom, eom.F_r_star[r]), names))
-    active = {k: v[r] for k, v in eom.F_r.items() if v[r] != 0}
+    star, active = force
+    rows = _aligned(rf"F^*_{{{label}}}", _latex_lines(eom, star, names))
     for kind, expr in active.items():
-        rows += _aligned(rf"(F_{{{label}}})_{{\mathrm{{{kind}}}}}",
-                         _latex_lines(eom, collect_terms(eom, expr), names))
+        rows += _aligned(rf"(F_{{{label}}})_{{\mathrm{{{kind}}}}}", _latex_lines(eom, expr, names))
     if not active:
         rows.append(rf"F_{{{label}}} &= 0 \\")
     return rows
@@ -500,8 +569,12 @@ def equations_latex(eom, values: dict | None = None) -> str:
         doc += [rf"\item {_md_to_tex(item)}" for item in items] or [r"\item none"]
         doc.append(r"\end{itemize}")
     doc += [r"\subsection*{Generalized inertia and active forces (eqs. 8.22, 8.23, 8.28--8.35)}"]
+    intermediates, forces = _forces(eom)
+    if intermediates:
+        doc += [_md_to_tex(_intermediates_note(intermediates)), r"\begin{align*}"]
+        doc += _intermediate_rows(eom, intermediates, names) + [r"\end{align*}"]
     for r, u in enumerate(eom.all_speeds):
-        doc += [r"\begin{align*}"] + _one_speed(eom, r, u, names) + [r"\end{align*}"]
+        doc += [r"\begin{align*}"] + _one_speed(eom, forces[r], u, names) + [r"\end{align*}"]
     if values is not None:
         doc += [r"\subsection*{Constants}", r"\begin{longtable}{lllll}",
                 r"symbol & of & definition & unit & value \\ \hline \endhead"]

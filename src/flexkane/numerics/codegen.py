@@ -30,6 +30,7 @@ from sympy.printing.precedence import precedence
 from sympy.printing.pycode import PythonCodePrinter
 
 from flexkane.numerics import large_rhs
+from flexkane.numerics.code_budget import check_compiled_operations, compiled_operations
 from flexkane.numerics.large_rhs import Statement
 
 __all__ = ["UNROLL_LDL_MAX", "generate_outputs_source", "generate_rhs_source"]
@@ -234,6 +235,9 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
     ValueError
         If the shapes disagree, an expression contains an undeclared symbol or a function
         that cannot be printed.
+    ModelError
+        If the generated code exceeds the size budget of
+        :mod:`flexkane.numerics.code_budget` (checked before anything is compiled).
     """
     nq, nu = len(eom.q), len(eom.u)
     qdot = sympy.Matrix(eom.qdot)
@@ -294,6 +298,7 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
     if split:
         lines += large_rhs.large_rhs_lines(name, statements, lambda e: _print(printer, e),
                                            [*q_names, *u_names], c_names, t_name, nq, nu)
+        check_compiled_operations(compiled_operations(lines + system_lines))
         return "\n".join(lines + system_lines) + "\n"
     lines += ['@njit(cache=True, error_model="numpy")',
               f"def {name}(t, y, p, dy):",
@@ -308,6 +313,7 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
         lines.append(f"{ind}return 0")
     else:
         lines.append(f"{ind}return ldl_solve(_M, dy[{nq}:])")
+    check_compiled_operations(compiled_operations(lines + system_lines))
     return "\n".join(lines + system_lines) + "\n"
 
 
