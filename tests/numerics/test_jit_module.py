@@ -134,3 +134,12 @@ def test_a_new_structure_is_compiled_by_a_child_process_into_the_cache(tmp_path,
     with jit_module.compile_in_subprocess(announce=lambda: announced.append(True)):
         build_module(source, key, tmp_path)                 # compiled already: no child, no announce
     assert announced == [True]
+
+
+def test_code_too_deeply_nested_for_python_is_a_model_error(tmp_path):
+    from flexkane.errors import ModelError
+    from flexkane.numerics.jit_module import build_module
+
+    deep = "+".join(["1.0"] * 200_000)   # a sum nested deeper than Python's compiler recurses
+    with pytest.raises(ModelError, match="model size"):
+        build_module(f"X = {deep}\n", "deeply_nested", tmp_path, in_subprocess=False)

@@ -303,6 +303,13 @@ def build_module(source: str, key: str, cache_dir: Path | None = None, *,
     sys.modules[module_name] = module
     try:
         spec.loader.exec_module(module)
+    except RecursionError:   # Python's own compiler: an expression nested too deeply
+        del sys.modules[module_name]
+        from ..errors import ModelError
+
+        raise ModelError("model size", "generated code whose expressions Python can compile", "an expression "
+                         "nested too deeply for Python's compiler (RecursionError)",
+                         "use fewer shape functions (n_modes of the beams)") from None
     except BaseException:
         del sys.modules[module_name]
         raise
