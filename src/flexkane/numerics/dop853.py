@@ -36,8 +36,36 @@ import math
 
 import numpy as np
 from numba import njit
-from scipy.integrate._ivp import dop853_coefficients as _dop853_coefficients
 
+
+def _dop853_tableau():
+    """SciPy's DOP853 tableau (``scipy/integrate/_ivp/dop853_coefficients.py``, which needs only NumPy).
+
+    The file is loaded by itself: importing it as ``scipy.integrate._ivp.dop853_coefficients``
+    would first run ``scipy.integrate``'s ``__init__`` (its solvers, quadrature and ODE wrappers:
+    about 0.8 s, most of the start-up of a cached run), none of which the compiled loop uses.
+    """
+    import importlib.util
+    import pathlib
+    import sys
+
+    name = "scipy.integrate._ivp.dop853_coefficients"
+    if name in sys.modules:
+        return sys.modules[name]
+    import scipy
+
+    path = pathlib.Path(scipy.__file__).parent / "integrate" / "_ivp" / "dop853_coefficients.py"
+    spec = importlib.util.spec_from_file_location("flexkane_dop853_coefficients", path)
+    if spec is None or not path.is_file():  # a SciPy laid out otherwise: the ordinary import
+        from scipy.integrate._ivp import dop853_coefficients
+
+        return dop853_coefficients
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+_dop853_coefficients = _dop853_tableau()
 DOP853_A = np.ascontiguousarray(_dop853_coefficients.A, dtype=np.float64)    # (16, 16)
 DOP853_B = np.ascontiguousarray(_dop853_coefficients.B, dtype=np.float64)    # (12,)
 DOP853_C = np.ascontiguousarray(_dop853_coefficients.C, dtype=np.float64)    # (16,)
