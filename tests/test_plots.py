@@ -60,7 +60,7 @@ def captured_figures(monkeypatch):
 
 def test_every_state_variable_tip_effort_and_energy_is_plotted_with_a_curve(tmp_path, captured_figures):
     eom, res = synthetic_run("spin-up-linear")
-    paths = write_plots(res, eom, tmp_path)
+    paths = write_plots(res, units(eom), tmp_path, eom.model.name)
     names = {p.name for p in paths}
     assert {f"{n}.png" for n in res.state_names} <= names
     assert {"tip_deflection.png", "effort_hub.png", "energy.png"} <= names
@@ -80,7 +80,7 @@ def test_every_state_variable_tip_effort_and_energy_is_plotted_with_a_curve(tmp_
 def test_tip_deflection_plot_has_one_curve_per_beam_in_its_frame(tmp_path, captured_figures):
     eom, res = synthetic_run("two-link-flexible-arm")
     one = Results(t=res.t, state=res.state[:, :1], state_names=res.state_names[:1], outputs=res.outputs)
-    write_plots(one, eom, tmp_path)
+    write_plots(one, units(eom), tmp_path, eom.model.name)
     fig = captured_figures["tip_deflection.png"]
     assert [line.get_label() for line in fig.axes[0].get_lines()] == ["tip_upper", "tip_fore"]
     assert "beam frame" in fig.axes[0].get_title()

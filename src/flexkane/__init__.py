@@ -3,7 +3,7 @@
 The pipeline, one public function per stage::
 
     model = flexkane.builtin_model("falling-beam-exact")      # or flexkane.load_model("arm.toml")
-    eom = flexkane.derive(model)                               # Kane's equations, M(q,t) u' = f(q,u,t)
+    eom = flexkane.derive(model)                               # Kane's equations, M(q,t) u' = f(q,u,t) (cached)
     compiled = flexkane.compile_model(eom)                     # Numba right-hand side, cached on disk
     results = flexkane.simulate(compiled, t_end=1.0, dt_out=0.01)
     results["q4"], results["energy"]
@@ -23,7 +23,7 @@ from ._version import __version__
 #: Public name -> module (relative to this package) that defines it.
 _PUBLIC = {
     "builtin_model": ".builtin", "builtin_names": ".builtin",
-    "EquationsOfMotion": ".kane", "derive": ".kane",
+    "EquationsOfMotion": ".kane", "derive": ".derivation_cache",
     "Model": ".model", "dumps_model": ".model", "load_model": ".model", "loads_model": ".model",
     "save_model": ".model",
     "Results": ".results", "load_results": ".results",

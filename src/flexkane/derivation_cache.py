@@ -51,13 +51,11 @@ import tempfile
 from functools import lru_cache
 from pathlib import Path
 
-import sympy as sp
-from sympy.core.function import AppliedUndef
-
 from ._version import __version__
 from .model import Model
 
-__all__ = ["VALUE_FIELDS", "cache_path", "cached_derive", "cached_rhs_source", "structure_signature"]
+__all__ = ["VALUE_FIELDS", "Derivation", "cache_path", "cached_derive", "cached_rhs_source", "derive",
+           "structure_signature"]
 
 # Key paths of the constant fields that the derivation turns into a symbol, a parameter's symbol or
 # a zero (``FieldSymbols.value``): only that class is structure. A field missing here is compared by
@@ -82,6 +80,10 @@ _NUMBERS = (re.compile(r"parameters|initial"), re.compile(r"beams\.[^.]+\.(shape
 # A beam length is a value field, but its text names the constants at the tip (``Phi_1(L)``).
 _BEAM_LENGTH = re.compile(r"beams\.[^.]+\.L")
 _FORMAT = 1  # layout of the cache files
+# Sources that compute a run's numbers, its manifest and its generated module beside the equations.
+_RUN_SOURCES = ("modes/*.py", "report.py", "validity.py", "run_manifest.py", "plots.py", "natural_order.py",
+                "expression_syntax.py", "simulation.py", "numerics/codegen.py", "numerics/large_rhs.py",
+                "numerics/code_budget.py")
 
 
 # ---------------------------------------------------------------------- structure signature
@@ -149,12 +151,35 @@ def structure_signature(model: Model) -> str:
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
+def _sympy_version() -> str:
+    """SymPy's version, from its installed metadata (a cached run does not import SymPy)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("sympy")
+    except PackageNotFoundError:   # not installed as a distribution: ask the package itself
+        import sympy
+
+        return sympy.__version__
+
+
+@lru_cache(maxsize=1)
+def _run_digest() -> str:
+    """Digest of the sources that make a run's manifest, numbers and module from the equations."""
+    root = Path(__file__).resolve().parent
+    digest = hashlib.sha256(_code_digest().encode())
+    for pattern in _RUN_SOURCES:
+        for path in sorted(root.glob(pattern)):
+            digest.update(str(path.relative_to(root)).encode() + b"\0" + path.read_bytes() + b"\0")
+    return digest.hexdigest()
+
+
 @lru_cache(maxsize=1)
 def _code_digest() -> str:
     """Digest of the versions and sources that produce the equations (invalidates old files)."""
     root = Path(__file__).resolve().parent
     digest = hashlib.sha256()
-    for text in (__version__, sp.__version__, sys.version.split()[0], str(_FORMAT)):
+    for text in (__version__, _sympy_version(), sys.version.split()[0], str(_FORMAT)):
         digest.update(text.encode() + b"\0")
     sources = sorted([*root.glob("kane/*.py"), *root.glob("model/*.py"), root / "expressions.py"])
     for path in sources:
@@ -193,6 +218,8 @@ def _rebuild_assoc(cls, args):
 
 
 def _rebuild_pow(base, exp):
+    import sympy as sp
+
     return sp.Pow(base, exp, evaluate=False)
 
 
@@ -209,6 +236,9 @@ class _ExpressionPickler(pickle.Pickler):
     """
 
     def reducer_override(self, obj):
+        import sympy as sp
+        from sympy.core.function import AppliedUndef
+
         kind = type(obj)
         if kind is sp.Add or kind is sp.Mul:
             return _rebuild_assoc, (kind, obj.args)
@@ -261,6 +291,36 @@ def _bind(eom, model: Model):
 
 
 # ---------------------------------------------------------------------- public functions
+def derive(model: Model, *, cache: bool = True, cache_dir=None, announce=None):
+    """Derive Kane's equations of motion of a model, from the cache of its structure when it has them.
+
+    Parameters
+    ----------
+    model : Model
+        A model (validated here).
+    cache : bool
+        Use the cache of derived equations (default); ``False`` derives afresh and stores nothing.
+    cache_dir : path-like, optional
+        Root of the cache; default :func:`flexkane.numerics.default_cache_dir`.
+    announce : callable, optional
+        Called without arguments before deriving.
+
+    Returns
+    -------
+    EquationsOfMotion
+        ``M(q, t) u' = f(q, u, t)`` with ``q' = qdot``; ``eom.model`` is the model given. From the
+        cache, ``eom.derivation_key`` names the stored equations, so that
+        :func:`flexkane.compile_model` also finds their generated code there.
+    """
+    if cache:
+        return cached_derive(model, cache_dir, announce=announce)
+    from .kane import derive as derive_afresh
+
+    if announce is not None:
+        announce()
+    return derive_afresh(model)
+
+
 def cached_derive(model: Model, cache_dir=None, *, announce=None):
     """Derive Kane's equations of ``model``, or load them from the cache of its structure.
 
@@ -276,11 +336,15 @@ def cached_derive(model: Model, cache_dir=None, *, announce=None):
     Returns
     -------
     EquationsOfMotion
-        Equal to ``flexkane.derive(model)``, with ``eom.model`` the model given (so its numbers
-        are the default ones) and ``eom.derivation_key`` the cache key.
+        Equal to ``flexkane.derive(model, cache=False)``, with ``eom.model`` the model given (so
+        its numbers are the default ones) and ``eom.derivation_key`` the cache key.
     """
-    from .kane import derive
+    from .errors import ModelError
+    from .kane import derive as derive_afresh
 
+    if not isinstance(model, Model):
+        raise ModelError("model", "a flexkane Model (flexkane.load_model, flexkane.builtin_model)",
+                         type(model).__name__)
     model.validate()
     path = cache_path(model, cache_dir)
     eom = None
@@ -296,7 +360,7 @@ def cached_derive(model: Model, cache_dir=None, *, announce=None):
     if eom is None:
         if announce is not None:
             announce()
-        eom = derive(model)
+        eom = derive_afresh(model)
         try:
             _write_atomically(path, _dumps({"format": _FORMAT, "eom": eom}))
         except OSError:
@@ -306,36 +370,192 @@ def cached_derive(model: Model, cache_dir=None, *, announce=None):
     return eom
 
 
+def _source_path(root: Path, key: str) -> Path:
+    return root / "derived" / f"{key}-{_run_digest()[:16]}.module.py"
+
+
 def cached_rhs_source(eom, cache_dir=None) -> str:
-    """Generated right-hand side of ``eom``, from the cache when ``eom`` came from it.
+    """Generated code of ``eom`` (right-hand side, quadratures, outputs), from the cache when it has it.
 
     Parameters
     ----------
     eom : EquationsOfMotion
         Equations; when they carry a ``derivation_key`` (from :func:`cached_derive`) the source
-        is stored under that key and the code generator's digest.
+        is stored under that key and the digest of the code generator, so that compiling them
+        again (another run, a sweep's worker) does not generate it again.
     cache_dir : path-like, optional
         Root of the cache.
 
     Returns
     -------
     str
-        :func:`flexkane.numerics.generate_rhs_source` of ``eom``.
+        :func:`flexkane.simulation.model_source` of ``eom``.
     """
-    from .numerics import codegen
+    from .simulation import model_source
 
     key = getattr(eom, "derivation_key", None)
     if not key:
-        return codegen.generate_rhs_source(eom)
-    generator = hashlib.sha256(Path(codegen.__file__).read_bytes()).hexdigest()[:16]
-    path = _cache_root(cache_dir) / "derived" / f"{key}-{generator}.rhs.py"
+        return model_source(eom)
+    path = _source_path(_cache_root(cache_dir), key)
     try:
         return path.read_text(encoding="utf-8")
     except (FileNotFoundError, UnicodeDecodeError):
         pass
-    source = codegen.generate_rhs_source(eom)
+    source = model_source(eom)
     try:
         _write_atomically(path, source.encode("utf-8"))
     except OSError:
         pass
     return source
+
+
+def _read_json(path: Path):
+    """A stored JSON file of this layout, or None (missing, damaged, other layout)."""
+    from .run_manifest import MANIFEST_FORMAT
+
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError):
+        return None
+    return data if isinstance(data, dict) and data.get("format") == MANIFEST_FORMAT else None
+
+
+def _write_json(path: Path, data: dict) -> None:
+    try:
+        _write_atomically(path, json.dumps(data, separators=(",", ":")).encode("utf-8"))
+    except OSError:
+        pass  # a read-only cache only costs speed
+
+
+class Derivation:
+    """The equations of a model's structure as a run uses them, from the cache as far as it has them.
+
+    A run needs the generated module, the run manifest and the model's numbers
+    (:mod:`flexkane.run_manifest`); each is read from the cache when stored there, else made from
+    the equations (loaded or derived, with SymPy, on first need) and stored. A run of a model whose
+    structure and numbers ran before therefore loads neither the equations nor SymPy.
+
+    Parameters
+    ----------
+    model : Model
+        The model (validated here).
+    cache_dir : path-like, optional
+        Root of the cache; default :func:`flexkane.numerics.default_cache_dir`.
+    announce : callable, optional
+        Called without arguments before the equations are derived (not found in the cache).
+    eom : EquationsOfMotion, optional
+        The equations, when the caller has them already (``model`` is then ``eom.model``); without
+        a ``derivation_key`` (derived without the cache) nothing is read from or written to it.
+    cache : bool
+        Whether to use the cache; ``False`` derives the equations afresh on first need and reads
+        and stores nothing (the compiled module still comes from Numba's cache).
+    """
+
+    def __init__(self, model: Model | None = None, cache_dir=None, *, announce=None, eom=None,
+                 cache: bool = True):
+        if eom is not None:
+            model = eom.model
+            self.key = getattr(eom, "derivation_key", None) if cache else None
+        else:
+            from .errors import ModelError
+
+            if not isinstance(model, Model):
+                raise ModelError("model", "a flexkane Model (flexkane.load_model, flexkane.builtin_model)",
+                                 type(model).__name__)
+            model.validate()
+            self.key = _key(model) if cache else None
+        self.model = model
+        self._cache_dir = cache_dir
+        self._root = _cache_root(cache_dir) if self.key else None
+        self._announce = announce
+        self._cache = cache
+        self._eom = eom
+        self._manifest = None
+        self._numbers: dict = {}
+
+    @property
+    def eom(self):
+        """The equations (:class:`~flexkane.kane.EquationsOfMotion`), loaded or derived on first use."""
+        if self._eom is None:
+            self._eom = derive(self.model, cache=self._cache, cache_dir=self._cache_dir, announce=self._announce)
+        return self._eom
+
+    @property
+    def loaded(self) -> bool:
+        """Whether the symbolic equations were needed (loaded or derived) so far."""
+        return self._eom is not None
+
+    @property
+    def manifest(self) -> dict:
+        """The run manifest of the structure (:func:`flexkane.run_manifest.manifest_of`)."""
+        if self._manifest is None:
+            path = self._root / "derived" / f"{self.key}-{_run_digest()[:16]}.manifest.json" if self.key else None
+            manifest = _read_json(path) if path is not None else None
+            if manifest is None:
+                from .run_manifest import manifest_of
+
+                manifest = manifest_of(self.eom)
+                if path is not None:
+                    _write_json(path, manifest)
+            self._manifest = manifest
+        return self._manifest
+
+    def source(self) -> str:
+        """Source of the generated module (:func:`cached_rhs_source`)."""
+        if not self.key:
+            from .simulation import model_source
+
+            return model_source(self.eom)
+        if self._eom is None:
+            try:
+                return _source_path(self._root, self.key).read_text(encoding="utf-8")
+            except (FileNotFoundError, UnicodeDecodeError):
+                pass
+        return cached_rhs_source(self.eom, self._cache_dir)
+
+    def _numbers_path(self, model: Model) -> Path | None:
+        if not self.key:
+            return None
+        from .model import dumps_model
+
+        digest = hashlib.sha256((_run_digest() + "\0" + dumps_model(model)).encode("utf-8")).hexdigest()[:32]
+        return self._root / "derived" / f"{self.key}.numbers" / f"{digest}.json"
+
+    def numbers(self, model: Model, fields, *, remember: bool = False) -> dict:
+        """Numbers of ``model`` (a model of this structure) for a run: fields of
+        :func:`flexkane.run_manifest.numbers_of`.
+
+        Parameters
+        ----------
+        model : Model
+        fields : collection of str
+            The fields wanted, among :data:`flexkane.run_manifest.NUMBER_FIELDS`.
+        remember : bool
+            Store the numbers in the cache (the command line's runs do, so that a run repeated
+            with the same model needs no SymPy); the numbers stored already are read in any case.
+
+        Returns
+        -------
+        dict
+            The fields asked for (and any others known).
+        """
+        from .model import dumps_model
+
+        text = dumps_model(model)
+        known = self._numbers.get(text)
+        path = None
+        if known is None:
+            path = self._numbers_path(model)
+            known = (_read_json(path) if path is not None else None) or {}
+            known.pop("format", None)
+            self._numbers[text] = known
+        missing = [f for f in fields if f not in known]
+        if missing:
+            from .run_manifest import MANIFEST_FORMAT, numbers_of
+
+            known.update(numbers_of(self.eom, model, missing, self.manifest["spins"]))
+            if remember:
+                path = path or self._numbers_path(model)
+                if path is not None:
+                    _write_json(path, {"format": MANIFEST_FORMAT, **known})
+        return known

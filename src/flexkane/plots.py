@@ -207,11 +207,19 @@ def plot_runs(runs: dict, names: list[str], path: Path, *, units: dict | None = 
     return Path(path)
 
 
-def write_plots(results: Results, eom, directory: Path) -> list[Path]:
-    """Write a PNG per state variable, one of tip deflections (if any), and the energy plot."""
+def write_plots(results: Results, unit: dict, directory: Path, title: str) -> list[Path]:
+    """Write a PNG per state variable, one of tip deflections (if any), and the energy plot.
+
+    Parameters
+    ----------
+    results : Results
+    unit : dict of str to str
+        Unit of every column (:func:`units` of the equations).
+    directory : pathlib.Path
+    title : str
+        Title of the figures (the model's name).
+    """
     directory = Path(directory)
-    unit = units(eom)
-    title = eom.model.name
     paths = []
     single = _SeriesFigure()
     for name in results.state_names:

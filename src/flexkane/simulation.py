@@ -1,8 +1,14 @@
 """Simulation: compile the equations of motion once, integrate them, evaluate the outputs.
 
-``compile_model(eom)`` generates the Numba right-hand side of ``M u' = f`` with ``q' = qdot`` and
-loads (or builds) it from the on-disk cache; ``simulate(compiled, ...)`` integrates it on an output
-grid with dense output and returns :class:`~flexkane.results.Results`.
+``compile_model(eom)`` generates the Numba module of the equations (:func:`model_source`: the
+right-hand side of ``M u' = f`` with ``q' = qdot``, the quadratures of the work, and the outputs)
+and loads (or builds) it from the on-disk cache; ``simulate(compiled, ...)`` integrates it on an
+output grid with dense output, evaluates the outputs with the module's compiled ``outputs``
+function and returns :class:`~flexkane.results.Results`.
+
+A run needs the symbolic equations only to generate that module and to compute its numbers
+(:mod:`flexkane.run_manifest`); :class:`~flexkane.derivation_cache.Derivation` reads both from the
+cache when they are there, so that a repeated run imports no SymPy.
 """
 
 from __future__ import annotations
@@ -11,17 +17,15 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-import sympy as sp
 
 from ._version import __version__
 from .errors import ModelError
-from .kane import EquationsOfMotion
 from .model import Model, dumps_model
 from .model.validate import MAX_OUTPUT_ROWS
 from .results import Results
 
 __all__ = ["COMPILING_MESSAGE", "CompiledModel", "compile_model", "simulate", "output_grid", "output_times",
-           "initial_state_vector", "OutputEvaluator", "work_integrands"]
+           "initial_state_vector", "model_source", "work_integrands"]
 
 
 def output_grid(t_end: float, dt_out: float) -> np.ndarray:
@@ -148,43 +152,16 @@ def initial_state_vector(y0, state_names: list) -> np.ndarray:
     return state
 
 
-class OutputEvaluator:
-    """Vectorised evaluation of the outputs of an equation set over many samples.
-
-    Parameters
-    ----------
-    eom : EquationsOfMotion
-    """
-
-    def __init__(self, eom: EquationsOfMotion):
-        self.eom = eom
-        self.names = list(eom.outputs)
-        args = [eom.t] + list(eom.q) + list(eom.u) + list(eom.ud) + list(eom.constants)
-        self._needs_ud = any(e.free_symbols & set(eom.ud) for e in eom.outputs.values())
-        self._f = sp.lambdify(args, [eom.outputs[k] for k in self.names], modules="numpy", cse=True)
-
-    def __call__(self, t: np.ndarray, state: np.ndarray, p: np.ndarray, ud: np.ndarray | None) -> dict:
-        """Outputs at times ``t`` (N,), states (N, n), constants p, and speed derivatives ud (N, nu)."""
-        nq = len(self.eom.q)
-        nu = len(self.eom.u)
-        cols = [t] + [state[:, k] for k in range(nq + nu)]
-        if ud is None:
-            ud = np.zeros((len(t), nu))
-        cols += [ud[:, k] for k in range(nu)] + list(p)
-        with np.errstate(all="ignore"):
-            values = self._f(*cols)
-        return {k: np.broadcast_to(np.asarray(v, dtype=float), t.shape).copy() for k, v in zip(self.names, values)}
-
-
 @dataclass
 class CompiledModel:
-    """Equations of motion with their compiled right-hand side.
+    """Equations of motion with their compiled module.
 
     Attributes
     ----------
-    eom : EquationsOfMotion
+    derivation : Derivation
+        The equations as a run uses them (:class:`flexkane.derivation_cache.Derivation`).
     module : module
-        Generated Numba module (``rhs`` and the integrators).
+        Generated Numba module (``rhs``, ``outputs`` and the integrators).
     key : str
         Cache key of the generated module.
     compile_time : float
@@ -192,17 +169,15 @@ class CompiledModel:
         that depends on the machine).
     """
 
-    eom: EquationsOfMotion
+    derivation: object
     module: object
     key: str
     compile_time: float
-    _outputs: OutputEvaluator | None = None
 
     @property
-    def outputs(self) -> OutputEvaluator:
-        if self._outputs is None:
-            self._outputs = OutputEvaluator(self.eom)
-        return self._outputs
+    def eom(self):
+        """The symbolic equations (:class:`~flexkane.kane.EquationsOfMotion`; loaded on first use)."""
+        return self.derivation.eom
 
     def rhs(self, t: float, y: np.ndarray, p: np.ndarray) -> np.ndarray:
         """First-order right-hand side dy/dt, shape (n,)."""
@@ -215,7 +190,7 @@ class CompiledModel:
 COMPILING_MESSAGE = "compiling the right-hand side of this model structure (once)"
 
 
-def work_integrands(eom: EquationsOfMotion) -> dict:
+def work_integrands(eom) -> dict:
     """Integrands of the quadrature states of a run: ``{"work": power}`` [W], or ``{}``.
 
     The power of the non-conservative forces (drivers with their efforts, applied loads, actuator
@@ -223,16 +198,45 @@ def work_integrands(eom: EquationsOfMotion) -> dict:
     ``W`` and the balance ``E - E0 - W`` are exact to the solver's tolerance. A model without such
     forces (power identically 0) gets none.
     """
-    power = eom.outputs.get("power_nonconservative", sp.Integer(0))
+    power = eom.outputs.get("power_nonconservative", 0)
     return {} if power == 0 else {"work": power}
 
 
-def compile_model(eom: EquationsOfMotion, cache_dir=None, *, announce=None) -> CompiledModel:
-    """Generate, build (or load from the cache) and compile the right-hand side of an equation set.
+def model_source(eom) -> str:
+    """Source of the generated module of ``eom`` (before :func:`~flexkane.numerics.jit_module.build_module`).
 
     Parameters
     ----------
     eom : EquationsOfMotion
+
+    Returns
+    -------
+    str
+        ``rhs`` and ``system_rhs`` (:func:`flexkane.numerics.generate_rhs_source`, with the
+        quadratures of :func:`work_integrands`), ``outputs`` (every output of ``eom.outputs``,
+        :func:`flexkane.numerics.generate_outputs_source`; outputs that contain u' call ``rhs``)
+        and, when a beam's spin is checked, ``spin_rates`` (the angular velocities of
+        :func:`flexkane.validity.spin_expressions`).
+    """
+    from .numerics.codegen import generate_outputs_source, generate_rhs_source
+    from .validity import spin_expressions
+
+    parts = [generate_rhs_source(eom, quadratures=work_integrands(eom)),
+             generate_outputs_source(eom.outputs, eom)]
+    spins = spin_expressions(eom)
+    if spins:
+        parts.append(generate_outputs_source(spins, eom, name="spin_rates"))
+    return "\n\n".join(parts)
+
+
+def compile_model(eom, cache_dir=None, *, announce=None) -> CompiledModel:
+    """Generate, build (or load from the cache) and compile the module of an equation set.
+
+    Parameters
+    ----------
+    eom : EquationsOfMotion or Derivation
+        Equations from :func:`flexkane.derive` (or a
+        :class:`~flexkane.derivation_cache.Derivation`, which finds them in the cache).
     cache_dir : path-like, optional
         Root of the compiled-model cache (default: ``$FLEXKANE_CACHE_DIR`` or ``~/.cache/flexkane``).
     announce : callable, optional
@@ -245,26 +249,33 @@ def compile_model(eom: EquationsOfMotion, cache_dir=None, *, announce=None) -> C
         Its integrators are compiled (or loaded from the disk cache) already, so that
         ``compile_time`` holds the whole compilation and a simulation's ``wall_time`` none of it.
     """
-    from .numerics.codegen import generate_rhs_source
+    from .derivation_cache import Derivation
 
-    if not isinstance(eom, EquationsOfMotion):
-        raise ModelError("eom", "EquationsOfMotion from flexkane.derive", type(eom).__name__)
+    if isinstance(eom, Derivation):
+        derivation = eom
+    else:
+        from .kane import EquationsOfMotion
+
+        if not isinstance(eom, EquationsOfMotion):
+            raise ModelError("eom", "EquationsOfMotion from flexkane.derive", type(eom).__name__)
+        derivation = Derivation(eom=eom, cache_dir=cache_dir)
     from .numerics.integrate import compile_integrators
     from .numerics.jit_module import build_module, is_compiled, structure_key
 
     start = time.perf_counter()
-    source = generate_rhs_source(eom, quadratures=work_integrands(eom))
+    source = derivation.source()
     key = structure_key(__version__, source)
     module = build_module(source, key, cache_dir)
     if announce is not None and not is_compiled(module):
         announce(COMPILING_MESSAGE)
     compile_integrators(module)
-    return CompiledModel(eom, module, key, time.perf_counter() - start)
+    return CompiledModel(derivation, module, key, time.perf_counter() - start)
 
 
 def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: float | None = None,
              rtol: float = 1e-8, atol: float = 1e-10, method: str = "auto", model: Model | None = None,
-             progress=None, max_steps: int | None = None, t_span=None, t_eval=None, y0=None) -> Results:
+             progress=None, max_steps: int | None = None, t_span=None, t_eval=None, y0=None,
+             remember: bool = False) -> Results:
     """Integrate a compiled model from its initial state.
 
     The times are given either as ``t_end`` and ``dt_out`` (rows at 0, dt_out, ..., t_end) or, as
@@ -299,6 +310,9 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
     y0 : array_like, shape (n,), optional
         State ``[q, u]`` at ``t0`` in the order of ``Results.state_names`` (instead of the model's
         ``[initial]`` table); used as given (in a model with loop constraints it must satisfy them).
+    remember : bool
+        Store the model's numbers (constants, initial state) in the cache of its equations, so
+        that a run of the same model again needs no SymPy (the command line's runs do).
 
     Returns
     -------
@@ -313,35 +327,36 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
         For invalid or conflicting arguments (``t_end`` with ``t_span``, ``dt_out`` with ``t_eval``,
         output times outside ``t_span``, a ``y0`` of the wrong size ...), before any integration.
     """
-    from .numerics.integrate import integrate
-
+    from .model.coordinates import coordinate_names
     from .model.validate import validate_run_arguments
+    from .numerics.integrate import evaluate_outputs, integrate
 
     if not isinstance(compiled, CompiledModel):
         raise ModelError("compiled", "a CompiledModel from flexkane.compile_model", type(compiled).__name__)
-    eom = compiled.eom
-    sim = (model if isinstance(model, Model) else eom.model).simulation
+    derivation = compiled.derivation
+    sim = (model if isinstance(model, Model) else derivation.model).simulation
     grid, keep = output_times(t_end=t_end, dt_out=dt_out, t_span=t_span, t_eval=t_eval, simulation=sim)
     if max_steps is None:
         max_steps = getattr(sim, "max_steps", None)
     span = float(grid[-1] - grid[0])   # t_end and dt_out were checked by output_times
     validate_run_arguments(t_end=span, dt_out=span if dt_out is None else dt_out, rtol=rtol, atol=atol,
                            method=method, max_steps=max_steps, progress=progress)
+    manifest = derivation.manifest
     if model is None:
-        model = eom.model
+        model = derivation.model
     elif not isinstance(model, Model):
         raise ModelError("model", "a flexkane Model (or None for the derived one)", type(model).__name__)
     else:
         model.validate()
-        from .kane.chain import build_chain
-
-        names = [c.q.name for c in build_chain(model).coordinates]
-        if names != [c.q.name for c in eom.chain.coordinates]:
+        names = [c.q for c in coordinate_names(model)]
+        if names != manifest["coordinates"]:
             raise ModelError("model", "a model with the structure of the derived one "
-                             f"(coordinates {', '.join(c.q.name for c in eom.chain.coordinates)})", ", ".join(names))
-    values = eom.constant_values(model)
-    p = np.array([values[s] for s in eom.constants], dtype=float)
-    y0 = eom.initial_state(model) if y0 is None else initial_state_vector(y0, eom.state_names)
+                             f"(coordinates {', '.join(manifest['coordinates'])})", ", ".join(names))
+    state_names = manifest["state_names"]
+    numbers = derivation.numbers(model, ("p", "checks") if y0 is not None else ("p", "y0", "checks"),
+                                 remember=remember)
+    p = np.array(numbers["p"], dtype=float)
+    y0 = np.array(numbers["y0"], dtype=float) if y0 is None else initial_state_vector(y0, state_names)
     kwargs = {"rtol": rtol, "atol": atol, "method": method, "progress": progress}
     if max_steps is not None:
         kwargs["max_steps"] = max_steps
@@ -355,11 +370,11 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
     if keep is not None:   # t_eval: drop the rows added at t0 and t1
         t, state = t[keep[:n_valid]], state[keep[:n_valid]]
         n_valid = len(t)
-    ud = None
-    if n_valid:
-        nq = len(eom.q)
-        ud = np.array([compiled.rhs(ti, yi, p)[nq:] for ti, yi in zip(t, state)]).reshape(n_valid, -1)
-    outputs = compiled.outputs(t, state, p, ud) if n_valid else {k: np.zeros(0) for k in compiled.outputs.names}
+    # the compiled outputs (u' of the outputs that need it from the compiled rhs, row by row)
+    with np.errstate(all="ignore"):
+        outputs = {k: np.array(v, dtype=float) for k, v in evaluate_outputs(compiled.module, t, state, p).items()}
+        spins = evaluate_outputs(compiled.module, t, state, p, name="spin_rates") \
+            if hasattr(compiled.module, "spin_rates") else {}
     if "energy" in outputs:
         # work of the non-conservative forces, integrated with the motion (0 for a conservative
         # model), and the balance E - E0 - W, which only the solver's error keeps from 0
@@ -375,9 +390,10 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
               "wall_time": float(result.wall_time), "t_reached": float(result.t_reached),
               "compile_time": float(compiled.compile_time),
               "method_spans": {k: float(v) for k, v in sorted(result.method_spans.items())}}
-    from .validity import validity_warnings
+    from .validity import run_warnings
 
-    return Results(t=t, state=state, state_names=eom.state_names, outputs=outputs,
-                   model_text=dumps_model(model), parameters={s.name: values[s] for s in eom.constants},
+    return Results(t=t, state=state, state_names=list(state_names), outputs=outputs,
+                   model_text=dumps_model(model),
+                   parameters=dict(zip(manifest["constant_names"], numbers["p"])),
                    solver=solver, partial=partial,
-                   warnings=validity_warnings(eom, model, t, state, values))
+                   warnings=run_warnings(numbers["checks"], model.simulation, t, state, spins))

@@ -23,9 +23,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import sympy as sp
 
-__all__ = ["validity_warnings", "first_bending_frequency"]
+__all__ = ["beam_checks", "first_bending_frequency", "run_warnings", "spin_expressions", "validity_warnings"]
 
 #: Stations per beam at which the deflection is sampled, as fractions of its length.
 _STATIONS = np.linspace(0.0, 1.0, 41)
@@ -57,8 +56,137 @@ def first_bending_frequency(family, n: int, L: float, EI: float, rho: float) -> 
     return float(math.sqrt(max(eigh(H, G, eigvals_only=True)[0], 0.0)))
 
 
-def validity_warnings(eom, model, t: np.ndarray, state: np.ndarray, values: dict) -> list[str]:
+def spin_expressions(eom) -> dict:
+    """Angular velocity [rad/s] of the root frame of every beam checked for its spin.
+
+    Parameters
+    ----------
+    eom : EquationsOfMotion
+
+    Returns
+    -------
+    dict of str to sympy.Expr
+        Beam name to the angular velocity of its root frame as an expression of ``t``, ``q``, ``u``
+        and the constants (driven and dependent speeds written in terms of the state), for every
+        beam with modes, without ``geometric_stiffening``, whose root frame turns. The run
+        evaluates them with its outputs, in compiled code (:mod:`flexkane.simulation`).
+    """
+    import sympy as sp
+
+    out = {}
+    known = {eom.t, *eom.q, *eom.u, *eom.constants}
+    for name, beam in eom.model.beams.items():
+        if beam.geometric_stiffening or not eom.chain.beam_modes(name):
+            continue
+        omega = sp.sympify(eom.kinematics.beams[name].frame.omega).xreplace(eom.substitutions or {})
+        omega = omega.xreplace(eom.dependent_speeds)
+        if omega != 0 and omega.free_symbols <= known:
+            out[name] = omega
+    return out
+
+
+def beam_checks(eom, model, spins) -> list[dict]:
+    """The numbers the validity checks of a run need, one entry per beam with modes.
+
+    Parameters
+    ----------
+    eom : EquationsOfMotion
+    model : Model
+        The model that gives the numbers of the run.
+    spins : collection of str
+        The beams whose spin is checked (the keys of :func:`spin_expressions`).
+
+    Returns
+    -------
+    list of dict
+        JSON-able entries ``{"beam", "modes" (state indices), "L" [m], "phi" (modes x stations, the
+        shape functions at :data:`_STATIONS` of the length), "p1" [rad/s] or None}``; ``p1``, the
+        first bending frequency, only for the beams in ``spins``.
+    """
+    import sympy as sp
+
+    from .expressions import parse_expression, resolve_parameters, to_float
+    from .kane.equations import shape_family
+
+    names = eom.state_names
+    params = resolve_parameters(model.parameters, path_prefix="parameters")
+    symbols = {name: sp.Symbol(name, real=True) for name in params}
+    numbers = {symbols[name]: value for name, value in params.items()}
+    checks = []
+    for name, beam in model.beams.items():
+        modes = [q.name for q in eom.chain.beam_modes(name)]
+        if not modes:
+            continue
+        path = f"beams.{name}"
+
+        def number(key, value):
+            where = f"{path}.{key}"
+            return to_float(parse_expression(value, symbols, path=where), numbers, path=where)
+
+        L, EI, rho = number("L", beam.L), number("EI", beam.EI), number("rho", beam.rho)
+        family = shape_family(beam.shape, f"{path}.shape", params)
+        p1 = first_bending_frequency(family, len(modes), L, EI, rho) if name in spins else None
+        checks.append({"beam": name, "modes": [names.index(m) for m in modes], "L": L,
+                       "phi": np.asarray(family.phi(_STATIONS, len(modes)), dtype=float).tolist(), "p1": p1})
+    return checks
+
+
+def run_warnings(checks: list[dict], simulation, t: np.ndarray, state: np.ndarray, spins: dict) -> list[str]:
     """Warnings of a run whose model left its range of validity (module docstring).
+
+    Parameters
+    ----------
+    checks : list of dict
+        :func:`beam_checks` of the run's model.
+    simulation : Simulation
+        The model's run settings (``deflection_warning``, ``spin_warning``).
+    t : ndarray, shape (N,)
+        Output times [s].
+    state : ndarray, shape (N, n)
+        Coordinates then speeds at the output times.
+    spins : dict of str to ndarray, shape (N,)
+        Angular velocity [rad/s] of the root frame of each beam of :func:`spin_expressions`.
+
+    Returns
+    -------
+    list of str
+        One sentence per warning, naming the beam, the measured value and the limit.
+    """
+    if len(t) == 0:
+        return []
+    warnings = []
+    for check in checks:
+        name, L = check["beam"], check["L"]
+        q = state[:, check["modes"]]
+        with np.errstate(all="ignore"):
+            y = np.abs(q @ np.array(check["phi"], dtype=float))                   # (N, stations)
+        peak = np.max(np.where(np.isfinite(y), y, np.inf), axis=1)                # (N,)
+        over = np.flatnonzero(peak > simulation.deflection_warning * L)
+        if over.size:
+            worst = float(np.max(peak))
+            warnings.append(
+                f"beam {name!r}: its deflection reached {worst:.3g} m, more than {simulation.deflection_warning:.3g} "
+                f"of its length L = {L:.3g} m (first at t = {t[over[0]]:.4g} s): the small-deflection assumption "
+                "of the assumed modes no longer holds, and the results from there on are not physical "
+                "(simulation.deflection_warning sets this limit)")
+        if name not in spins or check["p1"] is None:
+            continue
+        with np.errstate(all="ignore"):
+            spin = np.abs(np.broadcast_to(np.asarray(spins[name], dtype=float), t.shape))
+        p1 = check["p1"]
+        fast = np.flatnonzero(spin > simulation.spin_warning * p1)
+        if fast.size:
+            top = float(np.nanmax(np.where(np.isfinite(spin), spin, np.inf)))
+            warnings.append(
+                f"beam {name!r}: it spins at up to {top:.3g} rad/s, more than {simulation.spin_warning:.3g} of its "
+                f"first bending frequency p1 = {p1:.3g} rad/s (first at t = {t[fast[0]]:.4g} s), without "
+                f"geometric_stiffening: the linear modes miss the centrifugal stiffening; set "
+                f"geometric_stiffening = true in [beams.{name}] (simulation.spin_warning sets this limit)")
+    return warnings
+
+
+def validity_warnings(eom, model, t: np.ndarray, state: np.ndarray, values: dict) -> list[str]:
+    """Warnings of a run from its equations: :func:`run_warnings` with the spins evaluated here.
 
     Parameters
     ----------
@@ -75,62 +203,16 @@ def validity_warnings(eom, model, t: np.ndarray, state: np.ndarray, values: dict
     Returns
     -------
     list of str
-        One sentence per warning, naming the beam, the measured value and the limit.
     """
-    from .expressions import parse_expression, resolve_parameters, to_float
-    from .kane.equations import shape_family
+    import sympy as sp
 
     if len(t) == 0:
         return []
-    warnings = []
-    sim = model.simulation
-    names = eom.state_names
-    params = resolve_parameters(model.parameters, path_prefix="parameters")
-    symbols = {name: sp.Symbol(name, real=True) for name in params}
-    numbers = {symbols[name]: value for name, value in params.items()}
-    kin = eom.kinematics
-    for name, beam in model.beams.items():
-        modes = [q.name for q in eom.chain.beam_modes(name)]
-        if not modes:
-            continue
-        path = f"beams.{name}"
-
-        def number(key, value):
-            where = f"{path}.{key}"
-            return to_float(parse_expression(value, symbols, path=where), numbers, path=where)
-
-        L, EI, rho = number("L", beam.L), number("EI", beam.EI), number("rho", beam.rho)
-        family = shape_family(beam.shape, f"{path}.shape", params)
-        q = state[:, [names.index(m) for m in modes]]
+    expressions = spin_expressions(eom)
+    args = [eom.t] + list(eom.q) + list(eom.u)
+    spins = {}
+    for name, omega in expressions.items():
+        rate = sp.lambdify(args, omega.xreplace(values), modules="numpy")
         with np.errstate(all="ignore"):
-            y = np.abs(q @ family.phi(_STATIONS, len(modes)))                      # (N, stations)
-        peak = np.max(np.where(np.isfinite(y), y, np.inf), axis=1)                # (N,)
-        over = np.flatnonzero(peak > sim.deflection_warning * L)
-        if over.size:
-            worst = float(np.max(peak))
-            warnings.append(
-                f"beam {name!r}: its deflection reached {worst:.3g} m, more than {sim.deflection_warning:.3g} of its "
-                f"length L = {L:.3g} m (first at t = {t[over[0]]:.4g} s): the small-deflection assumption of the "
-                "assumed modes no longer holds, and the results from there on are not physical "
-                "(simulation.deflection_warning sets this limit)")
-        if beam.geometric_stiffening:
-            continue
-        # angular velocity of the root frame, with driven and dependent speeds in terms of the state
-        omega = sp.sympify(kin.beams[name].frame.omega).xreplace(eom.substitutions or {})
-        omega = omega.xreplace(eom.dependent_speeds).xreplace(values)
-        args = [eom.t] + list(eom.q) + list(eom.u)
-        if omega == 0 or not omega.free_symbols <= set(args):
-            continue
-        rate = sp.lambdify(args, omega, modules="numpy")
-        with np.errstate(all="ignore"):
-            spin = np.abs(np.broadcast_to(np.asarray(rate(t, *state.T), dtype=float), t.shape))
-        p1 = first_bending_frequency(family, len(modes), L, EI, rho)
-        fast = np.flatnonzero(spin > sim.spin_warning * p1)
-        if fast.size:
-            top = float(np.nanmax(np.where(np.isfinite(spin), spin, np.inf)))
-            warnings.append(
-                f"beam {name!r}: it spins at up to {top:.3g} rad/s, more than {sim.spin_warning:.3g} of its first "
-                f"bending frequency p1 = {p1:.3g} rad/s (first at t = {t[fast[0]]:.4g} s), without "
-                f"geometric_stiffening: the linear modes miss the centrifugal stiffening; set "
-                f"geometric_stiffening = true in [beams.{name}] (simulation.spin_warning sets this limit)")
-    return warnings
+            spins[name] = np.asarray(rate(t, *state.T), dtype=float)
+    return run_warnings(beam_checks(eom, model, expressions), model.simulation, t, state, spins)

@@ -7,7 +7,14 @@ import time
 
 from ._common import add_model_arguments, model_from_args
 
-__all__ = ["register"]
+__all__ = ["add_no_cache_argument", "register"]
+
+
+def add_no_cache_argument(parser) -> None:
+    """``--no-cache``: derive the equations afresh instead of loading them from the cache."""
+    parser.add_argument("--no-cache", action="store_true",
+                        help="derive the equations afresh instead of loading them from the cache of derived "
+                             "equations (and store nothing there)")
 
 
 def register(subparsers) -> None:
@@ -17,20 +24,23 @@ def register(subparsers) -> None:
     add_model_arguments(p)
     p.add_argument("--latex", action="store_true", help="print LaTeX instead of text")
     p.add_argument("--markdown", action="store_true", help="print the whole Markdown report (equations.md)")
+    add_no_cache_argument(p)
     p.set_defaults(handler=_handle)
 
 
 def _handle(args) -> int:
-    from ..kane import derive
+    from ..derivation_cache import derive
     from ..report import equations_markdown, format_equations
 
     model = model_from_args(args)
     start = time.perf_counter()
-    eom = derive(model)
+    derived = []
+    eom = derive(model, cache=not args.no_cache, announce=lambda: derived.append(True))
     elapsed = time.perf_counter() - start
     if args.markdown:
         print(equations_markdown(eom, eom.constant_values(model)))
     else:
         print(format_equations(eom, latex=args.latex))
-    print(f"# derived {len(eom.all_speeds)} equations in {elapsed:.3f} s", file=sys.stderr)
+    how = "derived" if derived else "loaded from the cache"
+    print(f"# {how} {len(eom.all_speeds)} equations in {elapsed:.3f} s", file=sys.stderr)
     return 0

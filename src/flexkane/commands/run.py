@@ -10,6 +10,7 @@ from ..errors import ModelError, SolverFailure
 from ..interruption import StopRequest
 from ._common import add_max_steps_argument, add_model_arguments, default_out, model_from_args
 from .animate import add_animation_arguments
+from .derive import add_no_cache_argument
 
 __all__ = ["register", "run_model"]
 
@@ -36,6 +37,7 @@ def register(subparsers) -> None:
     p.add_argument("--pdf", action="store_true",
                    help="also render equations.tex to equations.pdf (needs pdflatex on PATH)")
     p.add_argument("--quiet", action="store_true", help="no progress bar and no summary")
+    add_no_cache_argument(p)
     p.set_defaults(handler=_handle)
 
 
@@ -44,7 +46,8 @@ def _handle(args) -> int:
     out = Path(args.out) if args.out else default_out(model.name)
     return run_model(model, out, t_end=args.t_end, dt_out=args.dt_out, rtol=args.rtol, atol=args.atol,
                      method=args.method, max_steps=args.max_steps, force=args.force, quiet=args.quiet,
-                     animation=args if args.animate else None, pdf=args.pdf, plots=not args.no_plots)
+                     animation=args if args.animate else None, pdf=args.pdf, plots=not args.no_plots,
+                     cache=not args.no_cache)
 
 
 def energy_balance_text(results) -> str:
@@ -66,12 +69,14 @@ def energy_balance_text(results) -> str:
 
 
 def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None, method=None, max_steps=None,
-              force=False, quiet=False, animation=None, pdf=False, plots=True) -> int:
+              force=False, quiet=False, animation=None, pdf=False, plots=True, cache=True) -> int:
     """Run a validated model into directory ``out``; return the exit code (0 ok, 3 solver failure).
 
     ``animation``: options of :func:`~flexkane.commands.animate.add_animation_arguments` (``magnify``,
     ``trace``) to also write animation.gif, or None. ``pdf``: also render equations.tex to a PDF.
-    ``plots``: write the PNG plots (:func:`flexkane.plots.write_plots`).
+    ``plots``: write the PNG plots (:func:`flexkane.plots.write_plots`). ``cache``: take the equations,
+    their generated code and the model's numbers from the cache of derived equations (else derive
+    them afresh and store nothing).
     """
     sim = model.simulation
     t_end = t_end if t_end is not None else sim.t_end
@@ -93,7 +98,8 @@ def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None
     out = prepare_out(out, force=force)
     with StopRequest() as stop:
         return _run_phases(model, out, stop, t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol, method=method,
-                           max_steps=max_steps, quiet=quiet, animation=animation, pdf=pdf, plots=plots)
+                           max_steps=max_steps, quiet=quiet, animation=animation, pdf=pdf, plots=plots,
+                           cache=cache)
 
 
 def _say(quiet: bool, text: str) -> None:
@@ -102,7 +108,7 @@ def _say(quiet: bool, text: str) -> None:
 
 
 def _run_phases(model, out: Path, stop, *, t_end, dt_out, rtol, atol, method, max_steps, quiet, animation, pdf,
-                plots) -> int:
+                plots, cache) -> int:
     """The phases of :func:`run_model` under the command's stop request ``stop``.
 
     Derivation, code generation and waiting for the compilation (a child process) stop at once on a
@@ -113,19 +119,21 @@ def _run_phases(model, out: Path, stop, *, t_end, dt_out, rtol, atol, method, ma
     once, leaves no temporary file, and the message says which files are complete.
     """
     from ..atomic import atomic_write_text
-    from ..derivation_cache import cached_derive
+    from ..derivation_cache import Derivation
     from ..model import dumps_model
     from ..numerics.jit_module import compile_in_subprocess
     from ..progress import ProgressBar
-    from ..report import equations_latex, equations_markdown, render_pdf
     from ..simulation import COMPILING_MESSAGE, compile_model, simulate
 
     started = time.perf_counter()
-    eom = cached_derive(model, announce=lambda: _say(quiet, f"deriving the equations of motion of {model.name}"))
+    # the equations as far as the run needs them: from the cache, SymPy only for what it lacks
+    derivation = Derivation(model, announce=lambda: _say(quiet, f"deriving the equations of motion of {model.name}"),
+                            cache=cache)
+    derivation.manifest    # loaded, or made from the equations (derived or loaded first)
     derive_time = time.perf_counter() - started
     # a structure new to the cache compiles in a child process (a signal stops it at once)
     with compile_in_subprocess(announce=lambda: _say(quiet, f"{COMPILING_MESSAGE} ...")):
-        compiled = compile_model(eom, announce=None if quiet else (lambda text: _say(quiet, f"{text} ...")))
+        compiled = compile_model(derivation, announce=None if quiet else (lambda text: _say(quiet, f"{text} ...")))
     with stop.deferred():
         with ProgressBar(t_end, enabled=not quiet, unit="s", delay=0.0) as bar:
             def progress(t_reached, t_total):
@@ -133,7 +141,7 @@ def _run_phases(model, out: Path, stop, *, t_end, dt_out, rtol, atol, method, ma
                 stop.check()
 
             results = simulate(compiled, t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol, method=method,
-                               model=model, progress=progress, max_steps=max_steps)
+                               model=model, progress=progress, max_steps=max_steps, remember=True)
         results.solver["derive_time"] = derive_time
         written = results.write(out)
         atomic_write_text(out / "model.toml", dumps_model(model))
@@ -143,11 +151,13 @@ def _run_phases(model, out: Path, stop, *, t_end, dt_out, rtol, atol, method, ma
         return _stopped(out, written, [], interrupted, results)
     before = {p.name: p.stat().st_mtime_ns for p in out.iterdir()}
     try:  # the equations (minutes for the largest models) and the plots: a signal stops them at once
-        values = eom.constant_values(model)
-        atomic_write_text(out / "equations.md", equations_markdown(eom, values))
-        atomic_write_text(out / "equations.tex", equations_latex(eom, values))
+        equations = derivation.numbers(model, ("equations",), remember=True)["equations"]
+        atomic_write_text(out / "equations.md", equations["md"])
+        atomic_write_text(out / "equations.tex", equations["tex"])
         written += [out / "equations.md", out / "equations.tex"]
         if pdf:
+            from ..report import render_pdf
+
             pdf_path, message = render_pdf(out / "equations.tex")
             if pdf_path is not None:
                 written.append(pdf_path)
@@ -156,7 +166,7 @@ def _run_phases(model, out: Path, stop, *, t_end, dt_out, rtol, atol, method, ma
         if plots and len(results.t) > 1:
             from ..plots import write_plots
 
-            written += write_plots(results, eom, out)
+            written += write_plots(results, derivation.manifest["units"], out, model.name)
         if animation is not None and len(results.t) > 0:
             from .animate import animate_run
 

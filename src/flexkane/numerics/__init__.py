@@ -7,7 +7,6 @@ of output times; ``method="auto"`` switches between DOP853 and Radau IIA by coun
 by time, see :mod:`~flexkane.numerics.switching`).
 """
 
-from flexkane.numerics.codegen import generate_outputs_source, generate_rhs_source
 from flexkane.numerics.integrate import (
     METHODS,
     IntegrationResult,
@@ -37,3 +36,12 @@ __all__ = [
     "integrate",
     "structure_key",
 ]
+
+
+def __getattr__(name: str):
+    """The code generators, imported on first use: a cached run loads its module without SymPy."""
+    if name in ("generate_outputs_source", "generate_rhs_source"):
+        from flexkane.numerics import codegen
+
+        return getattr(codegen, name)
+    raise AttributeError(f"module 'flexkane.numerics' has no attribute {name!r}")

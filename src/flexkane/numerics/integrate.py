@@ -386,6 +386,8 @@ def compile_integrators(module) -> None:
     calls += [(_system(module), (0.0, y, p, np.empty(n))),
               (module.rhs, (0.0, np.zeros(module.NQ + module.NU), p, np.empty(module.NQ + module.NU))),
               (module.fd_jacobian, (0.0, y, np.zeros(n), p, np.zeros((n, n)), np.empty(n), np.empty(n)))]
+    calls += [(getattr(module, name), (np.zeros(0), np.zeros((0, module.NQ + module.NU)), p))
+              for name in ("outputs", "spin_rates") if hasattr(module, name)]   # evaluate_outputs' types
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore")
         for function, args in calls:

@@ -1,0 +1,101 @@
+"""What a run needs of its equations, as names and numbers: the run manifest.
+
+A run integrates the compiled module of its equations and evaluates its outputs there
+(:mod:`flexkane.simulation`); around that it needs only names and numbers. They are computed from
+the symbolic :class:`~flexkane.kane.EquationsOfMotion` once and stored by
+:mod:`flexkane.derivation_cache` beside them, so that a run whose equations are cached loads
+neither them nor SymPy:
+
+* the manifest of the structure (:func:`manifest_of`): the names of the chain's coordinates, of
+  the state and of the constants vector p, the unit of every column (for the plots) and the beams
+  whose spin is checked;
+* the numbers of one model of that structure (:func:`numbers_of`): the constants vector p, the
+  initial state, the numbers of the validity checks (:func:`flexkane.validity.beam_checks`) and the
+  printed equations (``equations.md`` and ``equations.tex``, whose table of constants holds the
+  model's values).
+
+Everything here is plain JSON data (lists, dicts, str, float): loading it imports nothing.
+"""
+
+from __future__ import annotations
+
+__all__ = ["MANIFEST_FORMAT", "NUMBER_FIELDS", "manifest_of", "numbers_of"]
+
+#: Layout of the stored manifests and numbers (a change invalidates the stored files).
+MANIFEST_FORMAT = 1
+
+#: The fields of the numbers of a model, each computed on demand by :func:`numbers_of`.
+NUMBER_FIELDS = ("p", "y0", "checks", "equations")
+
+
+def manifest_of(eom) -> dict:
+    """The manifest of a structure, from its equations.
+
+    Parameters
+    ----------
+    eom : EquationsOfMotion
+
+    Returns
+    -------
+    dict
+        ``coordinates`` (names of every coordinate of the chain, driven ones too, in state order),
+        ``state_names`` (coordinates then speeds of the state), ``nq``, ``constant_names`` (the
+        order of p), ``units`` (column name to unit, :func:`flexkane.plots.units`) and ``spins``
+        (beams whose spin is checked, :func:`flexkane.validity.spin_expressions`).
+    """
+    from .plots import units
+    from .validity import spin_expressions
+
+    return {"format": MANIFEST_FORMAT,
+            "coordinates": [c.q.name for c in eom.chain.coordinates],
+            "state_names": list(eom.state_names), "nq": len(eom.q),
+            "constant_names": [s.name for s in eom.constants],
+            "units": units(eom), "spins": list(spin_expressions(eom))}
+
+
+def numbers_of(eom, model, fields, spins) -> dict:
+    """Numbers of ``model`` for a run of the equations ``eom`` of its structure.
+
+    Parameters
+    ----------
+    eom : EquationsOfMotion
+    model : Model
+        A model of the structure of ``eom`` (its numbers may differ from those of ``eom.model``).
+    fields : collection of str
+        Which of :data:`NUMBER_FIELDS` to compute.
+    spins : list of str
+        The beams whose spin is checked (the manifest's ``spins``).
+
+    Returns
+    -------
+    dict
+        ``p`` (list of float, the constants vector), ``y0`` (list of float, the initial state
+        from the model's ``[initial]`` table, loop constraints closed), ``checks``
+        (:func:`flexkane.validity.beam_checks`), ``equations`` (``{"md": text, "tex": text}``),
+        as asked.
+
+    Raises
+    ------
+    ModelError
+        For numbers the model cannot give (a non-finite modal constant, an unclosable loop ...).
+    """
+    out = {}
+    values = eom.constant_values(model)
+    if "p" in fields:
+        out["p"] = [float(values[s]) for s in eom.constants]
+    if "y0" in fields:
+        out["y0"] = [float(v) for v in eom.initial_state(model)]
+    if "checks" in fields:
+        from .validity import beam_checks
+
+        out["checks"] = beam_checks(eom, model, spins)
+    if "equations" in fields:
+        from .report import equations_latex, equations_markdown
+
+        bound = eom.model
+        eom.model = model     # the report names the model and prints its given values
+        try:
+            out["equations"] = {"md": equations_markdown(eom, values), "tex": equations_latex(eom, values)}
+        finally:
+            eom.model = bound
+    return out
