@@ -18,7 +18,7 @@ from flexkane.cli import main
 from flexkane.model import dumps_model
 from flexkane.progress import ProgressBar
 from flexkane.results import Results
-from flexkane.simulation import OutputEvaluator
+from flexkane.numerics import evaluate_outputs
 
 
 def synthetic_results(name: str, rows: int = 30) -> Results:
@@ -31,7 +31,7 @@ def synthetic_results(name: str, rows: int = 30) -> Results:
     t = np.linspace(0.0, 1.0, rows)
     y0 = eom.initial_state(model)
     state = y0 + 0.05 * np.outer(np.sin(2 * np.pi * t), np.ones(len(y0)))
-    outputs = OutputEvaluator(eom)(t, state, p, None)
+    outputs = evaluate_outputs(flexkane.compile_model(eom).module, t, state, p)   # compiled outputs
     return Results(t=t, state=state, state_names=eom.state_names, outputs=outputs,
                    model_text=dumps_model(model), parameters={s.name: values[s] for s in eom.constants})
 

@@ -9,7 +9,7 @@ import flexkane
 import flexkane.kane
 from flexkane.derivation_cache import cache_path, cached_derive, cached_rhs_source, structure_signature
 from flexkane.model.parts import ShapeSpec
-from flexkane.numerics import generate_rhs_source
+from flexkane.simulation import compile_model, model_source
 
 
 @pytest.fixture
@@ -41,7 +41,7 @@ def test_cache_hit_gives_the_equations_of_a_fresh_derivation(tmp_path, count_der
     second = cached_derive(beam(), tmp_path)
     assert count_derivations == ["falling-beam-exact"] and cache_path(beam(), tmp_path).exists()
     assert second is not first
-    assert_same_equations(second, flexkane.derive(beam()))
+    assert_same_equations(second, flexkane.derive(beam(), cache=False))
     np.testing.assert_array_equal(second.parameter_vector(), first.parameter_vector())
 
 
@@ -59,7 +59,7 @@ def test_numeric_changes_hit_the_cache_and_give_their_own_numbers(tmp_path, coun
     eom = cached_derive(changed, tmp_path)
     assert len(count_derivations) == 1
     assert eom.model is changed
-    fresh = flexkane.derive(changed)
+    fresh = flexkane.derive(changed, cache=False)
     assert_same_equations(eom, fresh)
     np.testing.assert_allclose(eom.parameter_vector(), fresh.parameter_vector(), rtol=1e-14)
     np.testing.assert_array_equal(eom.initial_state(), fresh.initial_state())
@@ -121,12 +121,39 @@ def test_damaged_cache_file_is_derived_again(tmp_path, count_derivations):
     cache_path(beam(1), tmp_path).write_bytes(b"not a pickle")
     eom = cached_derive(beam(1), tmp_path)
     assert len(count_derivations) == 2
-    assert_same_equations(eom, flexkane.derive(beam(1)))
+    assert_same_equations(eom, flexkane.derive(beam(1), cache=False))
 
 
 def test_generated_source_is_cached_with_the_equations(tmp_path):
     eom = cached_derive(beam(1), tmp_path)
     source = cached_rhs_source(eom, tmp_path)
-    assert source == generate_rhs_source(eom)
-    assert list((tmp_path / "derived").glob(f"{eom.derivation_key}-*.rhs.py"))
+    assert source == model_source(eom)
+    assert "def rhs(" in source and "def outputs(" in source
+    assert list((tmp_path / "derived").glob(f"{eom.derivation_key}-*.module.py"))
     assert cached_rhs_source(cached_derive(beam(1), tmp_path), tmp_path) == source
+
+
+def test_compiling_cached_equations_does_not_generate_their_code_again(tmp_path, monkeypatch):
+    """A sweep's workers compile the equations they receive: the generated code comes from the cache."""
+    import flexkane.simulation
+
+    compiled = compile_model(cached_derive(beam(1), tmp_path), tmp_path)
+
+    def refuse(eom):
+        raise AssertionError("code generated again")
+
+    monkeypatch.setattr(flexkane.simulation, "model_source", refuse)
+    again = compile_model(cached_derive(beam(1), tmp_path), tmp_path)
+    assert again.key == compiled.key
+    with pytest.raises(AssertionError, match="code generated again"):
+        compile_model(flexkane.derive(beam(1), cache=False), tmp_path)
+
+
+def test_the_package_derive_uses_the_cache_unless_told_not_to(tmp_path, count_derivations):
+    first = flexkane.derive(beam(1), cache_dir=tmp_path)
+    second = flexkane.derive(beam(1), cache_dir=tmp_path)
+    assert count_derivations == ["falling-beam-exact"]
+    assert first.derivation_key == second.derivation_key
+    fresh = flexkane.derive(beam(1), cache=False, cache_dir=tmp_path)
+    assert count_derivations == ["falling-beam-exact"] * 2 and not hasattr(fresh, "derivation_key")
+    assert_same_equations(second, fresh)

@@ -11,7 +11,7 @@ from flexkane import plots
 from flexkane.model import dumps_model
 from flexkane.plots import plot_runs, units, write_plots
 from flexkane.results import Results, load_results
-from flexkane.simulation import OutputEvaluator
+from flexkane.numerics import evaluate_outputs
 
 #: matplotlib's first two colours (C0, C1): the curves.
 CURVE_COLOURS = ("#1f77b4", "#ff7f0e")
@@ -28,7 +28,7 @@ def synthetic_run(name: str, rows: int = 60):
     y0 = eom.initial_state(model)
     waves = np.sin(np.outer(t, 1.0 + np.arange(len(y0))))
     state = y0 + 0.01 * waves
-    outputs = OutputEvaluator(eom)(t, state, p, None)
+    outputs = evaluate_outputs(flexkane.compile_model(eom).module, t, state, p)   # compiled outputs
     res = Results(t=t, state=state, state_names=eom.state_names, outputs=outputs, model_text=dumps_model(model),
                   parameters={s.name: values[s] for s in eom.constants},
                   solver={"method": "none", "nsteps": 0})

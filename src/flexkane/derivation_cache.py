@@ -548,7 +548,7 @@ class Derivation:
             path = self._numbers_path(model)
             known = (_read_json(path) if path is not None else None) or {}
             known.pop("format", None)
-            self._numbers[text] = known
+            self._numbers = {text: known}   # the last model only (a sweep runs many)
         missing = [f for f in fields if f not in known]
         if missing:
             from .run_manifest import MANIFEST_FORMAT, numbers_of
