@@ -7,7 +7,9 @@ Measured, each the median of several runs (a new Python process every time, as a
 * a cached ``flexkane run falling-beam --out DIR --force`` (the second run of ``make run``), with and
   without ``--no-plots`` (target: < 2 s);
 * one run of ``falling-beam`` into an empty cache: its wall time and the compile time it prints in
-  its summary (``compile X s``).
+  its summary (``compile X s``);
+* which heavy libraries a cached run imports, and their import times (``python -X importtime``):
+  a cached run loads its numbers and its compiled module only, so SymPy must not be among them.
 
 Besides the wall time, the CPU time of each process (user + system, from ``getrusage``) is given:
 on a shared machine it is the steadier figure.
@@ -62,6 +64,24 @@ def _timed(arguments: list[str], env: dict, cwd: str) -> tuple[float, float, str
     return wall, cpu, out.stdout
 
 
+#: Heavy libraries whose import a cached run is checked for.
+HEAVY = ("sympy", "numba", "scipy.linalg", "matplotlib")
+
+
+def _imports(arguments: list[str], env: dict, cwd: str) -> dict:
+    """Heavy top-level packages imported by one process, with their cumulative import times [s]."""
+    out = subprocess.run([sys.executable, "-X", "importtime"] + _command()[1:] + arguments, capture_output=True,
+                         text=True, env=env, cwd=cwd, timeout=900)
+    if out.returncode != 0:
+        raise RuntimeError(f"flexkane {' '.join(arguments)} exited with {out.returncode}")
+    found = {}
+    for line in out.stderr.splitlines():
+        match = re.match(r"import time:\s+\d+\s+\|\s+(\d+)\s+\|\s+(\S+)\s*$", line)
+        if match and match.group(2) in HEAVY:   # the package itself: its cumulative time, first import
+            found.setdefault(match.group(2), int(match.group(1)) * 1e-6)
+    return found
+
+
 def _median_case(name: str, arguments: list[str], env: dict, cwd: str, repeat: int, shown: str | None = None) -> dict:
     walls, cpus = [], []
     for _ in range(repeat):
@@ -102,9 +122,11 @@ def run(quick: bool = False) -> dict:
             _median_case("run falling-beam (cached) --no-plots", run_args + ["--no-plots"], env, work,
                          3 if quick else 5, "run falling-beam --out out/falling-beam --force --no-plots"),
         ]
+        imports = _imports(run_args, env, work)
+        print("  a cached run imports: " + ", ".join(f"{k} {v:.3f} s" for k, v in imports.items()), flush=True)
     finally:
         shutil.rmtree(work, ignore_errors=True)
-    return {"rows": rows, "fresh": fresh, "load_average": load_start, "load_average_end": os.getloadavg()[0],
+    return {"rows": rows, "fresh": fresh, "imports": imports, "load_average": load_start, "load_average_end": os.getloadavg()[0],
             "date": datetime.date.today().isoformat(), "repeat": repeat}
 
 
@@ -132,6 +154,14 @@ def markdown(result: dict, machine: dict | None = None) -> list[str]:
     md += ["", f"A run of `falling-beam` into an empty cache took {fresh['wall']:.2f} s wall "
                f"({fresh['cpu']:.2f} s CPU); its summary reports a compile time of {compile_text}"
                + (f" (`{fresh['summary']}`)." if fresh["summary"] else "."), ""]
+    imports = result.get("imports")
+    if imports is not None:
+        heavy = ", ".join(f"{name} ({seconds:.2f} s)" for name, seconds in imports.items())
+        missing = [name for name in HEAVY if name not in imports]
+        md += [f"A cached `run falling-beam` imports {heavy or 'none of them'} (cumulative import times from "
+               f"`python -X importtime`, first import of each package); it does not import "
+               f"{', '.join(missing) or '-'}: its numbers, outputs and equations come from the cache and the "
+               "compiled module.", ""]
     return md
 
 
