@@ -51,7 +51,7 @@ def test_help_and_version_load_no_heavy_library(arguments):
 def test_public_names_resolve_on_first_use():
     import flexkane
     import flexkane.linearize.eigen  # noqa: F401 - importing the subpackage keeps the public function
-    from flexkane.kane import derive
+    from flexkane.derivation_cache import derive   # the package derive: the cached one
     from flexkane.linearize.linearization import linearize
 
     assert flexkane.derive is derive
