@@ -12,7 +12,7 @@ from __future__ import annotations
 import sympy as sp
 
 from .kinematics import Kinematics, rigid_vec
-from .modal_field import Field, vec_map
+from .modal_field import ONE, vec_map
 
 __all__ = ["InertiaForces", "generalized_inertia_forces"]
 
@@ -42,10 +42,6 @@ class InertiaForces:
                 - self.remainder[r] for r in range(n)]
 
 
-def _partials(expr, speeds):
-    return [sp.diff(expr, u) for u in speeds]
-
-
 def generalized_inertia_forces(kin: Kinematics) -> InertiaForces:
     """Mass matrix and remainder of F*_r for every body and beam of the chain.
 
@@ -68,7 +64,7 @@ def generalized_inertia_forces(kin: Kinematics) -> InertiaForces:
         m = kin.value(f"bodies.{name}.mass", body.mass, f"m_{name}")
         inertia = kin.value(f"bodies.{name}.inertia", body.inertia, f"I_{name}")
         vx, vy = frame.v
-        Vx, Vy, W = _partials(vx, speeds), _partials(vy, speeds), _partials(frame.omega, speeds)
+        Vx, Vy, W = ([chain.partial(e, u) for u in speeds] for e in (vx, vy, frame.omega))
         a_rem = kin.acceleration_remainder(rigid_vec(frame.v), frame.omega)
         ax, ay = a_rem[0].coefficient(("1",)), a_rem[1].coefficient(("1",))
         alpha = chain.dt(frame.omega)
@@ -79,19 +75,40 @@ def generalized_inertia_forces(kin: Kinematics) -> InertiaForces:
             rem[r] += m * (Vx[r] * ax + Vy[r] * ay) + inertia * W[r] * alpha
     for name, bm in kin.beams.items():
         consts = bm.constants
-        V = [vec_map(bm.v, lambda c, u=u: sp.diff(c, u)) for u in speeds]
+        V = [vec_map(bm.v, lambda c, u=u: chain.partial(c, u)) for u in speeds]
         a_rem = kin.acceleration_remainder(bm.v, bm.frame.omega)
         active = [r for r in range(n) if not (V[r][0].is_zero() and V[r][1].is_zero())]
+        # Speeds that do not deform the beam (all but its own modal speeds) move it as a rigid body:
+        # V_r(x) = A_r + W_r k x p(x). Their terms use the beam's mass, first moment S and moment of
+        # inertia J about its root, and the resultant R and moment K of rho a_rem, each named once:
+        # no sum over the shape functions per pair of speeds.
+        own = {c.u for c in chain.of(name)}
+        rigid = [r for r in active if speeds[r] not in own]
+        if rigid:
+            m = consts.pair(ONE, ONE)
+            Sx = chain.name(consts.integrate1(bm.X), f"Sx_{name}")
+            Sy = chain.name(consts.integrate1(bm.Y), f"Sy_{name}")
+            J = chain.name(consts.integrate(bm.X, bm.X) + consts.integrate(bm.Y, bm.Y), f"J_{name}")
+            Rx = chain.name(consts.integrate1(a_rem[0]), f"Rx_{name}")
+            Ry = chain.name(consts.integrate1(a_rem[1]), f"Ry_{name}")
+            K = chain.name(consts.integrate(bm.X, a_rem[1]) - consts.integrate(bm.Y, a_rem[0]), f"K_{name}")
+            A = {r: (chain.partial(bm.frame.v[0], speeds[r]), chain.partial(bm.frame.v[1], speeds[r]))
+                 for r in rigid}
+            W = {r: chain.partial(bm.frame.omega, speeds[r]) for r in rigid}
+            lever = {r: -A[r][0] * Sy + A[r][1] * Sx for r in rigid}    # int rho A_r . (k x p) dx
         for i, r in enumerate(active):
             for s in active[i:]:
-                M[r][s] += consts.integrate(V[r][0], V[s][0]) + consts.integrate(V[r][1], V[s][1])
-            rem[r] += consts.integrate(V[r][0], a_rem[0]) + consts.integrate(V[r][1], a_rem[1])
+                if r in rigid and s in rigid:
+                    M[r][s] += (m * (A[r][0] * A[s][0] + A[r][1] * A[s][1]) + W[s] * lever[r]
+                                + W[r] * lever[s] + W[r] * W[s] * J)
+                else:
+                    M[r][s] += consts.integrate(V[r][0], V[s][0]) + consts.integrate(V[r][1], V[s][1])
+            if r in rigid:
+                rem[r] += A[r][0] * Rx + A[r][1] * Ry + W[r] * K
+            else:
+                rem[r] += consts.integrate(V[r][0], a_rem[0]) + consts.integrate(V[r][1], a_rem[1])
     for r in range(n):
         for s in range(r):
             M[r][s] = M[s][r]
     return InertiaForces(sp.Matrix(M), rem, speeds)
 
-
-def field_partials(field: Field, speeds) -> list[Field]:
-    """Partial derivatives of a field's coefficients with respect to each speed."""
-    return [field.map(lambda c, u=u: sp.diff(c, u)) for u in speeds]

@@ -26,6 +26,7 @@ import sympy as sp
 from ..model.parts import Beam, Joint
 from .beam_constants import BeamConstants
 from .chain import Chain
+from .intermediates import FRAME_NAME_ABOVE
 from .modal_field import (ONE, X, Field, Vec, cross_z, dfs, phi, psi, rigid, rotate, vec, vec_add,
                           vec_map)
 
@@ -67,6 +68,16 @@ class FrameMotion:
         v = vec_add(vec_add(vec(*self.v), cross_z(self.omega, pv)), vec_map(pv, chain.dt))
         r = tuple(a + b for a, b in zip(self.r, rot(self.theta, p)))
         return FrameMotion(self.theta, self.omega, r, (v[0].coefficient(ONE), v[1].coefficient(ONE)))
+
+    def named(self, chain: Chain, label: str) -> "FrameMotion":
+        """The same frame with its large components replaced by intermediates (``theta_<label>``,
+        ``omega_<label>``, ``rx_<label>``, ``ry_<label>``, ``vx_<label>``, ``vy_<label>``)."""
+        def name(expr, what):
+            return chain.name(expr, f"{what}_{label}", FRAME_NAME_ABOVE)
+
+        return FrameMotion(name(self.theta, "theta"), name(self.omega, "omega"),
+                           (name(self.r[0], "rx"), name(self.r[1], "ry")),
+                           (name(self.v[0], "vx"), name(self.v[1], "vy")))
 
     def turned(self, angle, chain: Chain) -> "FrameMotion":
         """The frame turned by ``angle`` (an expression of q and t) about its origin."""
@@ -232,11 +243,12 @@ class Kinematics:
             child = attach.point(d, chain).turned(offset, chain)
         else:  # weld
             child = attach.turned(offset, chain)
+        child = child.named(chain, joint.child)
         self.joint_frames[joint.name] = (attach, child)
         model = chain.model
         if joint.child in model.bodies:
             cp = self.body_point(joint.child, joint.child_point)
-            self.bodies[joint.child] = child.point((-cp[0], -cp[1]), chain)
+            self.bodies[joint.child] = child.point((-cp[0], -cp[1]), chain).named(chain, f"{joint.child}_cm")
         else:
             beam = model.beams[joint.child]
             Xf, Yf = self._beam_fields(beam)
@@ -248,13 +260,6 @@ class Kinematics:
     def acceleration_remainder(self, v: Vec, omega) -> Vec:
         """The part of the acceleration that does not multiply u' (eq. 8.21 without u' terms)."""
         return vec_add(vec_map(v, self.chain.dt), cross_z(omega, v))
-
-    def all_frames(self):
-        """(name, FrameMotion) of bodies (at the mass centre) and beams (at the root)."""
-        for name, frame in self.bodies.items():
-            yield name, frame
-        for name, bm in self.beams.items():
-            yield name, bm.frame
 
 
 def rigid_vec(v: tuple) -> Vec:
