@@ -223,7 +223,8 @@ def work_integrands(eom: EquationsOfMotion) -> dict:
     ``W`` and the balance ``E - E0 - W`` are exact to the solver's tolerance. A model without such
     forces (power identically 0) gets none.
     """
-    power = eom.outputs.get("power_nonconservative", sp.Integer(0))
+    outputs = eom.compact.outputs if hasattr(eom, "compact") else eom.outputs   # named intermediates kept
+    power = outputs.get("power_nonconservative", sp.Integer(0))
     return {} if power == 0 else {"work": power}
 
 
