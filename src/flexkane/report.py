@@ -75,7 +75,8 @@ def _forces(eom):
     ``intermediates`` is empty; above it, the common subexpressions of all of them are the
     intermediates ``x_k = ...`` (in order of evaluation) and the forces are written in terms of them.
     """
-    rows = [(eom.F_r_star[r], {k: v[r] for k, v in eom.F_r.items() if v[r] != 0})
+    forces = getattr(eom, "compact_forces", None) or {"F_r_star": eom.F_r_star, "F_r": eom.F_r}
+    rows = [(forces["F_r_star"][r], {k: v[r] for k, v in forces["F_r"].items() if v[r] != 0})
             for r in range(len(eom.all_speeds))]
     flat = [e for star, active in rows for e in (star, *active.values())]
     named = eom.chain.intermediates.used_by(flat)
@@ -107,10 +108,11 @@ def _written_out(named: list, limit: int) -> dict | None:
 
 def _intermediates_note(intermediates) -> str:
     return (f"The equations are too long to print term by term (more than {TERM_BY_TERM_MAX} printed "
-            f"nodes): they are written in terms of {len(intermediates)} intermediates, in order of "
-            "evaluation: the named kinematic quantities of the links (angles, angular velocities, "
-            "positions and velocities of their frames, partial velocities $\\partial v/\\partial u_r$ "
-            "and rates, from the ground outwards), then common subexpressions $x_k$.")
+            f"nodes): they are written in terms of {len(intermediates)} intermediates $x_k$, in order of "
+            "evaluation: for a long chain, first the named quantities of its links from the ground "
+            "outwards (angles, angular velocities, positions and velocities of their frames, partial "
+            "velocities $\\partial v/\\partial u_r$ and rates; composite mass, first moment and inertia "
+            "from the tips inwards), then the common subexpressions.")
 
 
 def collect_terms(eom, expr: sp.Expr) -> sp.Expr:

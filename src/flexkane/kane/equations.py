@@ -46,6 +46,8 @@ class _Expanded:
             return self
         if self.name in instance.__dict__:
             return instance.__dict__[self.name]
+        if self.name in ("F_r_star", "F_r"):
+            return instance._expanded_forces()[self.name]
         return getattr(instance._expanded_form(), self.name)
 
     def __set__(self, instance, value):
@@ -155,8 +157,11 @@ class EquationsOfMotion:
             symbols |= expr.free_symbols
         symbols -= {s for s, _ in self.compact.intermediates}
         self.constants = sorted(symbols - known, key=symbol_order)   # E_1, E_2, ..., E_10
+        #: F*_r and F_r by source in terms of the kinematic intermediates (drivers not substituted)
+        self.compact_forces = {"F_r_star": self.F_r_star, "F_r": self.F_r}
+        self._forces_expanded = None
         # the public attributes are the expanded equations, formed on first use
-        del self.mass_matrix, self.forcing, self.qdot, self.outputs
+        del self.mass_matrix, self.forcing, self.qdot, self.outputs, self.F_r_star, self.F_r
 
     # ------------------------------------------------------------------ compact and expanded forms
     @property
@@ -167,11 +172,22 @@ class EquationsOfMotion:
         """``expr`` (an expression or a Matrix) with every intermediate replaced by its definition."""
         return self.compact.expand(expr)
 
+    def _expanded_forces(self) -> dict:
+        if self._forces_expanded is None:
+            expand = self.chain.intermediates.expand
+            forces = self.compact_forces
+            self._forces_expanded = {
+                "F_r_star": [expand(e) for e in forces["F_r_star"]],
+                "F_r": {k: [expand(e) for e in v] for k, v in forces["F_r"].items()}}
+        return self._forces_expanded
+
     def _expanded_form(self) -> "CompactEquations":
         if self._expanded is None:
             self._expanded = self.compact.expanded()
         return self._expanded
 
+    F_r_star = _Expanded("F_r_star", "list of sympy.Expr: F*_r of every speed (eq. 8.22).")
+    F_r = _Expanded("F_r", "dict of str to list of sympy.Expr: F_r by source (eq. 8.35).")
     mass_matrix = _Expanded("mass_matrix", "sympy.Matrix (len(u), len(u)): M of ``M u' = f``.")
     forcing = _Expanded("forcing", "sympy.Matrix (len(u), 1): f of ``M u' = f``.")
     qdot = _Expanded("qdot", "sympy.Matrix (len(q), 1): the kinematic equations q'.")
@@ -180,6 +196,7 @@ class EquationsOfMotion:
     def __getstate__(self):
         state = dict(self.__dict__)
         state["_expanded"] = None
+        state["_forces_expanded"] = None
         state.pop("_sub", None)
         return state
 
