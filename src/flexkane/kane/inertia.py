@@ -141,6 +141,7 @@ def generalized_inertia_forces(kin: Kinematics) -> InertiaForces:
     n = len(speeds)
     joints = chain.joints                             # tree order: a parent before its children
     frame = {j.child: kin.joint_frames[j.name][1] for j in joints}
+    joint_of = {j.child: j.name for j in joints}
     children: dict[str, list] = {}
     for j in joints:
         children.setdefault(j.parent, []).append(j.child)
@@ -153,13 +154,9 @@ def generalized_inertia_forces(kin: Kinematics) -> InertiaForces:
     for j in reversed(joints):
         link = j.child
         total = _own_properties(kin, link, j)
-        F = frame[link]
-        c, s = sp.cos(F.theta), sp.sin(F.theta)
         for child in children.get(link, []):
-            C = frame[child]
-            dx, dy = C.r[0] - F.r[0], C.r[1] - F.r[1]
-            d = (c * dx + s * dy, -s * dx + c * dy)   # the child's origin in this link's axes
-            total = total + composite[child].moved(d, C.theta - F.theta)
+            d, angle = kin.link_offsets[joint_of[child]]    # the child's frame in this link's frame
+            total = total + composite[child].moved(d, angle)
         composite[link] = total.named(chain, f"{link}_composite") if children.get(link) else total.named(chain, link)
     # where each speed starts to move links rigidly: the frame of its joint's link, or the frames of
     # the links attached to its beam
@@ -202,7 +199,7 @@ def generalized_inertia_forces(kin: Kinematics) -> InertiaForces:
     # a beam's own modal speeds deform it: their terms are integrated over that beam
     for name, bm in kin.beams.items():
         consts = bm.constants
-        own = {c.u for c in chain.of(name)}
+        own = {c.u for c in chain.of(name) if c.role in ("mode", "axial")}
         if not own:
             continue
         V = [vec_map(bm.v, lambda c, u=u: chain.partial(c, u)) for u in speeds]
