@@ -55,9 +55,10 @@ class CompactEquations:
             Dependent speed -> its expression in the independent ones (closed loops), or empty.
         """
         M, f, qdot, outputs = eom.mass_matrix, eom.forcing, eom.qdot, dict(eom.outputs)
-        exprs = [*M, *f, *qdot, *outputs.values()]
+        # every definition is kept (generated code takes those it needs): other expressions of the
+        # kinematics (the spin of a beam's frame for the validity checks) may use any of them
         definitions: dict = {}
-        stack = _among(exprs, registry.definitions)
+        stack = list(registry.definitions)
         while stack:
             s = stack.pop()
             if s in definitions:
