@@ -52,7 +52,7 @@ def units(eom) -> dict[str, str]:
         unit = _UNITS[c.role]
         out[c.q.name] = unit
         out[c.u.name] = _RATE[unit]
-    for name in eom.outputs:
+    for name in eom.output_names:
         if name.startswith(("x_", "y_", "tip_")):
             out[name] = "m"
         elif name.startswith("theta_"):

@@ -75,21 +75,44 @@ def _forces(eom):
     ``intermediates`` is empty; above it, the common subexpressions of all of them are the
     intermediates ``x_k = ...`` (in order of evaluation) and the forces are written in terms of them.
     """
-    rows = [(eom.F_r_star[r], {k: v[r] for k, v in eom.F_r.items() if v[r] != 0})
+    forces = getattr(eom, "compact_forces", None) or {"F_r_star": eom.F_r_star, "F_r": eom.F_r}
+    rows = [(forces["F_r_star"][r], {k: v[r] for k, v in forces["F_r"].items() if v[r] != 0})
             for r in range(len(eom.all_speeds))]
     flat = [e for star, active in rows for e in (star, *active.values())]
-    if printed_size(flat) <= TERM_BY_TERM_MAX:
+    named = eom.chain.intermediates.used_by(flat)
+    if named:
+        # a short chain's kinematic intermediates are written out, as the chapter's equations are
+        full = _written_out(named, TERM_BY_TERM_MAX)
+        if full is not None:
+            rows = [(star.xreplace(full), {k: v.xreplace(full) for k, v in active.items()})
+                    for star, active in rows]
+            flat = [e for star, active in rows for e in (star, *active.values())]
+            named = []
+    if not named and printed_size(flat) <= TERM_BY_TERM_MAX:
         return [], [(collect_terms(eom, star), {k: collect_terms(eom, v) for k, v in active.items()})
                     for star, active in rows]
-    intermediates, reduced = sp.cse(flat, symbols=sp.numbered_symbols("x_", real=True), order="none")
+    common, reduced = sp.cse(flat, symbols=sp.numbered_symbols("x_", real=True), order="none")
     it = iter(reduced)
-    return intermediates, [(next(it), {k: next(it) for k in active}) for _, active in rows]
+    return named + common, [(next(it), {k: next(it) for k in active}) for _, active in rows]
+
+
+def _written_out(named: list, limit: int) -> dict | None:
+    """Each named intermediate written out in full, or None when one exceeds ``limit`` printed nodes."""
+    full: dict = {}
+    for symbol, definition in named:      # evaluation order: earlier ones are already written out
+        full[symbol] = definition.xreplace(full)
+        if printed_size([full[symbol]]) > limit:
+            return None
+    return full
 
 
 def _intermediates_note(intermediates) -> str:
     return (f"The equations are too long to print term by term (more than {TERM_BY_TERM_MAX} printed "
-            f"nodes): they are written in terms of {len(intermediates)} intermediates $x_k$, their "
-            "common subexpressions, in order of evaluation.")
+            f"nodes): they are written in terms of {len(intermediates)} intermediates $x_k$, in order of "
+            "evaluation: for a long chain, first the named quantities of its links from the ground "
+            "outwards (angles, angular velocities, positions and velocities of their frames, partial "
+            "velocities $\\partial v/\\partial u_r$ and rates; composite mass, first moment and inertia "
+            "from the tips inwards), then the common subexpressions.")
 
 
 def collect_terms(eom, expr: sp.Expr) -> sp.Expr:

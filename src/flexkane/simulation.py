@@ -198,7 +198,8 @@ def work_integrands(eom) -> dict:
     ``W`` and the balance ``E - E0 - W`` are exact to the solver's tolerance. A model without such
     forces (power identically 0) gets none.
     """
-    power = eom.outputs.get("power_nonconservative", 0)
+    outputs = eom.compact.outputs if hasattr(eom, "compact") else eom.outputs   # named intermediates kept
+    power = outputs.get("power_nonconservative", 0)
     return {} if power == 0 else {"work": power}
 
 
@@ -222,7 +223,7 @@ def model_source(eom) -> str:
     from .validity import spin_expressions
 
     parts = [generate_rhs_source(eom, quadratures=work_integrands(eom)),
-             generate_outputs_source(eom.outputs, eom)]
+             generate_outputs_source(eom.compact.outputs if hasattr(eom, "compact") else eom.outputs, eom)]
     spins = spin_expressions(eom)
     if spins:
         parts.append(generate_outputs_source(spins, eom, name="spin_rates"))

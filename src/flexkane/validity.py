@@ -74,7 +74,7 @@ def spin_expressions(eom) -> dict:
     import sympy as sp
 
     out = {}
-    known = {eom.t, *eom.q, *eom.u, *eom.constants}
+    known = {eom.t, *eom.q, *eom.u, *eom.constants, *(s for s, _ in getattr(eom, "intermediates", ()))}
     for name, beam in eom.model.beams.items():
         if beam.geometric_stiffening or not eom.chain.beam_modes(name):
             continue

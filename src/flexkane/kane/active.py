@@ -26,10 +26,6 @@ from .modal_field import ONE, X, phi
 __all__ = ["generalized_active_forces", "gravity_vector"]
 
 
-def _partials(expr, speeds):
-    return [sp.diff(expr, u) for u in speeds]
-
-
 def gravity_vector(kin: Kinematics):
     """Gravity acceleration in N, components (g_x, g_y) [m/s^2]; None without gravity."""
     grav = kin.chain.model.gravity
@@ -75,9 +71,9 @@ def generalized_active_forces(kin: Kinematics) -> dict[str, list]:
         for r, u in enumerate(speeds):
             term = 0
             if vector is not None:
-                term += sp.diff(frame_or_v[0], u) * vector[0] + sp.diff(frame_or_v[1], u) * vector[1]
+                term += chain.partial(frame_or_v[0], u) * vector[0] + chain.partial(frame_or_v[1], u) * vector[1]
             if torque is not None:
-                term += sp.diff(omega, u) * torque
+                term += chain.partial(omega, u) * torque
             if term != 0:
                 parts[kind][r] += term
 
@@ -97,8 +93,8 @@ def generalized_active_forces(kin: Kinematics) -> dict[str, list]:
                 add("gravity", mid, (mB * gl[0], mB * gl[1]))
             else:
                 for r, u in enumerate(speeds):
-                    Vx = bm.v[0].map(lambda c: sp.diff(c, u))
-                    Vy = bm.v[1].map(lambda c: sp.diff(c, u))
+                    Vx = bm.v[0].map(lambda c: chain.partial(c, u))
+                    Vy = bm.v[1].map(lambda c: chain.partial(c, u))
                     parts["gravity"][r] += bm.constants.integrate1(Vx) * gl[0] + bm.constants.integrate1(Vy) * gl[1]
 
     # ---------------------------------------------------------------- elastic (8.28, 8.31)
@@ -117,9 +113,9 @@ def generalized_active_forces(kin: Kinematics) -> dict[str, list]:
             M0 = EI * sp.Add(*[consts.shear_moment("M0", i + 1) * qi for i, qi in enumerate(modes)])
             V0 = EI * sp.Add(*[consts.shear_moment("V0", i + 1) * qi for i, qi in enumerate(modes)])
             for r, u in enumerate(speeds):
-                W = sp.diff(bm.frame.omega, u)
-                VQy = sp.diff(bm.frame.v[1], u)
-                Vy = bm.v[1].map(lambda c: sp.diff(c, u))
+                W = chain.partial(bm.frame.omega, u)
+                VQy = chain.partial(bm.frame.v[1], u)
+                Vy = bm.v[1].map(lambda c: chain.partial(c, u))
                 distributed = 0
                 for atom, coeff in Vy.items():
                     for i, qi in enumerate(modes):

@@ -24,6 +24,7 @@ from ..model import Model
 from ..model.coordinates import coordinate_names, tree_order
 from ..model.parts import Joint
 from ..model.values import TIME, FieldSymbols, GeneratedSymbol
+from .intermediates import NAME_ABOVE, Intermediates
 
 __all__ = ["Chain", "Coordinate", "build_chain"]
 
@@ -75,6 +76,8 @@ class Chain:
         (before drivers are substituted).
     ud : dict of Symbol to Symbol
         Symbol standing for the time derivative of each speed.
+    intermediates : Intermediates
+        Named intermediate quantities of the kinematics, in evaluation order.
     """
 
     model: Model
@@ -84,6 +87,11 @@ class Chain:
     qdot: dict = field(default_factory=dict)
     ud: dict = field(default_factory=dict)
     t: sp.Symbol = TIME
+    intermediates: Intermediates = None
+
+    def __post_init__(self):
+        if self.intermediates is None:
+            self.intermediates = Intermediates(self.qdot, self.t)
 
     # ------------------------------------------------------------------ lookups
     def of(self, owner: str, role: str | None = None) -> list[Coordinate]:
@@ -106,7 +114,7 @@ class Chain:
 
     # ------------------------------------------------------------------ calculus
     def dt(self, expr: sp.Expr, with_ud: bool = False) -> sp.Expr:
-        """Total time derivative of an expression of q, u and t, by the chain rule.
+        """Total time derivative of an expression of q, u, t and intermediates, by the chain rule.
 
         Parameters
         ----------
@@ -115,19 +123,17 @@ class Chain:
             Include the terms in u' (symbols ``ud``); otherwise they are left out, which gives the
             part of an acceleration that does not multiply u'.
         """
-        expr = sp.sympify(expr)
-        free = expr.free_symbols
-        terms = []
-        for q, qd in self.qdot.items():
-            if q in free:
-                terms.append(sp.diff(expr, q) * qd)
-        if with_ud:
-            for u, ud in self.ud.items():
-                if u in free:
-                    terms.append(sp.diff(expr, u) * ud)
-        if self.t in free:
-            terms.append(sp.diff(expr, self.t))
-        return sp.Add(*terms)
+        return self.intermediates.rate(expr, self.ud if with_ud else None)
+
+    def partial(self, expr: sp.Expr, u: sp.Symbol) -> sp.Expr:
+        """Partial derivative with respect to a speed (a partial velocity, eq. 8.20), through the
+        intermediates."""
+        return self.intermediates.partial(expr, u)
+
+    def name(self, expr: sp.Expr, label: str, above: int = NAME_ABOVE) -> sp.Expr:
+        """``expr``, or an intermediate standing for it when it has more than ``above`` operations
+        (see :mod:`.intermediates`)."""
+        return self.intermediates.name(expr, label, above)
 
 
 def _tree_order(model: Model) -> list[Joint]:

@@ -87,8 +87,8 @@ def load_profile(profile: sp.Expr, values: dict):
     return sp.lambdify(POSITION, numeric, modules="numpy")
 
 
-def _partial(field: Field, u) -> Field:
-    return field.map(lambda c: sp.diff(c, u))
+def _partial(kin, field: Field, u) -> Field:
+    return field.map(lambda c: kin.chain.partial(c, u))
 
 
 def distributed_load_forces(kin, load, speeds) -> list:
@@ -148,7 +148,7 @@ def distributed_load_forces(kin, load, speeds) -> list:
 
     out = []
     for u in speeds:
-        Vx, Vy = _partial(bm.v[0], u), _partial(bm.v[1], u)
+        Vx, Vy = _partial(kin, bm.v[0], u), _partial(kin, bm.v[1], u)
         total = sp.Integer(0)
         for (profiles, labels, at_nodes), (ex, ey), component in zip(parts, directions, ("x", "y")):
             if not profiles and not at_nodes:

@@ -21,12 +21,40 @@ from ..modes.from_spec import shape_family
 from .active import generalized_active_forces
 from .budget import DerivationBudget
 from .chain import Chain, build_chain
+from .compact import CompactEquations
 from .inertia import InertiaForces, generalized_inertia_forces
 from .distributed_loads import load_profile
 from .kinematics import Kinematics
 from .outputs import output_expressions
 
 __all__ = ["EquationsOfMotion", "derive"]
+
+
+class _Expanded:
+    """An attribute of :class:`EquationsOfMotion` read from the expanded equations.
+
+    While the equations are built, the attribute holds the compact form in the instance's
+    ``__dict__``; once built, reading it gives the expanded form (intermediates substituted).
+    """
+
+    def __init__(self, name: str, doc: str):
+        self.name = name
+        self.__doc__ = doc + " Intermediates substituted (formed on first use)."
+
+    def __get__(self, instance, owner=None):
+        if instance is None:
+            return self
+        if self.name in instance.__dict__:
+            return instance.__dict__[self.name]
+        if self.name in ("F_r_star", "F_r"):
+            return instance._expanded_forces()[self.name]
+        return getattr(instance._expanded_form(), self.name)
+
+    def __set__(self, instance, value):
+        instance.__dict__[self.name] = value
+
+    def __delete__(self, instance):
+        del instance.__dict__[self.name]
 
 
 class EquationsOfMotion:
@@ -59,7 +87,15 @@ class EquationsOfMotion:
     outputs : dict of str to sympy.Expr
         Energy, positions, tip deflections, driver efforts ... (may contain u').
     constants : list of sympy.Symbol
-        Every symbol of the equations and outputs other than t, q, u, u'; the parameter vector p.
+        Every symbol of the equations and outputs other than t, q, u, u' and the intermediates; the
+        parameter vector p.
+    compact : CompactEquations
+        The same equations in terms of named intermediate quantities (evaluated in tree order):
+        what generated code and long reports use. ``mass_matrix``, ``forcing``, ``qdot`` and
+        ``outputs`` above are these with every intermediate substituted (formed on first use; for a
+        chain without intermediates, the same objects).
+    intermediates : list of (sympy.Symbol, sympy.Expr)
+        ``compact.intermediates``: definitions in evaluation order.
     """
 
     def __init__(self, chain: Chain, kin: Kinematics, inertia: InertiaForces, active: dict):
@@ -86,6 +122,7 @@ class EquationsOfMotion:
         sub = (lambda e: e.xreplace(subs)) if subs else (lambda e: e)
         free = [r for r, c in enumerate(coords) if c.driver is None]
         driven = [r for r, c in enumerate(coords) if c.driver is not None]
+        self._sub = sub
         self.q = [c.q for c in coords if c.driver != "coordinate"]
         self.u = [coords[r].u for r in free]
         self.ud = [chain.ud[u] for u in self.u]
@@ -109,13 +146,67 @@ class EquationsOfMotion:
         self.dependent_speeds: dict = {}
         self.constraint_set = None
         self.outputs = {k: sub(v) for k, v in output_expressions(self).items()}
+        dependent_subs: dict = {}
         if chain.model.constraints:
-            self._reduce_by_constraints(sub)
+            dependent_subs = self._reduce_by_constraints(sub)
+        self.compact = CompactEquations.collect(self, chain.intermediates, sub, dependent_subs)
+        self._expanded = None
         known = set(self.q) | set(self.u) | set(self.ud) | {self.t}
         symbols = set()
-        for expr in list(self.mass_matrix) + list(self.forcing) + list(self.qdot) + list(self.outputs.values()):
+        for expr in self.compact.expressions():
             symbols |= expr.free_symbols
+        symbols -= {s for s, _ in self.compact.intermediates}
         self.constants = sorted(symbols - known, key=symbol_order)   # E_1, E_2, ..., E_10
+        #: F*_r and F_r by source in terms of the kinematic intermediates (drivers not substituted)
+        self.compact_forces = {"F_r_star": self.F_r_star, "F_r": self.F_r}
+        self._forces_expanded = None
+        # the public attributes are the expanded equations, formed on first use
+        del self.mass_matrix, self.forcing, self.qdot, self.outputs, self.F_r_star, self.F_r
+
+    # ------------------------------------------------------------------ compact and expanded forms
+    @property
+    def intermediates(self) -> list:
+        return self.compact.intermediates
+
+    @property
+    def output_names(self) -> list[str]:
+        """Names of the outputs (columns of the results files), without forming their expressions."""
+        return list(self.compact.outputs)
+
+    def expand(self, expr):
+        """``expr`` (an expression or a Matrix) with every intermediate replaced by its definition."""
+        return self.compact.expand(expr)
+
+    def _expanded_forces(self) -> dict:
+        if self._forces_expanded is None:
+            expand = self.chain.intermediates.expand
+            forces = self.compact_forces
+            self._forces_expanded = {
+                "F_r_star": [expand(e) for e in forces["F_r_star"]],
+                "F_r": {k: [expand(e) for e in v] for k, v in forces["F_r"].items()}}
+        return self._forces_expanded
+
+    def _expanded_form(self) -> "CompactEquations":
+        if self._expanded is None:
+            self._expanded = self.compact.expanded()
+        return self._expanded
+
+    F_r_star = _Expanded("F_r_star", "list of sympy.Expr: F*_r of every speed (eq. 8.22).")
+    F_r = _Expanded("F_r", "dict of str to list of sympy.Expr: F_r by source (eq. 8.35).")
+    mass_matrix = _Expanded("mass_matrix", "sympy.Matrix (len(u), len(u)): M of ``M u' = f``.")
+    forcing = _Expanded("forcing", "sympy.Matrix (len(u), 1): f of ``M u' = f``.")
+    qdot = _Expanded("qdot", "sympy.Matrix (len(q), 1): the kinematic equations q'.")
+    outputs = _Expanded("outputs", "dict of str to sympy.Expr: output expressions.")
+
+    def __getstate__(self):
+        state = dict(self.__dict__)
+        state["_expanded"] = None
+        state["_forces_expanded"] = None
+        state.pop("_sub", None)
+        return state
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
 
     # ------------------------------------------------------------------ loop constraints
     def _reduce_by_constraints(self, sub) -> None:
@@ -129,19 +220,23 @@ class EquationsOfMotion:
         ud_free = [chain.ud[u] for u in u_free]
         phi = [sub(e) for e in cons.phi]
         g_raw = [chain.dt(e) for e in cons.phi]
-        g = [sub(e) for e in g_raw]
-        g = [expanded if (expanded := bounded_expand(e, [*u_free, *self.q], self.t)) is not None else e
-             for e in g]
-        A = sp.Matrix([[sp.diff(gi, u) for u in u_free] for gi in g])
-        zero_u = {u: 0 for u in u_free}
-        a = sp.Matrix([gi.xreplace(zero_u) + rate * ph for gi, ph, rate in zip(g, phi, cons.rates)])
+        # Phi' = A u + a: g_raw is linear and homogeneous in all the speeds (drivers not yet
+        # substituted), so A is its partial derivatives with respect to the free speeds and a the part
+        # of the driven ones, whose speeds become the drivers' laws
+        driven = [c_.u for c_ in chain.coordinates if c_.driver is not None]
+        simplified = lambda e: (expanded if (expanded := bounded_expand(e, [*u_free, *self.q], self.t))  # noqa: E731
+                                is not None else e)
+        A = sp.Matrix([[simplified(sub(chain.partial(gi, u))) for u in u_free] for gi in g_raw])
+        a = sp.Matrix([simplified(sub(sp.Add(*[chain.partial(gi, u) * u for u in driven]))) + rate * ph
+                       for gi, ph, rate in zip(g_raw, phi, cons.rates)])
         gd = [sub(chain.dt(e, with_ud=True)) for e in g_raw]
         c = sp.Matrix([e.xreplace({ud: 0 for ud in ud_free}) for e in gd])
         # choose the dependent speeds at the initial configuration
         values = self.constant_values()
         guess = self._initial_guess(self.model, values)
         numeric = {**values, **guess, self.t: 0.0}
-        A0 = np.array(A.xreplace({k: sp.Float(v) for k, v in numeric.items()}).evalf(), dtype=float)
+        A_full = sub(chain.intermediates.expand(A))
+        A0 = np.array(A_full.xreplace({k: sp.Float(v) for k, v in numeric.items()}).evalf(), dtype=float)
         roles = {c_.u: c_.role for c_ in chain.coordinates}
         preferred = [roles[u] not in ("mode", "axial") for u in u_free]
         dep = choose_dependent(A0, u_free, preferred, cons.dependent)
@@ -178,7 +273,7 @@ class EquationsOfMotion:
         lam = (adj.T * sp.Matrix([residual[j] for j in dep])) / det
         for owner, effort in list(self.driver_efforts.items()):
             coord = chain.of(owner)[0]
-            column = sp.Matrix([sub(sp.diff(e, coord.u)) for e in g_raw])
+            column = sp.Matrix([sub(chain.partial(e, coord.u)) for e in g_raw])
             self.driver_efforts[owner] = effort - (column.T * lam)[0]
         self.mass_matrix = (PT * M * P).applyfunc(lambda x: x.xreplace(dep_subs))
         self.forcing = (PT * (self.forcing - M * e)).applyfunc(lambda x: x.xreplace(dep_subs))
@@ -197,7 +292,8 @@ class EquationsOfMotion:
             self.outputs[u.name] = expr
         # the constraints decide the dependent coordinates of the initial state
         self.dependent_coordinates = [c_.q for c_ in chain.coordinates if c_.u in dep_subs]
-        self._phi = phi
+        self._phi = [sub(chain.intermediates.expand(e)) for e in phi]
+        return dep_subs
 
     def _power_with_efforts(self, sub) -> sp.Expr:
         """Power of non-conservative forces with the drivers' efforts corrected for constraint forces."""
@@ -387,5 +483,5 @@ def derive(model: Model) -> EquationsOfMotion:
     active = generalized_active_forces(kin)
     budget.check_time("the active forces")
     eom = EquationsOfMotion(chain, kin, inertia, active)
-    budget.check_size([*eom.mass_matrix, *eom.forcing, *eom.qdot, *eom.outputs.values()], "the equations")
+    budget.check_size(eom.compact.expressions(), "the equations")
     return eom

@@ -1,18 +1,38 @@
-"""Generalized inertia forces F*_r (eq. 8.22).
+"""Generalized inertia forces F*_r (eq. 8.22), by composite bodies.
 
     F*_r = w_r . (-I alpha) + v_r . (-m a)        for every rigid body,
          + int_0^L v_P,r . (-a_P) rho dx          for every beam,
 
 with ``a = sum_s v_s u_s' + a_rem``. Split accordingly, ``F*_r = -sum_s M_rs u_s' - Fhat_r`` where
 ``M_rs = sum m v_r . v_s + I w_r w_s + int rho v_P,r . v_P,s dx`` is the (symmetric) mass matrix.
+
+Summed body by body, each entry of M has a term for every link beyond both speeds: the cost grows
+with the cube of the chain's length. But a speed moves every link beyond the joint (or beam) it
+belongs to as a rigid body: at the frame F of a link, its partial velocity field is a *twist*
+``(A_r, W_r)`` (the partial velocity of F's origin and the partial angular velocity, eq. 8.20), and
+at any point P of a link beyond F, ``v_P,r = A_r + W_r k x r_FP``. So the links beyond F enter
+M_rs only through their *composite* rigid-body properties about F (mass m, first moment S, moment
+of inertia J, all in F's axes) and Fhat_r only through the composite resultant R and moment K of
+their ``rho a_rem``:
+
+    M_rs = m A_r . A_s + W_s (k x S) . A_r + W_r (k x S) . A_s + J W_r W_s,
+    Fhat_r = A_r . R + W_r K,
+
+at the frame F of the deeper of the two speeds. The composite properties of a link's frame are
+its own plus those of the links attached to it, moved to its frame: named intermediates computed
+from the tips of the chain inwards. Each entry of M then costs a few operations whatever the
+length of the chain. The terms of a beam's own modal speeds (which deform it rather than move it
+rigidly) are integrated over that beam alone, with its modal constants (eq. 8.22).
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import sympy as sp
 
 from .kinematics import Kinematics, rigid_vec
-from .modal_field import Field, vec_map
+from .modal_field import ONE, vec_map
 
 __all__ = ["InertiaForces", "generalized_inertia_forces"]
 
@@ -42,12 +62,71 @@ class InertiaForces:
                 - self.remainder[r] for r in range(n)]
 
 
-def _partials(expr, speeds):
-    return [sp.diff(expr, u) for u in speeds]
+@dataclass
+class RigidProperties:
+    """Rigid-body properties of a link (or of everything beyond a frame) about a frame's origin.
+
+    Components along the frame's axes. ``m`` mass [kg], ``S`` first moment (m times the position
+    of the mass centre) [kg m], ``J`` moment of inertia about the origin [kg m^2], ``R`` resultant
+    of ``rho a_rem`` [N], ``K`` its moment about the origin [N m].
+    """
+
+    m: sp.Expr
+    S: tuple
+    J: sp.Expr
+    R: tuple
+    K: sp.Expr
+
+    def __add__(self, other: "RigidProperties") -> "RigidProperties":
+        return RigidProperties(self.m + other.m, (self.S[0] + other.S[0], self.S[1] + other.S[1]),
+                               self.J + other.J, (self.R[0] + other.R[0], self.R[1] + other.R[1]),
+                               self.K + other.K)
+
+    def moved(self, d: tuple, angle) -> "RigidProperties":
+        """The same properties about a frame in which this one's origin is at ``d`` and whose
+        axes are turned by ``-angle`` relative to this one's."""
+        c, s = sp.cos(angle), sp.sin(angle)
+        S = (c * self.S[0] - s * self.S[1], s * self.S[0] + c * self.S[1])
+        R = (c * self.R[0] - s * self.R[1], s * self.R[0] + c * self.R[1])
+        return RigidProperties(
+            self.m, (self.m * d[0] + S[0], self.m * d[1] + S[1]),
+            self.J + 2 * (d[0] * S[0] + d[1] * S[1]) + self.m * (d[0] ** 2 + d[1] ** 2),
+            R, self.K + d[0] * R[1] - d[1] * R[0])
+
+    def named(self, chain, label: str) -> "RigidProperties":
+        return RigidProperties(self.m, (chain.name(self.S[0], f"Sx_{label}"), chain.name(self.S[1], f"Sy_{label}")),
+                               chain.name(self.J, f"J_{label}"),
+                               (chain.name(self.R[0], f"Rx_{label}"), chain.name(self.R[1], f"Ry_{label}")),
+                               chain.name(self.K, f"K_{label}"))
+
+
+def _own_properties(kin: Kinematics, link: str, joint) -> RigidProperties:
+    """Properties of one link about its own frame (the child frame of the joint that carries it)."""
+    chain = kin.chain
+    model = chain.model
+    if link in model.bodies:
+        body = model.bodies[link]
+        m = kin.value(f"bodies.{link}.mass", body.mass, f"m_{link}")
+        inertia = kin.value(f"bodies.{link}.inertia", body.inertia, f"I_{link}")
+        cp = kin.body_point(link, joint.child_point)
+        c = (-cp[0], -cp[1])                         # mass centre in the link's frame
+        frame = kin.bodies[link]                     # at the mass centre, same axes
+        a = kin.acceleration_remainder(rigid_vec(frame.v), frame.omega)
+        ax, ay = a[0].coefficient(ONE), a[1].coefficient(ONE)
+        alpha = chain.dt(frame.omega)
+        return RigidProperties(m, (m * c[0], m * c[1]), inertia + m * (c[0] ** 2 + c[1] ** 2),
+                               (m * ax, m * ay), m * (c[0] * ay - c[1] * ax) + inertia * alpha)
+    bm = kin.beams[link]
+    consts = bm.constants
+    a = kin.acceleration_remainder(bm.v, bm.frame.omega)
+    return RigidProperties(consts.pair(ONE, ONE), (consts.integrate1(bm.X), consts.integrate1(bm.Y)),
+                           consts.integrate(bm.X, bm.X) + consts.integrate(bm.Y, bm.Y),
+                           (consts.integrate1(a[0]), consts.integrate1(a[1])),
+                           consts.integrate(bm.X, a[1]) - consts.integrate(bm.Y, a[0]))
 
 
 def generalized_inertia_forces(kin: Kinematics) -> InertiaForces:
-    """Mass matrix and remainder of F*_r for every body and beam of the chain.
+    """Mass matrix and remainder of F*_r of the chain, by composite bodies (module docstring).
 
     Parameters
     ----------
@@ -58,40 +137,81 @@ def generalized_inertia_forces(kin: Kinematics) -> InertiaForces:
     InertiaForces
     """
     chain = kin.chain
-    model = chain.model
     speeds = chain.u
     n = len(speeds)
+    joints = chain.joints                             # tree order: a parent before its children
+    frame = {j.child: kin.joint_frames[j.name][1] for j in joints}
+    joint_of = {j.child: j.name for j in joints}
+    children: dict[str, list] = {}
+    for j in joints:
+        children.setdefault(j.parent, []).append(j.child)
+    # links beyond each link's frame (itself included)
+    beyond: dict[str, set] = {}
+    for j in reversed(joints):
+        beyond[j.child] = {j.child}.union(*(beyond[c] for c in children.get(j.child, [])))
+    # composite properties, from the tips inwards, named at each link
+    composite: dict[str, RigidProperties] = {}
+    for j in reversed(joints):
+        link = j.child
+        total = _own_properties(kin, link, j)
+        for child in children.get(link, []):
+            d, angle = kin.link_offsets[joint_of[child]]    # the child's frame in this link's frame
+            total = total + composite[child].moved(d, angle)
+        composite[link] = total.named(chain, f"{link}_composite") if children.get(link) else total.named(chain, link)
+    # where each speed starts to move links rigidly: the frame of its joint's link, or the frames of
+    # the links attached to its beam
+    roots = {}
+    for c in chain.coordinates:
+        if c.role in ("mode", "axial"):
+            roots[c.u] = [j.child for j in joints if j.parent == c.owner]
+        else:
+            roots[c.u] = [j.child for j in joints if j.name == c.owner]
+    twist: dict = {}
+
+    def twist_at(u, link):
+        key = (u, link)
+        if key not in twist:
+            F = frame[link]
+            twist[key] = (chain.partial(F.v[0], u), chain.partial(F.v[1], u), chain.partial(F.omega, u))
+        return twist[key]
+
     M = [[sp.Integer(0)] * n for _ in range(n)]
     rem = [sp.Integer(0)] * n
-    for name, frame in kin.bodies.items():
-        body = model.bodies[name]
-        m = kin.value(f"bodies.{name}.mass", body.mass, f"m_{name}")
-        inertia = kin.value(f"bodies.{name}.inertia", body.inertia, f"I_{name}")
-        vx, vy = frame.v
-        Vx, Vy, W = _partials(vx, speeds), _partials(vy, speeds), _partials(frame.omega, speeds)
-        a_rem = kin.acceleration_remainder(rigid_vec(frame.v), frame.omega)
-        ax, ay = a_rem[0].coefficient(("1",)), a_rem[1].coefficient(("1",))
-        alpha = chain.dt(frame.omega)
-        active = [r for r in range(n) if Vx[r] != 0 or Vy[r] != 0 or W[r] != 0]
-        for i, r in enumerate(active):
-            for s in active[i:]:
-                M[r][s] += m * (Vx[r] * Vx[s] + Vy[r] * Vy[s]) + inertia * W[r] * W[s]
-            rem[r] += m * (Vx[r] * ax + Vy[r] * ay) + inertia * W[r] * alpha
+    for r in range(n):
+        for root in roots[speeds[r]]:
+            Ax, Ay, W = twist_at(speeds[r], root)
+            P = composite[root]
+            rem[r] += Ax * P.R[0] + Ay * P.R[1] + W * P.K
+        for s in range(r, n):
+            for root_r in roots[speeds[r]]:
+                for root_s in roots[speeds[s]]:
+                    if root_s in beyond[root_r]:
+                        F = root_s
+                    elif root_r in beyond[root_s]:
+                        F = root_r
+                    else:
+                        continue
+                    Ar0, Ar1, Wr = twist_at(speeds[r], F)
+                    As0, As1, Ws = twist_at(speeds[s], F)
+                    P = composite[F]
+                    M[r][s] += (P.m * (Ar0 * As0 + Ar1 * As1) + Ws * (-Ar0 * P.S[1] + Ar1 * P.S[0])
+                                + Wr * (-As0 * P.S[1] + As1 * P.S[0]) + P.J * Wr * Ws)
+    # a beam's own modal speeds deform it: their terms are integrated over that beam
     for name, bm in kin.beams.items():
         consts = bm.constants
-        V = [vec_map(bm.v, lambda c, u=u: sp.diff(c, u)) for u in speeds]
+        own = {c.u for c in chain.of(name) if c.role in ("mode", "axial")}
+        if not own:
+            continue
+        V = [vec_map(bm.v, lambda c, u=u: chain.partial(c, u)) for u in speeds]
         a_rem = kin.acceleration_remainder(bm.v, bm.frame.omega)
         active = [r for r in range(n) if not (V[r][0].is_zero() and V[r][1].is_zero())]
         for i, r in enumerate(active):
             for s in active[i:]:
-                M[r][s] += consts.integrate(V[r][0], V[s][0]) + consts.integrate(V[r][1], V[s][1])
-            rem[r] += consts.integrate(V[r][0], a_rem[0]) + consts.integrate(V[r][1], a_rem[1])
+                if speeds[r] in own or speeds[s] in own:
+                    M[r][s] += consts.integrate(V[r][0], V[s][0]) + consts.integrate(V[r][1], V[s][1])
+            if speeds[r] in own:
+                rem[r] += consts.integrate(V[r][0], a_rem[0]) + consts.integrate(V[r][1], a_rem[1])
     for r in range(n):
         for s in range(r):
             M[r][s] = M[s][r]
     return InertiaForces(sp.Matrix(M), rem, speeds)
-
-
-def field_partials(field: Field, speeds) -> list[Field]:
-    """Partial derivatives of a field's coefficients with respect to each speed."""
-    return [field.map(lambda c, u=u: sp.diff(c, u)) for u in speeds]

@@ -26,6 +26,7 @@ import sympy as sp
 from ..model.parts import Beam, Joint
 from .beam_constants import BeamConstants
 from .chain import Chain
+from .intermediates import FRAME_NAME_ABOVE
 from .modal_field import (ONE, X, Field, Vec, cross_z, dfs, phi, psi, rigid, rotate, vec, vec_add,
                           vec_map)
 
@@ -67,6 +68,16 @@ class FrameMotion:
         v = vec_add(vec_add(vec(*self.v), cross_z(self.omega, pv)), vec_map(pv, chain.dt))
         r = tuple(a + b for a, b in zip(self.r, rot(self.theta, p)))
         return FrameMotion(self.theta, self.omega, r, (v[0].coefficient(ONE), v[1].coefficient(ONE)))
+
+    def named(self, chain: Chain, label: str) -> "FrameMotion":
+        """The same frame with its large components replaced by intermediates (``theta_<label>``,
+        ``omega_<label>``, ``rx_<label>``, ``ry_<label>``, ``vx_<label>``, ``vy_<label>``)."""
+        def name(expr, what):
+            return chain.name(expr, f"{what}_{label}", FRAME_NAME_ABOVE)
+
+        return FrameMotion(name(self.theta, "theta"), name(self.omega, "omega"),
+                           (name(self.r[0], "rx"), name(self.r[1], "ry")),
+                           (name(self.v[0], "vx"), name(self.v[1], "vy")))
 
     def turned(self, angle, chain: Chain) -> "FrameMotion":
         """The frame turned by ``angle`` (an expression of q and t) about its origin."""
@@ -114,6 +125,8 @@ class Kinematics:
         self.bodies: dict[str, FrameMotion] = {}   # frame at the mass centre
         self.beams: dict[str, BeamMotion] = {}
         self.joint_frames: dict[str, tuple[FrameMotion, FrameMotion]] = {}  # (attachment, child)
+        #: joint -> (origin of its child frame in the parent link's frame, angle between the frames)
+        self.link_offsets: dict[str, tuple[tuple, sp.Expr]] = {}
         label_beams = len(model.beams) > 1
         self.constants = {name: BeamConstants(name, name if label_beams else "") for name in model.beams}
         for joint in chain.joints:
@@ -208,11 +221,43 @@ class Kinematics:
         x, text = self.station(joint.parent, f"joints.{joint.name}.station", joint.station)
         return self.beam_station(joint.parent, x, text)
 
+    def _local_attachment(self, joint: Joint) -> tuple[tuple, sp.Expr] | None:
+        """Position of the joint's attachment in the parent link's frame and the angle of the
+        attachment frame relative to it; None for a joint on the ground."""
+        if joint.parent == "ground":
+            return None
+        zero = sp.Integer(0)
+        if joint.parent in self.bodies:
+            parent_joint = next(j for j in self.chain.joints if j.child == joint.parent)
+            cp = self.body_point(joint.parent, parent_joint.child_point)       # the link frame's origin
+            p = self.body_point(joint.parent, joint.parent_point)              # from the mass centre
+            return (p[0] - cp[0], p[1] - cp[1]), zero
+        x, text = self.station(joint.parent, f"joints.{joint.name}.station", joint.station)
+        bm = self.beams[joint.parent]
+        at = lambda f, d=0: f.evaluate(lambda a: bm.constants.station(a, x, text, d))  # noqa: E731
+        return (at(bm.X), at(bm.Y)), at(bm.Y, 1)
+
     def _add_joint(self, joint: Joint) -> None:
         chain = self.chain
         attach = self.attachment(joint)
         offset = self.value(f"joints.{joint.name}.angle", joint.angle, f"theta_{joint.name}")
         coords = chain.of(joint.name)
+        local = self._local_attachment(joint)
+        # the child frame relative to the attachment frame: translation t (attachment axes), turn
+        if joint.type == "free":
+            shift, turn = (coords[0].q, coords[1].q), coords[2].q + offset
+        elif joint.type == "revolute":
+            shift, turn = (sp.Integer(0), sp.Integer(0)), coords[0].q + offset
+        elif joint.type == "prismatic":
+            axis = self.value(f"joints.{joint.name}.axis", joint.axis, f"alpha_{joint.name}")
+            shift, turn = (coords[0].q * sp.cos(axis), coords[0].q * sp.sin(axis)), offset
+        else:
+            shift, turn = (sp.Integer(0), sp.Integer(0)), offset
+        if local is not None:
+            (px, py), slope = local
+            t = rot(slope, shift)
+            #: child frame's origin in the parent link's frame [m] and its angle from it [rad]
+            self.link_offsets[joint.name] = ((px + t[0], py + t[1]), slope + turn)
         if joint.type == "free":
             cx, cy, ca = coords
             phi_ = ca.q + offset
@@ -232,11 +277,12 @@ class Kinematics:
             child = attach.point(d, chain).turned(offset, chain)
         else:  # weld
             child = attach.turned(offset, chain)
+        child = child.named(chain, joint.child)
         self.joint_frames[joint.name] = (attach, child)
         model = chain.model
         if joint.child in model.bodies:
             cp = self.body_point(joint.child, joint.child_point)
-            self.bodies[joint.child] = child.point((-cp[0], -cp[1]), chain)
+            self.bodies[joint.child] = child.point((-cp[0], -cp[1]), chain).named(chain, f"{joint.child}_cm")
         else:
             beam = model.beams[joint.child]
             Xf, Yf = self._beam_fields(beam)
@@ -248,13 +294,6 @@ class Kinematics:
     def acceleration_remainder(self, v: Vec, omega) -> Vec:
         """The part of the acceleration that does not multiply u' (eq. 8.21 without u' terms)."""
         return vec_add(vec_map(v, self.chain.dt), cross_z(omega, v))
-
-    def all_frames(self):
-        """(name, FrameMotion) of bodies (at the mass centre) and beams (at the root)."""
-        for name, frame in self.bodies.items():
-            yield name, frame
-        for name, bm in self.beams.items():
-            yield name, bm.frame
 
 
 def rigid_vec(v: tuple) -> Vec:

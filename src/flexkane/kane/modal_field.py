@@ -139,10 +139,6 @@ def vec_add(a: Vec, b: Vec) -> Vec:
     return (a[0] + b[0], a[1] + b[1])
 
 
-def vec_scale(a: Vec, factor) -> Vec:
-    return (a[0].scale(factor), a[1].scale(factor))
-
-
 def vec_map(a: Vec, function) -> Vec:
     return (a[0].map(function), a[1].map(function))
 

@@ -165,8 +165,8 @@ def convergence_study(model: Model, n_modes, *, about: str = "equilibrium", spin
                 notes.append(note)
         if output is not None:
             eom = derive(variant)
-            if output not in eom.outputs:
-                raise ModelError("--output", "an output of the model (" + ", ".join(sorted(eom.outputs)) + ")",
+            if output not in eom.output_names:
+                raise ModelError("--output", "an output of the model (" + ", ".join(sorted(eom.output_names)) + ")",
                                  output)
             results = simulate(compile_model(eom), t_end=float(at), dt_out=float(at),
                                rtol=rtol if rtol is not None else sim.rtol,

@@ -127,22 +127,93 @@ def _safe_names(symbols: Sequence[sympy.Basic], taken: set[str]) -> list[str]:
     return names
 
 
-def _symbol_table(eom, time_name: str):
-    """Map the model's symbols to safe local names; return ``(subs, q, u, c, time)`` names."""
+def _symbol_table(eom, time_name: str, intermediates: Sequence = ()):
+    """Map the model's symbols to safe local names; return ``(subs, q, u, c, time)`` names.
+
+    ``intermediates`` (symbols of named intermediate quantities) get safe local names too.
+    """
     taken: set[str] = set()
     q_names = _safe_names(list(eom.q), taken)
     u_names = _safe_names(list(eom.u), taken)
     c_names = _safe_names(list(eom.constants), taken)
+    i_names = _safe_names(list(intermediates), taken)
     t_name = getattr(eom.t, "name", "t")
     if t_name == time_name:
         taken.add(time_name)
     else:
         t_name = _safe_names([eom.t], taken)[0]
     subs = {}
-    for sym, name in zip([*eom.q, *eom.u, *eom.constants, eom.t],
-                         [*q_names, *u_names, *c_names, t_name]):
+    for sym, name in zip([*eom.q, *eom.u, *eom.constants, *intermediates, eom.t],
+                         [*q_names, *u_names, *c_names, *i_names, t_name]):
         subs[sym] = sympy.Symbol(name, real=True)
     return subs, q_names, u_names, c_names, t_name
+
+
+def _needed_definitions(eom, exprs) -> list:
+    """The intermediates' definitions (symbol, expression) that ``exprs`` need, in evaluation order.
+
+    ``eom.intermediates`` (absent: none) lists named intermediate quantities in evaluation order,
+    each defined in terms of the earlier ones (see :mod:`flexkane.kane.intermediates`).
+    """
+    definitions = list(getattr(eom, "intermediates", None) or [])
+    if not definitions:
+        return []
+    index = dict(definitions)
+    needed: set = set()
+    stack = [s for e in exprs for s in e.free_symbols if s in index]
+    while stack:
+        s = stack.pop()
+        if s not in needed:
+            needed.add(s)
+            stack += [x for x in index[s].free_symbols if x in index and x not in needed]
+    return [(s, e) for s, e in definitions if s in needed]
+
+
+def _assignments(values: list, definitions: list, subs: Mapping, printer, targets: list) -> list:
+    """Statements computing ``values`` into ``targets``, with the intermediates they need.
+
+    ``values`` and the definitions' expressions are already in local names (``subs`` applied to
+    the definitions' symbols gives their targets). Common subexpressions are shared among all.
+    """
+    exprs = [e.xreplace(subs) for _, e in definitions] + list(values)
+    replacements, reduced = sympy.cse(exprs, symbols=sympy.numbered_symbols("_c"), order="none")
+    nd = len(definitions)
+    statements = [Statement(str(sym), _print(printer, e), e) for sym, e in replacements]
+    statements += [Statement(subs[sym].name, _print(printer, e), e)
+                   for (sym, _), e in zip(definitions, reduced[:nd])]
+    statements += [Statement(target, _print(printer, e), e) for target, e in zip(targets, reduced[nd:])]
+    return _evaluation_order(statements) if definitions else statements
+
+
+def _evaluation_order(statements: list) -> list:
+    """Statements reordered so that each follows those whose targets it reads (stable otherwise).
+
+    Common subexpressions found across the intermediates' definitions and the equations may be
+    used by a definition before the point where ``cse`` listed them, and the other way round.
+    """
+    producers = {st.target: k for k, st in enumerate(statements)}
+    waiting = [sum(1 for u in st.uses if u in producers and producers[u] != k)
+               for k, st in enumerate(statements)]
+    readers: dict = {}
+    for k, st in enumerate(statements):
+        for u in st.uses:
+            if u in producers and producers[u] != k:
+                readers.setdefault(producers[u], []).append(k)
+    import heapq
+
+    ready = [k for k, w in enumerate(waiting) if w == 0]
+    heapq.heapify(ready)
+    out = []
+    while ready:
+        k = heapq.heappop(ready)
+        out.append(statements[k])
+        for r in readers.get(k, ()):
+            waiting[r] -= 1
+            if waiting[r] == 0:
+                heapq.heappush(ready, r)
+    if len(out) != len(statements):
+        raise ValueError("the intermediate quantities refer to each other in a cycle")
+    return out
 
 
 def _check_free_symbols(exprs, subs: Mapping, what: str, extra=frozenset()) -> None:
@@ -240,17 +311,20 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
         :mod:`flexkane.numerics.code_budget` (checked before anything is compiled).
     """
     nq, nu = len(eom.q), len(eom.u)
-    qdot = sympy.Matrix(eom.qdot)
-    mass = sympy.Matrix(eom.mass_matrix)
-    forcing = sympy.Matrix(eom.forcing)
+    equations = getattr(eom, "compact", None) or eom   # in terms of named intermediates when given
+    qdot = sympy.Matrix(equations.qdot)
+    mass = sympy.Matrix(equations.mass_matrix)
+    forcing = sympy.Matrix(equations.forcing)
     if qdot.shape != (nq, 1) or mass.shape != (nu, nu) or forcing.shape != (nu, 1):
         raise ValueError(f"shapes: qdot {qdot.shape} (expected ({nq}, 1)), mass_matrix "
                          f"{mass.shape} (expected ({nu}, {nu})), forcing {forcing.shape} "
                          f"(expected ({nu}, 1))")
-    subs, q_names, u_names, c_names, t_name = _symbol_table(eom, "t")
     upper = [(i, j) for i in range(nu) for j in range(i, nu)]
     exprs = [qdot[i] for i in range(nq)] + [mass[i, j] for i, j in upper] \
         + [forcing[i] for i in range(nu)]
+    definitions = _needed_definitions(eom, exprs)
+    subs, q_names, u_names, c_names, t_name = _symbol_table(eom, "t", [s for s, _ in definitions])
+    exprs = [e for _, e in definitions] + exprs
     applied = {k: v for k, v in subs.items() if not k.is_Symbol}  # q(t), u(t) of KanesMethod
     if applied:
         exprs = [e.xreplace(applied) for e in exprs]
@@ -264,8 +338,12 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
     reduced = [e.xreplace(subs) for e in reduced]
     printer = _MathPrinter()
     prefix = "" if name == "rhs" else name.upper() + "_"
-    texts = [_print(printer, expr) for expr in reduced]
+    nd = len(definitions)
+    texts = [_print(printer, expr) for expr in reduced[nd:]]
     statements = [Statement(str(sym), _print(printer, expr), expr) for sym, expr in replacements]
+    statements += [Statement(subs[sym].name, _print(printer, expr), expr)
+                   for (sym, _), expr in zip(definitions, reduced[:nd])]
+    reduced = reduced[nd:]
     split = sum(len(st.text) for st in statements) + sum(map(len, texts)) > large_rhs.SPLIT_CHARS
     unrolled = nu <= UNROLL_LDL_MAX and not split
     targets = ([f"dy[{i}]" for i in range(nq)]
@@ -273,6 +351,8 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
                + [f"_f{i}" if unrolled else f"dy[{nq + i}]" for i in range(nu)])
     statements += [Statement(target, text, expr)
                    for target, text, expr in zip(targets, texts, reduced)]
+    if definitions:
+        statements = _evaluation_order(statements)
     system_name = "system_rhs" if name == "rhs" else f"{name.upper()}_system"
     quadratures = dict(quadratures or {})
     system_lines, system_operations = _quadrature_lines(eom, name, system_name, quadratures,
@@ -324,22 +404,23 @@ def _quadrature_lines(eom, name: str, system_name: str, quadratures: dict,
         return ["", "", f"# No quadrature states: the integrators integrate {name} itself.",
                 f"{system_name} = {name}"], 0
     nq, nu = len(eom.q), len(eom.u)
-    subs, q_names, u_names, c_names, t_name = _symbol_table(eom, "t")
+    values = [sympy.sympify(e) for e in quadratures.values()]
+    definitions = _needed_definitions(eom, values)
+    subs, q_names, u_names, c_names, t_name = _symbol_table(eom, "t", [s for s, _ in definitions])
     ud_symbols = list(getattr(eom, "ud", None) or [])
     ud_names = _safe_names(ud_symbols, {s.name for s in subs.values()})
     subs.update({s: sympy.Symbol(n, real=True) for s, n in zip(ud_symbols, ud_names)})
     applied = {k: v for k, v in subs.items() if not k.is_Symbol}
-    values = [sympy.sympify(e) for e in quadratures.values()]
     if applied:
         values = [e.xreplace(applied) for e in values]
     values = [e.xreplace(subs) for e in values]
-    _check_free_symbols(values, subs, "the quadrature integrands")
-    replacements, reduced = sympy.cse(values, symbols=sympy.numbered_symbols("_c"), order="none")
-    used = set().union(*(e.free_symbols for _, e in replacements), *(e.free_symbols for e in reduced))
-    used = {s.name for s in used}
+    _check_free_symbols(values + [e.xreplace(subs) for _, e in definitions], subs,
+                        "the quadrature integrands")
     n = nq + nu
-    body = [f"{var} = {_print(printer, expr)}" for var, expr in replacements]
-    body += [f"dy[{n + k}] = {_print(printer, expr)}" for k, expr in enumerate(reduced)]
+    statements = _assignments(values, definitions, subs, printer,
+                              [f"dy[{n + k}]" for k in range(len(values))])
+    used = set().union(*(st.uses for st in statements))
+    body = [f"{st.target} = {st.text}" for st in statements]
     loads = [f"{v} = y[{k}]" for k, v in enumerate([*q_names, *u_names]) if v in used]
     loads += [f"{v} = dy[{nq + k}]" for k, v in enumerate(ud_names) if v in used]
     loads += [f"{v} = p[{k}]" for k, v in enumerate(c_names) if v in used]
@@ -386,18 +467,21 @@ def generate_outputs_source(exprs: Mapping[str, sympy.Expr], args, name: str = "
         ``Y`` (N, nq + nu) states and ``p`` the constants. Rows where the mass matrix is
         singular hold NaN in the columns that use ``ud``.
     """
-    subs, q_names, u_names, c_names, t_name = _symbol_table(args, "t")
     keys = list(exprs)
     values = [sympy.sympify(exprs[k]) for k in keys]
+    definitions = _needed_definitions(args, values)
+    subs, q_names, u_names, c_names, t_name = _symbol_table(args, "t", [s for s, _ in definitions])
     ud_symbols = list(getattr(args, "ud", None) or [])
-    used = set().union(*(v.free_symbols for v in values)) if values else set()
+    used = set().union(*(v.free_symbols for v in values), *(e.free_symbols for _, e in definitions)) \
+        if values else set()
     needs_ud = any(s in used for s in ud_symbols)
     ud_names = _safe_names(ud_symbols, {s.name for s in subs.values()}) if needs_ud else []
     subs.update({s: sympy.Symbol(n, real=True) for s, n in zip(ud_symbols, ud_names)})
     values = [v.xreplace(subs) for v in values]
-    _check_free_symbols(values, subs, "the output expressions")
-    replacements, reduced = sympy.cse(values, symbols=sympy.numbered_symbols("_c"), order="none")
+    _check_free_symbols(values + [e.xreplace(subs) for _, e in definitions], subs, "the output expressions")
     printer = _MathPrinter()
+    statements = _assignments(values, definitions, subs, printer,
+                              [f"_out[_k, {k}]" for k in range(len(values))])
     prefix = "" if name == "outputs" else name.upper() + "_"
     nq = len(q_names)
     lines = _header(args, q_names, u_names, c_names, f"generated outputs {name}")
@@ -421,9 +505,7 @@ def generate_outputs_source(exprs: Mapping[str, sympy.Expr], args, name: str = "
         lines.append(f"{ind}{rhs_name}(_t[_k], _Y[_k], _p, _dy)")
         for k, un in enumerate(ud_names):
             lines.append(f"{ind}{un} = _dy[{nq + k}]")
-    for sym, expr in replacements:
-        lines.append(f"{ind}{sym} = {_print(printer, expr)}")
-    for k, expr in enumerate(reduced):
-        lines.append(f"{ind}_out[_k, {k}] = {_print(printer, expr)}")
+    for st in statements:
+        lines.append(f"{ind}{st.target} = {st.text}")
     lines.append("    return _out")
     return "\n".join(lines) + "\n"

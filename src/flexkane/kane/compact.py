@@ -1,0 +1,138 @@
+"""Kane's equations in compact form: named intermediates first, then the equations in their terms.
+
+:class:`CompactEquations` holds what generated code evaluates, in order: the definitions of the
+intermediate quantities of :mod:`flexkane.kane.intermediates` (tree order: ground outwards), then
+``q' = qdot``, ``M u' = f`` and the outputs, all in terms of them. Prescribed coordinates (drivers)
+and dependent speeds (closed loops) are substituted in the definitions as in the equations; the
+substitution may make an early definition refer to a later one, so the order is re-established
+(stable topological order).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from .intermediates import Intermediate
+
+__all__ = ["CompactEquations"]
+
+
+@dataclass
+class CompactEquations:
+    """Equations of motion in terms of named intermediates.
+
+    Attributes
+    ----------
+    intermediates : list of (Intermediate, sympy.Expr)
+        Definitions in evaluation order; each refers only to earlier ones, q, u, t and constants.
+    mass_matrix : sympy.Matrix, shape (nu, nu)
+    forcing : sympy.Matrix, shape (nu, 1)
+    qdot : sympy.Matrix, shape (nq, 1)
+    outputs : dict of str to sympy.Expr
+    """
+
+    intermediates: list
+    mass_matrix: sp.Matrix
+    forcing: sp.Matrix
+    qdot: sp.Matrix
+    outputs: dict
+
+    @classmethod
+    def collect(cls, eom, registry, sub, dependent: dict) -> "CompactEquations":
+        """The compact equations of ``eom`` (during its construction) from the chain's registry.
+
+        Parameters
+        ----------
+        eom : EquationsOfMotion
+            With ``mass_matrix``, ``forcing``, ``qdot``, ``outputs`` still in compact form.
+        registry : Intermediates
+            The chain's definitions.
+        sub : callable
+            Substitution of the drivers' laws.
+        dependent : dict
+            Dependent speed -> its expression in the independent ones (closed loops), or empty.
+        """
+        M, f, qdot, outputs = eom.mass_matrix, eom.forcing, eom.qdot, dict(eom.outputs)
+        # every definition is kept (generated code takes those it needs): other expressions of the
+        # kinematics (the spin of a beam's frame for the validity checks) may use any of them
+        definitions: dict = {}
+        stack = list(registry.definitions)
+        while stack:
+            s = stack.pop()
+            if s in definitions:
+                continue
+            d = sub(registry.definitions[s])
+            if dependent:
+                d = d.xreplace(dependent)
+            definitions[s] = d
+            stack += _among([d], registry.definitions)
+        order = {s: k for k, s in enumerate(registry.definitions)}
+        return cls(_topological(definitions, order), M, f, qdot, outputs)
+
+    # ------------------------------------------------------------------ views
+    def expressions(self) -> list:
+        """Every expression: definitions, q', M (all entries), f, outputs."""
+        return [*(e for _, e in self.intermediates), *self.qdot, *self.mass_matrix, *self.forcing,
+                *self.outputs.values()]
+
+    def expand(self, expr):
+        """``expr`` with every intermediate replaced by its full definition."""
+        if not self.intermediates:
+            return expr
+        full = self._full()
+        if isinstance(expr, sp.MatrixBase):
+            return expr.applyfunc(lambda e: e.xreplace(full))
+        return sp.sympify(expr).xreplace(full)
+
+    def _full(self) -> dict:
+        full = getattr(self, "_full_memo", None)
+        if full is None:
+            full = {}
+            for s, e in self.intermediates:     # evaluation order: earlier ones are already full
+                full[s] = e.xreplace(full)
+            self._full_memo = full
+        return full
+
+    def expanded(self) -> "CompactEquations":
+        """The same equations without intermediates."""
+        if not self.intermediates:
+            return self
+        return CompactEquations([], self.expand(self.mass_matrix), self.expand(self.forcing),
+                                self.expand(self.qdot), {k: self.expand(v) for k, v in self.outputs.items()})
+
+    def __getstate__(self):
+        state = dict(self.__dict__)
+        state.pop("_full_memo", None)
+        return state
+
+
+def _among(exprs, definitions) -> list:
+    out = []
+    for e in exprs:
+        out += [s for s in sp.sympify(e).free_symbols if isinstance(s, Intermediate) and s in definitions]
+    return out
+
+
+def _topological(definitions: dict, order: dict) -> list:
+    """(symbol, definition) pairs, each after those it refers to, otherwise in creation order."""
+    done: set = set()
+    out = []
+    for root in sorted(definitions, key=order.__getitem__):
+        if root in done:
+            continue
+        stack = [(root, False)]
+        while stack:
+            s, expanded = stack.pop()
+            if s in done:
+                continue
+            if expanded:
+                done.add(s)
+                out.append((s, definitions[s]))
+                continue
+            stack.append((s, True))
+            deps = sorted((x for x in definitions[s].free_symbols if x in definitions and x not in done),
+                          key=order.__getitem__, reverse=True)
+            stack += [(x, False) for x in deps]
+    return out
