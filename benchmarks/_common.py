@@ -9,6 +9,7 @@ import sys
 import time
 from dataclasses import dataclass
 from importlib import metadata
+from pathlib import Path
 
 import numpy as np
 import sympy as sp
@@ -113,3 +114,18 @@ def fmt_time(seconds: float) -> str:
     if seconds >= 1e-6:
         return f"{seconds * 1e6:.2f} us"
     return f"{seconds * 1e9:.0f} ns"
+
+
+def write_section(lines: list[str], section: str, path: Path | None = None) -> None:
+    """Put a section into RESULTS.md, replacing an earlier one that starts with the heading
+    ``section`` (up to the next ``## `` heading)."""
+    path = path or Path(__file__).resolve().parent / "RESULTS.md"
+    text = path.read_text(encoding="utf-8") if path.exists() else "# flexkane benchmarks\n"
+    block = "\n".join(lines).rstrip() + "\n"
+    start = text.find(section)
+    if start < 0:
+        text = text.rstrip() + "\n\n" + block
+    else:
+        following = text.find("\n## ", start + len(section))
+        text = text[:start] + block + ("\n" + text[following + 1:] if following >= 0 else "")
+    path.write_text(text, encoding="utf-8")

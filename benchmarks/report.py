@@ -232,6 +232,9 @@ def markdown(results) -> str:
     else:
         md += [f"Not run: {sweep.get('skipped') or sweep.get('error')}", ""]
     md += ["## Notes", "", NOTES]
+    if "rows" in results.get("chain_scaling", {}):
+        from chain_scaling import markdown as chain_markdown
+        md += [""] + chain_markdown(results["chain_scaling"], {**results.get("machine", {}), **info})
     if "rows" in results.get("startup", {}):
         from startup import markdown as startup_markdown
 

@@ -165,19 +165,6 @@ def markdown(result: dict, machine: dict | None = None) -> list[str]:
     return md
 
 
-def write_section(lines: list[str], path: Path = HERE / "RESULTS.md") -> None:
-    """Put the section into RESULTS.md, replacing an earlier one (up to the next ``## `` heading)."""
-    text = path.read_text(encoding="utf-8") if path.exists() else "# flexkane benchmarks\n"
-    block = "\n".join(lines).rstrip() + "\n"
-    start = text.find(SECTION)
-    if start < 0:
-        text = text.rstrip() + "\n\n" + block
-    else:
-        following = text.find("\n## ", start + len(SECTION))
-        text = text[:start] + block + ("\n" + text[following + 1:] if following >= 0 else "")
-    path.write_text(text, encoding="utf-8")
-
-
 def main() -> dict:
     sys.path.insert(0, str(HERE))
     import _common
@@ -187,7 +174,7 @@ def main() -> dict:
     lines = markdown(result, machine)
     print("\n".join(lines))
     if "--write" in sys.argv:
-        write_section(lines)
+        _common.write_section(lines, SECTION)
         print("written: benchmarks/RESULTS.md")
     return result
 

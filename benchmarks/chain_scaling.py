@@ -1,0 +1,139 @@
+"""How derivation, code generation and compilation grow with the length of a chain (issue 16).
+
+``chain_model(k)`` (benchmarks/scaling.py: k flexible links on hubs, 2 modes each) for k = 1, 2, 4,
+8, 12, 20. Each k runs in a fresh Python process with an empty model cache, so nothing is shared:
+
+* ``derive``: :func:`flexkane.derive` without its cache (kinematics, F*_r, F_r, the equations);
+* ``codegen``: the module's source (common subexpressions, printing);
+* ``compile``: Numba, the model's own functions (the whole of :func:`flexkane.compile_model` minus
+  the code generation);
+* ``operations``: floating-point operations of one right-hand-side evaluation, counted in the
+  generated source (``RHS_OPERATIONS``).
+
+Times are CPU seconds of the child process (user + sys), which a loaded machine inflates less than
+wall time. The ratio of consecutive rows, divided by the ratio of their link counts, shows the growth
+per link: 1 for linear growth.
+
+Usage: ``python benchmarks/chain_scaling.py [--quick] [--write]`` (``--quick``: k <= 8; ``--write``:
+replace this section of benchmarks/RESULTS.md). ``make bench`` runs it through ``run_all.py``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+LINKS = (1, 2, 4, 8, 12, 20)
+QUICK_LINKS = (1, 2, 4, 8)
+SECTION = "## Chain length: derivation, code generation, compilation (issue 16)"
+
+_CHILD = r"""
+import json, resource, sys, time
+sys.path.insert(0, {here!r})
+from scaling import chain_model
+import flexkane
+from flexkane.simulation import compile_model, model_source
+
+def cpu():
+    r = resource.getrusage(resource.RUSAGE_SELF)
+    return r.ru_utime + r.ru_stime
+
+model = chain_model({k})
+t0 = cpu()
+eom = flexkane.derive(model, cache=False)
+t1 = cpu()
+source = model_source(eom)
+t2 = cpu()
+compiled = compile_model(eom, cache_dir={cache!r})
+t3 = cpu()
+ops = int(source.split("RHS_OPERATIONS = ")[1].split()[0])
+print(json.dumps({{"derive": t1 - t0, "codegen": t2 - t1, "compile": (t3 - t2) - (t2 - t1),
+                  "operations": ops, "speeds": len(eom.u), "intermediates": len(eom.intermediates)}}))
+"""
+
+
+def measure(k: int, timeout: float = 1800.0) -> dict:
+    """Times of one chain length in a fresh process with an empty cache (module docstring)."""
+    with tempfile.TemporaryDirectory(prefix="flexkane-chain-") as cache:
+        env = dict(os.environ, FLEXKANE_CACHE_DIR=cache, NUMBA_CACHE_DIR=cache)
+        code = _CHILD.format(here=str(HERE), k=k, cache=cache)
+        done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env,
+                              timeout=timeout)
+    if done.returncode != 0:
+        return {"links": k, "error": done.stderr.strip().splitlines()[-1] if done.stderr else "failed"}
+    row = json.loads(done.stdout.strip().splitlines()[-1])
+    row["links"] = k
+    row["total"] = row["derive"] + row["codegen"] + row["compile"]
+    return row
+
+
+def run(links=LINKS) -> dict:
+    """Rows of :func:`measure` for each chain length, printed as they come."""
+    print("chain length: chain_model(k), derive + code generation + compilation from an empty cache "
+          "(CPU seconds of a fresh process)")
+    rows = []
+    for k in links:
+        row = measure(k)
+        rows.append(row)
+        if "error" in row:
+            print(f"  k = {k:2d}: {row['error']}", flush=True)
+            continue
+        print(f"  k = {k:2d} ({row['speeds']} speeds, {row['intermediates']} intermediates): derive "
+              f"{row['derive']:.2f} s, codegen {row['codegen']:.2f} s, compile {row['compile']:.2f} s, "
+              f"total {row['total']:.2f} s, {row['operations']} operations per evaluation", flush=True)
+    return {"rows": rows, "load_average_end": os.getloadavg()[0]}
+
+
+def markdown(result: dict, machine: dict) -> list[str]:
+    """The RESULTS.md section of :func:`run`'s result."""
+    md = [SECTION, "",
+          "`benchmarks/chain_scaling.py`: `chain_model(k)` (k flexible links on hubs, 2 modes each), each "
+          "k in a fresh process with an empty cache; CPU seconds (user + sys) of that process. *derive*: "
+          "`flexkane.derive(model, cache=False)`; *codegen*: the module source; *compile*: Numba, the "
+          "model's functions; *per link*: the total's ratio to the previous row divided by the ratio of "
+          "the link counts (1 = linear growth).", "",
+          f"Measured on {machine.get('date', '?')}: {machine.get('cpu') or machine.get('Model name', '?')}, "
+          f"{machine.get('cpus') or machine.get('CPU(s)', '?')} "
+          f"CPUs, load average {machine.get('load_average', float('nan')):.1f} at the start, "
+          f"{result.get('load_average_end', float('nan')):.1f} at the end (the machine is shared).", "",
+          "| links | speeds | intermediates | derive [s] | codegen [s] | compile [s] | total [s] | per link "
+          "| operations per evaluation |",
+          "|---|---|---|---|---|---|---|---|---|"]
+    previous = None
+    for r in result["rows"]:
+        if "error" in r:
+            md.append(f"| {r['links']} | - | - | - | - | - | failed: {r['error']} | - | - |")
+            continue
+        per_link = "-" if previous is None else \
+            f"{(r['total'] / previous['total']) / (r['links'] / previous['links']):.2f}"
+        md.append(f"| {r['links']} | {r['speeds']} | {r['intermediates']} | {r['derive']:.2f} | "
+                  f"{r['codegen']:.2f} | {r['compile']:.2f} | {r['total']:.2f} | {per_link} | {r['operations']} |")
+        previous = r
+    return md + [""]
+
+
+def main() -> dict:
+    sys.path.insert(0, str(HERE))
+    import time
+
+    import _common
+
+    info = _common.machine_info()
+    machine = {"cpu": info.get("Model name", "?"), "cpus": info.get("CPU(s)", "?"),
+               "load_average": info["load_average"], "date": time.strftime("%Y-%m-%d")}
+    result = run(QUICK_LINKS if "--quick" in sys.argv else LINKS)
+    lines = markdown(result, machine)
+    print("\n".join(lines))
+    if "--write" in sys.argv:
+        _common.write_section(lines, SECTION)
+        print("written: benchmarks/RESULTS.md")
+    return result
+
+
+if __name__ == "__main__":
+    main()
