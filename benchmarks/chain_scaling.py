@@ -60,7 +60,7 @@ print(json.dumps({{"derive": t1 - t0, "codegen": t2 - t1, "compile": (t3 - t2) -
 def measure(k: int, timeout: float = 1800.0) -> dict:
     """Times of one chain length in a fresh process with an empty cache (module docstring)."""
     with tempfile.TemporaryDirectory(prefix="flexkane-chain-") as cache:
-        env = dict(os.environ, FLEXKANE_CACHE_DIR=cache, NUMBA_CACHE_DIR=cache)
+        env = dict(os.environ, FLEXKANE_CACHE_DIR=cache)
         code = _CHILD.format(here=str(HERE), k=k, cache=cache)
         done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env,
                               timeout=timeout)
