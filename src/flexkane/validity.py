@@ -77,17 +77,16 @@ def validity_warnings(eom, model, t: np.ndarray, state: np.ndarray, values: dict
     list of str
         One sentence per warning, naming the beam, the measured value and the limit.
     """
-    from .expressions import parse_expression, resolve_parameters, to_float
-    from .kane.equations import shape_family
+    from .model.field_values import FieldValues
+    from .modes.from_spec import shape_family
 
     if len(t) == 0:
         return []
     warnings = []
     sim = model.simulation
     names = eom.state_names
-    params = resolve_parameters(model.parameters, path_prefix="parameters")
-    symbols = {name: sp.Symbol(name, real=True) for name in params}
-    numbers = {symbols[name]: value for name, value in params.items()}
+    fields = FieldValues(model)
+    params = fields.parameters
     kin = eom.kinematics
     for name, beam in model.beams.items():
         modes = [q.name for q in eom.chain.beam_modes(name)]
@@ -95,11 +94,8 @@ def validity_warnings(eom, model, t: np.ndarray, state: np.ndarray, values: dict
             continue
         path = f"beams.{name}"
 
-        def number(key, value):
-            where = f"{path}.{key}"
-            return to_float(parse_expression(value, symbols, path=where), numbers, path=where)
-
-        L, EI, rho = number("L", beam.L), number("EI", beam.EI), number("rho", beam.rho)
+        L, EI, rho = (fields.value(beam.L, f"{path}.L"), fields.value(beam.EI, f"{path}.EI"),
+                      fields.value(beam.rho, f"{path}.rho"))
         family = shape_family(beam.shape, f"{path}.shape", params)
         q = state[:, [names.index(m) for m in modes]]
         with np.errstate(all="ignore"):

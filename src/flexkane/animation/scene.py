@@ -91,11 +91,9 @@ class Scene:
     """
 
     def __init__(self, results: Results):
-        import sympy as sp
-
-        from ..expressions import parse_expression, resolve_parameters, to_float
         from ..kane.chain import build_chain
         from ..model import loads_model
+        from ..model.field_values import FieldValues
 
         if not results.model_text:
             raise ModelError("results.npz", "a run that stored its model file text", "no model text")
@@ -104,12 +102,10 @@ class Scene:
         self.t = np.asarray(results.t, dtype=float)
         self.name = model.name
         self.partial = bool(results.partial)
-        params = resolve_parameters(model.parameters, path_prefix="parameters")
-        symbols = {k: sp.Symbol(k) for k in params}
-        values = {symbols[k]: v for k, v in params.items()}
+        fields = FieldValues(model)
 
         def number(value, path: str) -> float:
-            return to_float(parse_expression(value, symbols, path=path), values, path=path)
+            return fields.value(value, path)
 
         self.bodies = []
         for name, body in model.bodies.items():
@@ -120,12 +116,12 @@ class Scene:
                                     for i, (px, py) in enumerate(body.outline)])
             self.bodies.append(BodyShape(name, outline))
         chain = build_chain(model)
-        self._parameters = params
+        self._parameters = fields.parameters
         self.beams = [self._beam_shape(model, chain, name, number) for name in model.beams]
 
     # ------------------------------------------------------------------ construction
     def _beam_shape(self, model, chain, name: str, number) -> BeamShape:
-        from ..kane.equations import shape_family
+        from ..modes.from_spec import shape_family
 
         beam = model.beams[name]
         L = number(beam.L, f"beams.{name}.L")

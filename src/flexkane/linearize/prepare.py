@@ -19,8 +19,6 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
-import sympy as sp
-
 from ..errors import ModelError
 from ..model import Model
 from ..model.parts import Driver
@@ -94,15 +92,9 @@ def _fresh(model: Model, base: str, taken: set[str]) -> str:
 
 def _value_at(model: Model, text, t0: float, path: str) -> float:
     """Numeric value of a field that may depend on t, at t = t0."""
-    from ..expressions import parse_expression, resolve_parameters, to_float
+    from ..model.field_values import FieldValues
 
-    params = resolve_parameters(model.parameters, path_prefix="parameters")
-    symbols = {k: sp.Symbol(k, real=True) for k in model.parameters}
-    t = sp.Symbol("t", real=True)
-    expr = parse_expression(text, {**symbols, "t": t}, path=path)
-    values = {symbols[k]: v for k, v in params.items()}
-    values[t] = float(t0)
-    return to_float(expr, values, path=path)
+    return FieldValues(model).value(text, path, t=float(t0))
 
 
 def spin_hub(model: Model, hub: str | None) -> str:

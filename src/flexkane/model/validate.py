@@ -30,6 +30,7 @@ import numbers
 import re
 
 from ..errors import ModelError, ModelErrors
+from .field_values import FieldValues
 from .model import NAMING_STYLES, Model
 from .parts import (DISTRIBUTED_FRAMES, ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES, Beam,
                     DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody, ShapeSpec,
@@ -79,40 +80,9 @@ def _is_pair(value) -> bool:
     return isinstance(value, (tuple, list)) and len(value) == 2
 
 
-def _parameter_values(definitions) -> dict[str, float]:
-    """The parameters' values: without SymPy when every definition is simple, else by
-    :func:`~flexkane.expressions.resolve_parameters` (which also gives every message)."""
-    from ..expression_syntax import (NeedsSymbolic, check_parameter_name, dependency_order, simple_names,
-                                     simple_value)
-
-    try:
-        if not isinstance(definitions, dict):
-            raise NeedsSymbolic
-        for name in definitions:
-            check_parameter_name(name, f"parameters.{name}")
-        position = {name: k for k, name in enumerate(definitions)}
-        dependencies = {name: sorted(simple_names(value, definitions), key=position.__getitem__)
-                        for name, value in definitions.items()}
-        values: dict[str, float] = {}
-        for name in dependency_order(dependencies, definitions, lambda name: f"parameters.{name}"):
-            values[name] = simple_value(definitions[name], values)
-        return {name: values[name] for name in definitions}
-    except (NeedsSymbolic, ModelError):
-        from ..expressions import resolve_parameters
-
-        return resolve_parameters(definitions, path_prefix="parameters")
-
-
-class _Values:
-    """Evaluates constant fields and time laws of one model, for range checks.
-
-    Values are computed without SymPy (:func:`flexkane.expression_syntax.simple_value`) where that gives
-    the SymPy conversion's answer; any other expression goes through the conversion itself.
-    """
-
-    def __init__(self, model: Model):
-        #: The value of every parameter by name.
-        self.parameters = _parameter_values(model.parameters)
+class _Values(FieldValues):
+    """Evaluates constant fields and time laws of one model, for range checks (the model's one
+    evaluator, :class:`~flexkane.model.field_values.FieldValues`, with the messages of validation)."""
 
     def evaluate(self, path: str, value, extra: dict) -> float:
         """The value of an expression of the parameters and ``extra`` names (``t``, ``x``) [their units].
@@ -120,36 +90,14 @@ class _Values:
         Raises ModelError as :func:`~flexkane.expressions.parse_expression` and
         :func:`~flexkane.expressions.to_float` do (through them when the value needs SymPy).
         """
-        from ..expression_syntax import field_value
-
-        return field_value(value, {**self.parameters, **extra}, path=path)
+        return self.value(value, path, **extra)
 
     def number(self, path: str, value, what: str, unit: str, *, time: bool = False) -> float:
         """The value of a field (at t = 0 for a time law); checks its type and that it is finite."""
-        from ..expression_syntax import NeedsSymbolic, simple_value
-
         kind = f"{what} [{unit}]" + (", a number or an expression of t" if time else "")
         if not _is_value(value):
             raise ModelError(path, f"a number or an expression string ({kind})", value)
-        known = {**self.parameters, "t": 0.0} if time else self.parameters
-        try:
-            return simple_value(value, known)
-        except NeedsSymbolic:
-            pass
-        import sympy as sp
-
-        from ..expressions import parse_expression, to_float
-
-        names = {name: sp.Symbol(name, real=True) for name in known}
-        try:
-            expr = parse_expression(value, names, path=path)
-        except ModelError as exc:
-            raise ModelError(exc.path, f"{kind}, written as {exc.expected}", exc.given, exc.hint) from None
-        try:
-            return to_float(expr, {names[name]: number for name, number in known.items()}, path=path)
-        except ModelError as exc:
-            where = " at t = 0" if time and expr.has(names["t"]) else ""
-            raise ModelError(path, f"{kind} with a finite real value{where}", value, exc.hint) from None
+        return self.value(value, path, what=kind, **({"t": 0.0} if time else {}))
 
     @staticmethod
     def shown(value, number: float):
