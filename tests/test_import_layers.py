@@ -122,3 +122,13 @@ def test_an_import_against_the_layers_is_found(tmp_path):
     targets = imported_modules("flexkane.model.validate", path)
     assert targets == [("flexkane.kane.chain", 2)]
     assert layer_of("flexkane.kane.chain") > layer_of("flexkane.model.validate")
+
+
+def test_the_design_document_draws_these_layers():
+    """docs/design.md shows the same layers, in the same order (latest on top)."""
+    import re
+
+    text = (SRC.parent / "docs" / "design.md").read_text(encoding="utf-8")
+    section = text.split("## The package as layers", 1)[1].split("```")[1]
+    drawn = [m.group(2) for m in re.finditer(r"^\s*(\d+)  (\S.*?)\s{2,}", section, re.MULTILINE)]
+    assert drawn[::-1] == [name for name, _ in LAYERS]
