@@ -91,8 +91,8 @@ class Scene:
     """
 
     def __init__(self, results: Results):
-        from ..kane.chain import build_chain
         from ..model import loads_model
+        from ..model.coordinates import coordinate_names
         from ..model.field_values import FieldValues
 
         if not results.model_text:
@@ -115,19 +115,19 @@ class Scene:
                                      number(py, f"bodies.{name}.outline[{i}][1]")]
                                     for i, (px, py) in enumerate(body.outline)])
             self.bodies.append(BodyShape(name, outline))
-        chain = build_chain(model)
+        coordinates = coordinate_names(model)
         self._parameters = fields.parameters
-        self.beams = [self._beam_shape(model, chain, name, number) for name in model.beams]
+        self.beams = [self._beam_shape(model, coordinates, name, number) for name in model.beams]
 
     # ------------------------------------------------------------------ construction
-    def _beam_shape(self, model, chain, name: str, number) -> BeamShape:
+    def _beam_shape(self, model, coordinates, name: str, number) -> BeamShape:
         from ..modes.from_spec import shape_family
 
         beam = model.beams[name]
         L = number(beam.L, f"beams.{name}.L")
         xi = np.linspace(0.0, 1.0, _STATIONS)
         N = len(self.t)
-        modes = [q.name for q in chain.beam_modes(name)]
+        modes = [c.q for c in coordinates if c.owner == name and c.role == "mode"]
         transverse = np.zeros((N, len(xi)))
         axial = np.zeros((N, len(xi)))
         if modes:
@@ -137,7 +137,7 @@ class Scene:
             if beam.geometric_stiffening:
                 slope = q @ family.phi(xi, len(modes), deriv=1) / L            # y'(x), (N, s)
                 axial -= 0.5 * _cumulative_integral(slope ** 2, xi * L)
-        stretch = [s.name for s in chain.beam_axial(name)]
+        stretch = [c.q for c in coordinates if c.owner == name and c.role == "axial"]
         if stretch:
             family = shape_family(beam.axial_shape, f"beams.{name}.axial_shape", self._parameters)
             s = np.column_stack([self._column(m) for m in stretch])

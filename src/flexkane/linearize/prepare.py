@@ -142,7 +142,7 @@ def prepare_model(model: Model, *, about: str, spin: float | None = None, hub: s
     -------
     PreparedModel
     """
-    from ..kane.chain import build_chain
+    from ..model.coordinates import coordinate_names
 
     if about not in ABOUT:
         raise ModelError("--about", "one of " + ", ".join(ABOUT), about)
@@ -154,14 +154,14 @@ def prepare_model(model: Model, *, about: str, spin: float | None = None, hub: s
     model.validate()
     new = model.copy()
     prepared = PreparedModel(new, about=about)
-    chain = build_chain(model)
-    taken: set[str] = {c.q.name for c in chain.coordinates} | {c.u.name for c in chain.coordinates}
+    coordinates = coordinate_names(model)
+    taken: set[str] = {c.q for c in coordinates} | {c.u for c in coordinates}
     if about == "spin":
         spin = float(spin)
         if not spin == spin or abs(spin) == float("inf"):
             raise ModelError("--spin", "a finite spin rate [rad/s]", spin)
         name = spin_hub(model, hub)
-        coord = chain.of(name)[0]
+        coord = next(c for c in coordinates if c.owner == name)
         joint = new.joints[name]
         parameter = _fresh(new, "Omega", taken)
         new.parameters[parameter] = spin
@@ -169,7 +169,7 @@ def prepare_model(model: Model, *, about: str, spin: float | None = None, hub: s
             prepared.notes.append(f"the actuator torque of joint {name} is not an input: the spin is prescribed")
         joint.torque = None
         joint.driver = Driver(speed=parameter)
-        new.initial.pop(coord.u.name, None)
+        new.initial.pop(coord.u, None)
         prepared.hub = name
         prepared.spin_parameter = parameter
         prepared.notes.append(f"joint {name} spins at the constant rate {parameter} = {spin:g} rad/s")
