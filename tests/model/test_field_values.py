@@ -75,6 +75,7 @@ def test_fields_are_evaluated_in_one_place():
                 offenders.append(f"{relative} calls {name}")
         for node in ast.walk(tree):   # to_float(parse_expression(text ...)): a private evaluator
             if isinstance(node, ast.Call) and getattr(node.func, "id", None) == "to_float" and node.args \
-                    and isinstance(node.args[0], ast.Call) and getattr(node.args[0].func, "id", None) == "parse_expression":
+                    and isinstance(node.args[0], ast.Call) \
+                    and getattr(node.args[0].func, "id", None) == "parse_expression":
                 offenders.append(f"{relative}:{node.lineno} evaluates a field itself")
     assert not offenders, offenders

@@ -207,7 +207,7 @@ class EquationsOfMotion:
         return numeric.initial_guess(self, model)
 
     def project_coordinates(self, q: np.ndarray, p_values: dict, t: float = 0.0) -> np.ndarray:
-        """Solve the loop constraints for the dependent coordinates (:func:`flexkane.kane.numeric.project_coordinates`)."""
+        """Solve the loop constraints for the dependent coordinates (:func:`.numeric.project_coordinates`)."""
         return numeric.project_coordinates(self, q, p_values, t)
 
     # ------------------------------------------------------------------ structure

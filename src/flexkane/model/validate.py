@@ -32,12 +32,12 @@ import re
 from ..errors import ModelError, ModelErrors
 from .field_values import FieldValues
 from .model import NAMING_STYLES, Model
-from .parts import (DISTRIBUTED_FRAMES, ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES, METHODS, Beam,
-                    DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody, ShapeSpec,
-                    Simulation)
+from .parts import (DISTRIBUTED_FRAMES, ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES, METHODS,
+                    Beam, DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody,
+                    ShapeSpec, Simulation)
 
-__all__ = ["validate_model", "validate_run_arguments", "check_output_grid", "RUN_SETTINGS", "MAX_MODES", "MAX_ELASTIC_COORDINATES", "MAX_STIFFENED_MODES",
-           "MAX_OUTPUT_ROWS", "METHODS", "is_name"]
+__all__ = ["validate_model", "validate_run_arguments", "check_output_grid", "RUN_SETTINGS", "MAX_MODES",
+           "MAX_ELASTIC_COORDINATES", "MAX_STIFFENED_MODES", "MAX_OUTPUT_ROWS", "METHODS", "is_name"]
 
 #: Largest number of shape functions of one beam (transverse or axial), and of all the beams of a
 #: model together (n_modes + n_axial summed) (measured in benchmarks/RESULTS.md; 200 modes exhausted
