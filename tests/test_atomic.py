@@ -178,3 +178,34 @@ def test_a_signal_in_a_deferred_section_is_recorded_not_raised(tmp_path):
         atomic_write_text(tmp_path / "b.txt", "b")
         assert stop.requested
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.txt", "b.txt"]
+
+
+def test_every_file_is_replaced_through_the_one_atomic_write():
+    """Outputs and caches alike: no module but flexkane.atomic renames a temporary file over a target."""
+    import ast
+    import pathlib
+
+    src = pathlib.Path(atomic.__file__).resolve().parent
+    renames = []
+    for path in sorted(src.rglob("*.py")):
+        if path.name == "atomic.py" and path.parent == src:
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) \
+                    and node.func.attr in ("replace", "rename", "mkstemp") \
+                    and getattr(node.func.value, "id", None) in ("os", "tempfile"):
+                renames.append(f"{path.relative_to(src)}:{node.lineno}")
+    assert not renames, renames
+
+
+def test_derivation_cache_files_are_written_whole(tmp_path):
+    from flexkane import derivation_cache
+    from flexkane.builtin import builtin_model
+
+    model = builtin_model("pendulum-beam")
+    derivation_cache.cached_derive(model, cache_dir=tmp_path)
+    written = [p for p in tmp_path.rglob("*") if p.is_file()]
+    assert written and not [p for p in written if p.name.startswith(".")]   # no temporary file left
+    umask = os.umask(0o022)
+    os.umask(umask)
+    assert all(p.stat().st_mode & 0o777 == 0o666 & ~umask for p in written)

@@ -10,16 +10,15 @@ The first run, in a fresh cache directory, also says that it compiles.
 from __future__ import annotations
 
 import json
-import os
 import subprocess
 import sys
 from pathlib import Path
 
 import numpy as np
 
+from child_env import child_env
 from flexkane.simulation import COMPILING_MESSAGE
 
-SRC = Path(__file__).resolve().parents[1] / "src"
 
 STIFF_ELBOW = """
 name = "stiff-elbow"
@@ -63,8 +62,7 @@ atol = 1e-6
 
 
 def _run(model: Path, out: Path, cache: Path) -> subprocess.CompletedProcess:
-    env = dict(os.environ, FLEXKANE_CACHE_DIR=str(cache),
-               PYTHONPATH=os.pathsep.join([str(SRC), os.environ.get("PYTHONPATH", "")]))
+    env = child_env(FLEXKANE_CACHE_DIR=str(cache))
     return subprocess.run([sys.executable, "-m", "flexkane", "run", str(model), "--out", str(out), "--no-plots"],
                           capture_output=True, text=True, env=env, timeout=900)
 

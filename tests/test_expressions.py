@@ -2,8 +2,6 @@
 
 import json
 import math
-import os
-import pathlib
 import resource
 import signal
 import subprocess
@@ -13,6 +11,7 @@ import pytest
 import sympy
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from child_env import child_env
 
 from flexkane.errors import ModelError
 from flexkane.expressions import (MAX_DEPTH, MAX_LENGTH, free_names, parse_condition,
@@ -221,10 +220,8 @@ def huge_number_outcomes() -> dict[str, str]:
     limited (bounded work without a clock: past the limit, SIGXCPU ends the child)."""
     def limit():
         resource.setrlimit(resource.RLIMIT_CPU, (_LIMIT_CPU_SECONDS, _LIMIT_CPU_SECONDS + 5))
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(pathlib.Path(__file__).parents[1] / "src"),
-                                                       os.environ.get("PYTHONPATH", "")]))
     child = subprocess.run([sys.executable, "-c", _LIMIT_CHILD, json.dumps([text for text, _ in HUGE_NUMBER_CASES])],
-                           capture_output=True, text=True, env=env, preexec_fn=limit)
+                           capture_output=True, text=True, env=child_env(), preexec_fn=limit)
     ended = signal.Signals(-child.returncode).name if child.returncode < 0 else child.returncode
     assert child.returncode == 0, f"the parsing child ended with {ended} while parsing {child.stderr[-500:]}"
     return dict(json.loads(line) for line in child.stdout.splitlines())

@@ -5,14 +5,13 @@ Checked in a fresh interpreter through ``sys.modules``: deterministic, no clock 
 """
 
 import json
-import os
-import pathlib
 import subprocess
 import sys
 
 import pytest
 
-SRC = pathlib.Path(__file__).resolve().parents[1] / "src"
+from child_env import child_env
+
 HEAVY = ("sympy", "scipy", "numba", "matplotlib")
 
 
@@ -20,8 +19,7 @@ def heavy_modules_after(code: str) -> dict:
     """Run ``code`` in a new interpreter; return the heavy top-level packages it imported and its output."""
     probe = (f"{code}\nimport json, sys\n"
              f"print(json.dumps(sorted({{m.split('.')[0] for m in sys.modules}} & set({HEAVY!r}))))")
-    env = dict(os.environ, PYTHONPATH=str(SRC) + os.pathsep + os.environ.get("PYTHONPATH", ""))
-    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, env=env, timeout=120)
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, env=child_env(), timeout=120)
     assert out.returncode == 0, out.stderr
     *printed, last = out.stdout.strip().splitlines()
     return {"heavy": json.loads(last), "printed": "\n".join(printed)}

@@ -43,15 +43,14 @@ import dataclasses
 import hashlib
 import io
 import json
-import os
 import pickle
 import re
 import sys
-import tempfile
 from functools import lru_cache
 from pathlib import Path
 
 from ._version import __version__
+from .atomic import atomic_write_bytes, atomic_write_text
 from .model import Model
 
 __all__ = ["VALUE_FIELDS", "Derivation", "cache_path", "cached_derive", "cached_rhs_source", "derive",
@@ -256,19 +255,6 @@ def _dumps(obj) -> bytes:
     return buffer.getvalue()
 
 
-def _write_atomically(path: Path, data: bytes) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix="." + path.name, suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as handle:
-            handle.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-
-
 def _bind(eom, model: Model):
     """Point the stored equations at ``model``, whose numbers they will use by default."""
     eom.model = model
@@ -362,7 +348,8 @@ def cached_derive(model: Model, cache_dir=None, *, announce=None):
             announce()
         eom = derive_afresh(model)
         try:
-            _write_atomically(path, _dumps({"format": _FORMAT, "eom": eom}))
+            path.parent.mkdir(parents=True, exist_ok=True)
+            atomic_write_bytes(path, _dumps({"format": _FORMAT, "eom": eom}))
         except OSError:
             pass  # a read-only cache only costs speed
     eom = _bind(eom, model)
@@ -403,7 +390,8 @@ def cached_rhs_source(eom, cache_dir=None) -> str:
         pass
     source = model_source(eom)
     try:
-        _write_atomically(path, source.encode("utf-8"))
+        path.parent.mkdir(parents=True, exist_ok=True)
+        atomic_write_text(path, source)
     except OSError:
         pass
     return source

@@ -529,7 +529,7 @@ def simple_value(text, values: Mapping[str, float]) -> float:
         raise NeedsSymbolic from None
 
 
-def field_value(text, values: Mapping[str, float], *, path: str) -> float:
+def field_value(text, values: Mapping[str, float], *, path: str, what: str | None = None) -> float:
     """The value of a field: :func:`simple_value`, else through the SymPy conversion (same errors).
 
     Parameters
@@ -540,6 +540,9 @@ def field_value(text, values: Mapping[str, float], *, path: str) -> float:
         Values of the names it may use.
     path : str
         Key path of the field, for error messages.
+    what : str, optional
+        What the field is, with its unit (``"length [m]"``): an error then says that a field of this
+        kind was expected (written in the language, with a finite real value at the given ``t``).
 
     Raises
     ------
@@ -555,5 +558,16 @@ def field_value(text, values: Mapping[str, float], *, path: str) -> float:
     from .expressions import parse_expression, to_float
 
     symbols = {name: sympy.Symbol(name, real=True) for name in values}
-    expr = parse_expression(text, symbols, path=path)
-    return to_float(expr, {symbols[name]: float(value) for name, value in values.items()}, path=path)
+    try:
+        expr = parse_expression(text, symbols, path=path)
+    except ModelError as exc:
+        if what is None:
+            raise
+        raise ModelError(exc.path, f"{what}, written as {exc.expected}", exc.given, exc.hint) from None
+    try:
+        return to_float(expr, {symbols[name]: float(value) for name, value in values.items()}, path=path)
+    except ModelError as exc:
+        if what is None:
+            raise
+        where = f" at t = {float(values['t']):g}" if "t" in symbols and expr.has(symbols["t"]) else ""
+        raise ModelError(path, f"{what} with a finite real value{where}", text, exc.hint) from None

@@ -21,7 +21,7 @@ import numpy as np
 from ._version import __version__
 from .errors import ModelError
 from .model import Model, dumps_model
-from .model.validate import MAX_OUTPUT_ROWS
+from .model.validate import MAX_OUTPUT_ROWS, check_output_grid
 from .results import Results
 
 __all__ = ["COMPILING_MESSAGE", "CompiledModel", "compile_model", "simulate", "output_grid", "output_times",
@@ -30,14 +30,8 @@ __all__ = ["COMPILING_MESSAGE", "CompiledModel", "compile_model", "simulate", "o
 
 def output_grid(t_end: float, dt_out: float) -> np.ndarray:
     """Output times 0, dt, 2 dt, ..., t_end [s] (t_end included even when not a multiple of dt)."""
-    if not (t_end > 0 and np.isfinite(t_end)):
-        raise ModelError("t_end", "a positive end time [s]", t_end)
-    if not (dt_out > 0 and np.isfinite(dt_out)):
-        raise ModelError("dt_out", "a positive output interval [s]", dt_out)
-    rows = t_end / dt_out
-    if not rows <= MAX_OUTPUT_ROWS:   # also an infinite ratio (dt_out = 1e-320)
-        raise ModelError("dt_out", "at most 10 million output rows", f"{rows:.3g} rows")
-    count = int(np.floor(rows + 1e-9))
+    check_output_grid(t_end, dt_out)
+    count = int(np.floor(t_end / dt_out + 1e-9))
     if count > MAX_OUTPUT_ROWS:
         raise ModelError("dt_out", "at most 10 million output rows", f"{count} rows")
     grid = np.arange(count + 1) * dt_out

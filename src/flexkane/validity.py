@@ -103,27 +103,20 @@ def beam_checks(eom, model, spins) -> list[dict]:
         shape functions at :data:`_STATIONS` of the length), "p1" [rad/s] or None}``; ``p1``, the
         first bending frequency, only for the beams in ``spins``.
     """
-    import sympy as sp
-
-    from .expressions import parse_expression, resolve_parameters, to_float
-    from .kane.equations import shape_family
+    from .model.field_values import FieldValues
+    from .modes.from_spec import shape_family
 
     names = eom.state_names
-    params = resolve_parameters(model.parameters, path_prefix="parameters")
-    symbols = {name: sp.Symbol(name, real=True) for name in params}
-    numbers = {symbols[name]: value for name, value in params.items()}
+    fields = FieldValues(model)
+    params = fields.parameters
     checks = []
     for name, beam in model.beams.items():
         modes = [q.name for q in eom.chain.beam_modes(name)]
         if not modes:
             continue
         path = f"beams.{name}"
-
-        def number(key, value):
-            where = f"{path}.{key}"
-            return to_float(parse_expression(value, symbols, path=where), numbers, path=where)
-
-        L, EI, rho = number("L", beam.L), number("EI", beam.EI), number("rho", beam.rho)
+        L, EI, rho = (fields.value(beam.L, f"{path}.L"), fields.value(beam.EI, f"{path}.EI"),
+                      fields.value(beam.rho, f"{path}.rho"))
         family = shape_family(beam.shape, f"{path}.shape", params)
         p1 = first_bending_frequency(family, len(modes), L, EI, rho) if name in spins else None
         checks.append({"beam": name, "modes": [names.index(m) for m in modes], "L": L,
@@ -212,7 +205,7 @@ def validity_warnings(eom, model, t: np.ndarray, state: np.ndarray, values: dict
     args = [eom.t] + list(eom.q) + list(eom.u)
     spins = {}
     for name, omega in expressions.items():
-        rate = sp.lambdify(args, omega.xreplace(values), modules="numpy")
+        rate = sp.lambdify(args, eom.expand(omega).xreplace(values), modules="numpy")
         with np.errstate(all="ignore"):
             spins[name] = np.asarray(rate(t, *state.T), dtype=float)
     return run_warnings(beam_checks(eom, model, expressions), model.simulation, t, state, spins)

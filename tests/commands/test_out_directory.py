@@ -8,6 +8,8 @@ import sys
 
 import pytest
 
+from child_env import child_env
+
 from flexkane.cli import main
 from flexkane.commands._common import default_out, prepare_out, safe_folder_name
 from flexkane.errors import ModelError
@@ -148,7 +150,7 @@ def test_max_steps_in_the_simulation_table_of_a_model_file(tmp_path, capsys):
 def test_cli_errors_name_options_and_the_library_names_parameters(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "flexkane", "run", "falling-beam", "--t-end", "-1",
                            "--out", str(tmp_path / "x")], capture_output=True, text=True,
-                          env=dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path)))
+                          env=child_env())
     assert proc.returncode == 2 and "--t-end" in proc.stderr and "Traceback" not in proc.stderr
     from flexkane.model.validate import validate_run_arguments
     from flexkane.simulation import output_grid

@@ -10,7 +10,7 @@ import pytest
 
 import flexkane
 from flexkane.commands._common import apply_settings
-from flexkane.kane.equations import shape_family
+from flexkane.modes.from_spec import shape_family
 from flexkane.modes import get_family
 
 TEXT = """

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import os
 import subprocess
 import sys
 import textwrap
@@ -11,6 +10,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
+from child_env import child_env
 
 from flexkane.numerics import build_module, generate_rhs_source, structure_key
 from flexkane.numerics.jit_module import compose_module_source
@@ -56,11 +57,8 @@ _CHILD = textwrap.dedent("""
 
 
 def _run_child(script, source_file, key, cache):
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join([str(Path(__file__).parents[2] / "src"),
-                                         env.get("PYTHONPATH", "")])
     out = subprocess.run([sys.executable, str(script), str(source_file), key, str(cache)],
-                         capture_output=True, text=True, env=env, check=True, timeout=300)
+                         capture_output=True, text=True, env=child_env(), check=True, timeout=300)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
@@ -98,12 +96,9 @@ def test_processes_building_the_same_key_at_once_leave_one_intact_file(tmp_path,
     key = structure_key(source, "race")
     (tmp_path / "source.py").write_text(source)
     (tmp_path / "builder.py").write_text(_BUILDER)
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join([str(Path(__file__).parents[2] / "src"),
-                                         env.get("PYTHONPATH", "")])
     children = [subprocess.Popen([sys.executable, str(tmp_path / "builder.py"),
                                   str(tmp_path / "source.py"), key, str(tmp_path / "cache")],
-                                 stdout=subprocess.PIPE, text=True, env=env)
+                                 stdout=subprocess.PIPE, text=True, env=child_env())
                 for _ in range(2)]
     outputs = [child.communicate(timeout=300)[0] for child in children]
     assert [child.returncode for child in children] == [0, 0]

@@ -91,11 +91,9 @@ class Scene:
     """
 
     def __init__(self, results: Results):
-        import sympy as sp
-
-        from ..expressions import parse_expression, resolve_parameters, to_float
-        from ..kane.chain import build_chain
         from ..model import loads_model
+        from ..model.coordinates import coordinate_names
+        from ..model.field_values import FieldValues
 
         if not results.model_text:
             raise ModelError("results.npz", "a run that stored its model file text", "no model text")
@@ -104,12 +102,10 @@ class Scene:
         self.t = np.asarray(results.t, dtype=float)
         self.name = model.name
         self.partial = bool(results.partial)
-        params = resolve_parameters(model.parameters, path_prefix="parameters")
-        symbols = {k: sp.Symbol(k) for k in params}
-        values = {symbols[k]: v for k, v in params.items()}
+        fields = FieldValues(model)
 
         def number(value, path: str) -> float:
-            return to_float(parse_expression(value, symbols, path=path), values, path=path)
+            return fields.value(value, path)
 
         self.bodies = []
         for name, body in model.bodies.items():
@@ -119,19 +115,19 @@ class Scene:
                                      number(py, f"bodies.{name}.outline[{i}][1]")]
                                     for i, (px, py) in enumerate(body.outline)])
             self.bodies.append(BodyShape(name, outline))
-        chain = build_chain(model)
-        self._parameters = params
-        self.beams = [self._beam_shape(model, chain, name, number) for name in model.beams]
+        coordinates = coordinate_names(model)
+        self._parameters = fields.parameters
+        self.beams = [self._beam_shape(model, coordinates, name, number) for name in model.beams]
 
     # ------------------------------------------------------------------ construction
-    def _beam_shape(self, model, chain, name: str, number) -> BeamShape:
-        from ..kane.equations import shape_family
+    def _beam_shape(self, model, coordinates, name: str, number) -> BeamShape:
+        from ..modes.from_spec import shape_family
 
         beam = model.beams[name]
         L = number(beam.L, f"beams.{name}.L")
         xi = np.linspace(0.0, 1.0, _STATIONS)
         N = len(self.t)
-        modes = [q.name for q in chain.beam_modes(name)]
+        modes = [c.q for c in coordinates if c.owner == name and c.role == "mode"]
         transverse = np.zeros((N, len(xi)))
         axial = np.zeros((N, len(xi)))
         if modes:
@@ -141,7 +137,7 @@ class Scene:
             if beam.geometric_stiffening:
                 slope = q @ family.phi(xi, len(modes), deriv=1) / L            # y'(x), (N, s)
                 axial -= 0.5 * _cumulative_integral(slope ** 2, xi * L)
-        stretch = [s.name for s in chain.beam_axial(name)]
+        stretch = [c.q for c in coordinates if c.owner == name and c.role == "axial"]
         if stretch:
             family = shape_family(beam.axial_shape, f"beams.{name}.axial_shape", self._parameters)
             s = np.column_stack([self._column(m) for m in stretch])

@@ -8,6 +8,7 @@ from pathlib import Path
 
 from ..errors import ModelError, SolverFailure
 from ..interruption import StopRequest
+from ..model.parts import METHODS
 from ._common import add_max_steps_argument, add_model_arguments, default_out, model_from_args
 from .animate import add_animation_arguments
 from .derive import add_no_cache_argument
@@ -25,7 +26,7 @@ def register(subparsers) -> None:
     p.add_argument("--dt-out", type=float, default=None, metavar="DT", help="output interval [s]")
     p.add_argument("--rtol", type=float, default=None, metavar="R", help="relative tolerance")
     p.add_argument("--atol", type=float, default=None, metavar="A", help="absolute tolerance")
-    p.add_argument("--method", default=None, choices=("auto", "dop853", "radau"),
+    p.add_argument("--method", default=None, choices=METHODS,
                    help="integration method [default: the model's, else auto]")
     add_max_steps_argument(p)
     p.add_argument("--force", action="store_true", help="write into an existing non-empty directory")

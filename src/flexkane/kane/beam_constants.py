@@ -13,10 +13,9 @@ their values by Gauss-Legendre quadrature for given L [m], rho [kg/m], EI [N m^2
 
 from __future__ import annotations
 
-import numpy as np
 import sympy as sp
 
-from ..model.values import GeneratedSymbol, symbol_order
+from ..model.values import GeneratedSymbol
 from ..model.constant_names import MODAL_STEMS, generated_constant  # noqa: F401 - re-exported
 from .modal_field import ONE, X, Atom, Field, atom_order
 
@@ -214,14 +213,3 @@ class BeamConstants:
             else:  # pragma: no cover - specs are made above
                 raise AssertionError(spec)
         return {k: float(v) for k, v in out.items()}
-
-
-def canonical_constants(constants: list[sp.Symbol]) -> list[sp.Symbol]:
-    """Constants sorted by name in natural order, E_1, E_2, ..., E_10 (deterministic order of the
-    parameter vector)."""
-    return sorted(constants, key=symbol_order)
-
-
-def as_array(values: dict, order: list[sp.Symbol]) -> np.ndarray:
-    """Values in the order of ``order``."""
-    return np.array([values[s] for s in order], dtype=float)

@@ -8,22 +8,18 @@ must supply is kept as an output.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import sympy as sp
 
 from ..expressions import bounded_expand, time_derivative
 from ..model import Model
-from ..model.paths import get_value
 from ..model.values import symbol_order
-from ..modes.from_spec import shape_family
+from . import numeric
 from .active import generalized_active_forces
 from .budget import DerivationBudget
 from .chain import Chain, build_chain
 from .compact import CompactEquations
 from .inertia import InertiaForces, generalized_inertia_forces
-from .distributed_loads import load_profile
 from .kinematics import Kinematics
 from .outputs import output_expressions
 
@@ -302,58 +298,13 @@ class EquationsOfMotion:
         return sub(output_expressions(self)["power_nonconservative"])
 
     def _initial_guess(self, model, values) -> dict:
-        """Coordinates and speeds from the model's [initial] table (others 0), as numbers."""
-        from ..expressions import parse_expression, to_float
-
-        psyms = self.chain.symbols.parameters
-        out = {}
-        for c in self.chain.coordinates:
-            for s in (c.q, c.u):
-                value = model.initial.get(s.name, 0)
-                expr = parse_expression(value, dict(psyms), path=f"initial.{s.name}")
-                out[s] = to_float(expr, values, path=f"initial.{s.name}")
-        return out
+        """Coordinates and speeds from the model's [initial] table (others 0), as numbers
+        (:func:`flexkane.kane.numeric.initial_guess`; ``values`` is not needed)."""
+        return numeric.initial_guess(self, model)
 
     def project_coordinates(self, q: np.ndarray, p_values: dict, t: float = 0.0) -> np.ndarray:
-        """Solve the loop constraints for the dependent coordinates, the others fixed.
-
-        Parameters
-        ----------
-        q : ndarray, shape (len(self.q),)
-            Coordinates (dependent ones used as the starting guess).
-        p_values : dict
-            Numeric constants.
-        t : float
-            Time [s].
-        """
-        from scipy.optimize import root
-
-        from ..errors import ModelError
-
-        if not self.dependent_speeds:
-            return q
-        dep = [self.q.index(s) for s in self.dependent_coordinates]
-        subs_const = {k: sp.Float(v) for k, v in p_values.items()}
-        phi = [e.xreplace(subs_const) for e in self._phi]
-        f = sp.lambdify([self.t] + list(self.q), phi, "numpy")
-        jac = sp.lambdify([self.t] + list(self.q), sp.Matrix(phi).jacobian([self.q[i] for i in dep]), "numpy")
-        q = np.array(q, dtype=float)
-
-        def residual(x):
-            q[dep] = x
-            return np.array(f(t, *q), dtype=float)
-
-        def jacobian(x):
-            q[dep] = x
-            return np.array(jac(t, *q), dtype=float)
-
-        sol = root(residual, q[dep], jac=jacobian, method="hybr", tol=1e-14)
-        if np.abs(residual(sol.x)).max() > 1e-10:
-            raise ModelError("initial", "initial coordinates from which the loop constraints can be closed "
-                             f"(solving for {', '.join(s.name for s in self.dependent_coordinates)})",
-                             f"residual {np.abs(residual(sol.x)).max():.3g}")
-        q[dep] = sol.x
-        return q
+        """Solve the loop constraints for the dependent coordinates (:func:`.numeric.project_coordinates`)."""
+        return numeric.project_coordinates(self, q, p_values, t)
 
     # ------------------------------------------------------------------ structure
     @property
@@ -371,89 +322,16 @@ class EquationsOfMotion:
 
     # ------------------------------------------------------------------ numbers
     def constant_values(self, model: Model | None = None) -> dict:
-        """Numeric value of every constant for ``model`` (by default the derived one).
-
-        ``model`` may differ from the derived model in its numbers only (parameters, field values,
-        typed roots); its structure must be the same.
-        """
-        from ..expressions import parse_expression, resolve_parameters, to_float
-
-        model = model or self.model
-        params = resolve_parameters(model.parameters, path_prefix="parameters")
-        psyms = self.chain.symbols.parameters
-        values: dict = {psyms[k]: float(v) for k, v in params.items() if k in psyms}
-        names = dict(psyms)
-
-        def number(path, value):
-            expr = parse_expression(value, names, path=path)
-            return to_float(expr, values, path=path)
-
-        for symbol, (path, _) in self.chain.symbols.definitions.items():
-            values[symbol] = number(path, get_value(model, path))
-        for name, consts in self.kinematics.constants.items():
-            if not consts.used:
-                continue
-            beam = model.beams[name]
-            path = f"beams.{name}"
-            family = shape_family(beam.shape, f"{path}.shape", params)
-            axial = shape_family(beam.axial_shape, f"{path}.axial_shape", params) if beam.n_axial else None
-            stations, profiles = {}, {}
-            for spec in consts.used.values():
-                if spec[0] == "station":
-                    stations[spec[3]] = to_float(sp.sympify(spec[3]), values, path=f"{path} station")
-                elif spec[0] == "load":
-                    profiles[spec[2]] = load_profile(spec[2], values)
-            with np.errstate(over="raise", invalid="raise"):
-                try:
-                    beam_values = consts.values(
-                L=number(f"{path}.L", beam.L), rho=number(f"{path}.rho", beam.rho),
-                EI=number(f"{path}.EI", beam.EI), family=family, n=beam.n_modes,
-                EA=number(f"{path}.EA", beam.EA) if beam.EA is not None else None,
-                axial_family=axial, n_axial=beam.n_axial, station_values=stations, profiles=profiles)
-                except (OverflowError, FloatingPointError, ValueError) as exc:
-                    from ..errors import ModelError
-
-                    raise ModelError(path, "values of L, rho, EI (and EA) whose modal constants are finite",
-                                     f"{exc}") from None
-            values.update(beam_values)
-        for symbol, value in values.items():
-            if not math.isfinite(value):
-                from ..errors import ModelError
-
-                owner = next((f"beams.{name}" for name, consts in self.kinematics.constants.items()
-                              if symbol in consts.used), "parameters")
-                raise ModelError(owner, f"values whose modal constants are finite ({symbol.name} is not)", value)
-        return values
+        """Numeric value of every constant for ``model`` (:func:`flexkane.kane.numeric.constant_values`)."""
+        return numeric.constant_values(self, model)
 
     def parameter_vector(self, model: Model | None = None) -> np.ndarray:
-        """The constants vector p, shape (len(constants),), in the order of :attr:`constants`."""
-        values = self.constant_values(model)
-        return np.array([values[s] for s in self.constants], dtype=float)
+        """The constants vector p in the order of :attr:`constants` (:func:`flexkane.kane.numeric.parameter_vector`)."""
+        return numeric.parameter_vector(self, model)
 
     def initial_state(self, model: Model | None = None) -> np.ndarray:
-        """Initial state [q, u] from the model's ``[initial]`` table (others 0), shape (n,)."""
-        from ..expressions import parse_expression, resolve_parameters, to_float
-
-        model = model or self.model
-        params = resolve_parameters(model.parameters, path_prefix="parameters")
-        psyms = self.chain.symbols.parameters
-        values = {psyms[k]: float(v) for k, v in params.items() if k in psyms}
-        state = []
-        for s in self.q + self.u:
-            value = model.initial.get(s.name, 0)
-            expr = parse_expression(value, dict(psyms), path=f"initial.{s.name}")
-            state.append(to_float(expr, values, path=f"initial.{s.name}"))
-        state = np.array(state, dtype=float)
-        if self.dependent_speeds:
-            from ..errors import ModelError
-
-            for u in self.dependent_speeds:
-                if u.name in model.initial:
-                    raise ModelError(f"initial.{u.name}", "no initial value for a dependent speed (it follows "
-                                     "from the independent ones through the loop constraints)", model.initial[u.name])
-            nq = len(self.q)
-            state[:nq] = self.project_coordinates(state[:nq], self.constant_values(model))
-        return state
+        """Initial state [q, u] from the model's ``[initial]`` table (:func:`flexkane.kane.numeric.initial_state`)."""
+        return numeric.initial_state(self, model)
 
 
 def derive(model: Model) -> EquationsOfMotion:

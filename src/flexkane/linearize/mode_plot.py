@@ -36,8 +36,8 @@ class ChainDrawing:
     """
 
     def __init__(self, linear, points: int = 61):
-        from ..expressions import parse_expression, resolve_parameters, to_float
-        from ..kane.equations import shape_family
+        from ..model.field_values import FieldValues
+        from ..modes.from_spec import shape_family
 
         lin = linear.linearization
         self.linear = linear
@@ -52,22 +52,21 @@ class ChainDrawing:
         exprs = [[sp.sympify(e).xreplace(values) for e in row] for row in exprs]
         self._frames = sp.lambdify(self._state, exprs, modules="numpy")
         self._names = names
-        psyms = eom.chain.symbols.parameters
+        fields = FieldValues(model)
         self._outlines = {}
         for name, body in model.bodies.items():
             if body.outline:
-                pts = [[to_float(parse_expression(c, psyms, path=f"bodies.{name}.outline"), values,
-                                 path=f"bodies.{name}.outline") for c in point] for point in body.outline]
+                pts = [[fields.value(c, f"bodies.{name}.outline") for c in point] for point in body.outline]
                 pts.append(pts[0])
                 self._outlines[name] = np.array(pts, dtype=float)
             else:
                 self._outlines[name] = None
         self._beams = {}
-        params = resolve_parameters(model.parameters, path_prefix="parameters")
+        params = fields.parameters
         index = {q: k for k, q in enumerate(self._state)}
         for name, beam in model.beams.items():
             path = f"beams.{name}"
-            L = float(sp.sympify(eom.kinematics.value(f"{path}.L", beam.L, f"L_{name}")).xreplace(values))
+            L = fields.value(beam.L, f"{path}.L")
             xi = np.linspace(0.0, 1.0, points)
             modes = [index[q] for q in eom.chain.beam_modes(name)]
             phi = (shape_family(beam.shape, f"{path}.shape", params).phi(xi, beam.n_modes) if modes

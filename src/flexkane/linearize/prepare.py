@@ -19,8 +19,6 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
-import sympy as sp
-
 from ..errors import ModelError
 from ..model import Model
 from ..model.parts import Driver
@@ -94,15 +92,9 @@ def _fresh(model: Model, base: str, taken: set[str]) -> str:
 
 def _value_at(model: Model, text, t0: float, path: str) -> float:
     """Numeric value of a field that may depend on t, at t = t0."""
-    from ..expressions import parse_expression, resolve_parameters, to_float
+    from ..model.field_values import FieldValues
 
-    params = resolve_parameters(model.parameters, path_prefix="parameters")
-    symbols = {k: sp.Symbol(k, real=True) for k in model.parameters}
-    t = sp.Symbol("t", real=True)
-    expr = parse_expression(text, {**symbols, "t": t}, path=path)
-    values = {symbols[k]: v for k, v in params.items()}
-    values[t] = float(t0)
-    return to_float(expr, values, path=path)
+    return FieldValues(model).value(text, path, t=float(t0))
 
 
 def spin_hub(model: Model, hub: str | None) -> str:
@@ -150,7 +142,7 @@ def prepare_model(model: Model, *, about: str, spin: float | None = None, hub: s
     -------
     PreparedModel
     """
-    from ..kane.chain import build_chain
+    from ..model.coordinates import coordinate_names
 
     if about not in ABOUT:
         raise ModelError("--about", "one of " + ", ".join(ABOUT), about)
@@ -162,14 +154,14 @@ def prepare_model(model: Model, *, about: str, spin: float | None = None, hub: s
     model.validate()
     new = model.copy()
     prepared = PreparedModel(new, about=about)
-    chain = build_chain(model)
-    taken: set[str] = {c.q.name for c in chain.coordinates} | {c.u.name for c in chain.coordinates}
+    coordinates = coordinate_names(model)
+    taken: set[str] = {c.q for c in coordinates} | {c.u for c in coordinates}
     if about == "spin":
         spin = float(spin)
         if not spin == spin or abs(spin) == float("inf"):
             raise ModelError("--spin", "a finite spin rate [rad/s]", spin)
         name = spin_hub(model, hub)
-        coord = chain.of(name)[0]
+        coord = next(c for c in coordinates if c.owner == name)
         joint = new.joints[name]
         parameter = _fresh(new, "Omega", taken)
         new.parameters[parameter] = spin
@@ -177,7 +169,7 @@ def prepare_model(model: Model, *, about: str, spin: float | None = None, hub: s
             prepared.notes.append(f"the actuator torque of joint {name} is not an input: the spin is prescribed")
         joint.torque = None
         joint.driver = Driver(speed=parameter)
-        new.initial.pop(coord.u.name, None)
+        new.initial.pop(coord.u, None)
         prepared.hub = name
         prepared.spin_parameter = parameter
         prepared.notes.append(f"joint {name} spins at the constant rate {parameter} = {spin:g} rad/s")

@@ -70,13 +70,6 @@ class Model:
         """Names of all links (bodies then beams)."""
         return list(self.bodies) + list(self.beams)
 
-    def joint_of_child(self, link: str) -> Joint:
-        """The joint whose child is ``link``."""
-        for joint in self.joints.values():
-            if joint.child == link:
-                return joint
-        raise ModelError("joints", f"a joint whose child is {link!r}", None, show_given=False)
-
     def copy(self) -> "Model":
         """A deep copy, safe to modify."""
         return copy.deepcopy(self)

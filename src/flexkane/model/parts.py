@@ -23,6 +23,10 @@ JOINT_DOFS = {"free": ("x", "y", "angle"), "revolute": ("angle",), "prismatic": 
 GRAVITY_MODELS = ("distributed", "midpoint")
 ELASTIC_MODELS = ("strain-energy", "shear-moment")
 FRAMES = ("ground", "local")
+#: Integration methods of a run (the one list: validation, the command line and the integrators use
+#: it); ``auto`` chooses one of them by a stiffness estimate.
+INTEGRATION_METHODS = ("dop853", "radau")
+METHODS = ("auto", *INTEGRATION_METHODS)
 #: Frames in which the components of a distributed load are given.
 DISTRIBUTED_FRAMES = ("beam", "ground")
 

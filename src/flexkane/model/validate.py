@@ -30,13 +30,14 @@ import numbers
 import re
 
 from ..errors import ModelError, ModelErrors
+from .field_values import FieldValues
 from .model import NAMING_STYLES, Model
-from .parts import (DISTRIBUTED_FRAMES, ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES, Beam,
-                    DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody, ShapeSpec,
-                    Simulation)
+from .parts import (DISTRIBUTED_FRAMES, ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES, METHODS,
+                    Beam, DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody,
+                    ShapeSpec, Simulation)
 
-__all__ = ["validate_model", "validate_run_arguments", "MAX_MODES", "MAX_ELASTIC_COORDINATES", "MAX_STIFFENED_MODES",
-           "MAX_OUTPUT_ROWS", "METHODS", "is_name"]
+__all__ = ["validate_model", "validate_run_arguments", "check_output_grid", "RUN_SETTINGS", "MAX_MODES",
+           "MAX_ELASTIC_COORDINATES", "MAX_STIFFENED_MODES", "MAX_OUTPUT_ROWS", "METHODS", "is_name"]
 
 #: Largest number of shape functions of one beam (transverse or axial), and of all the beams of a
 #: model together (n_modes + n_axial summed) (measured in benchmarks/RESULTS.md; 200 modes exhausted
@@ -50,8 +51,6 @@ MAX_STIFFENED_MODES = 10
 MAX_OUTPUT_ROWS = 10_000_000
 #: Most problems one validation reports together.
 MAX_REPORTED = 20
-#: Integration methods a model may ask for.
-METHODS = ("auto", "dop853", "radau")
 #: Range of relative tolerances the integrators accept [-].
 RTOL_RANGE = (1e-13, 1.0)
 
@@ -79,40 +78,9 @@ def _is_pair(value) -> bool:
     return isinstance(value, (tuple, list)) and len(value) == 2
 
 
-def _parameter_values(definitions) -> dict[str, float]:
-    """The parameters' values: without SymPy when every definition is simple, else by
-    :func:`~flexkane.expressions.resolve_parameters` (which also gives every message)."""
-    from ..expression_syntax import (NeedsSymbolic, check_parameter_name, dependency_order, simple_names,
-                                     simple_value)
-
-    try:
-        if not isinstance(definitions, dict):
-            raise NeedsSymbolic
-        for name in definitions:
-            check_parameter_name(name, f"parameters.{name}")
-        position = {name: k for k, name in enumerate(definitions)}
-        dependencies = {name: sorted(simple_names(value, definitions), key=position.__getitem__)
-                        for name, value in definitions.items()}
-        values: dict[str, float] = {}
-        for name in dependency_order(dependencies, definitions, lambda name: f"parameters.{name}"):
-            values[name] = simple_value(definitions[name], values)
-        return {name: values[name] for name in definitions}
-    except (NeedsSymbolic, ModelError):
-        from ..expressions import resolve_parameters
-
-        return resolve_parameters(definitions, path_prefix="parameters")
-
-
-class _Values:
-    """Evaluates constant fields and time laws of one model, for range checks.
-
-    Values are computed without SymPy (:func:`flexkane.expression_syntax.simple_value`) where that gives
-    the SymPy conversion's answer; any other expression goes through the conversion itself.
-    """
-
-    def __init__(self, model: Model):
-        #: The value of every parameter by name.
-        self.parameters = _parameter_values(model.parameters)
+class _Values(FieldValues):
+    """Evaluates constant fields and time laws of one model, for range checks (the model's one
+    evaluator, :class:`~flexkane.model.field_values.FieldValues`, with the messages of validation)."""
 
     def evaluate(self, path: str, value, extra: dict) -> float:
         """The value of an expression of the parameters and ``extra`` names (``t``, ``x``) [their units].
@@ -120,36 +88,14 @@ class _Values:
         Raises ModelError as :func:`~flexkane.expressions.parse_expression` and
         :func:`~flexkane.expressions.to_float` do (through them when the value needs SymPy).
         """
-        from ..expression_syntax import field_value
-
-        return field_value(value, {**self.parameters, **extra}, path=path)
+        return self.value(value, path, **extra)
 
     def number(self, path: str, value, what: str, unit: str, *, time: bool = False) -> float:
         """The value of a field (at t = 0 for a time law); checks its type and that it is finite."""
-        from ..expression_syntax import NeedsSymbolic, simple_value
-
         kind = f"{what} [{unit}]" + (", a number or an expression of t" if time else "")
         if not _is_value(value):
             raise ModelError(path, f"a number or an expression string ({kind})", value)
-        known = {**self.parameters, "t": 0.0} if time else self.parameters
-        try:
-            return simple_value(value, known)
-        except NeedsSymbolic:
-            pass
-        import sympy as sp
-
-        from ..expressions import parse_expression, to_float
-
-        names = {name: sp.Symbol(name, real=True) for name in known}
-        try:
-            expr = parse_expression(value, names, path=path)
-        except ModelError as exc:
-            raise ModelError(exc.path, f"{kind}, written as {exc.expected}", exc.given, exc.hint) from None
-        try:
-            return to_float(expr, {names[name]: number for name, number in known.items()}, path=path)
-        except ModelError as exc:
-            where = " at t = 0" if time and expr.has(names["t"]) else ""
-            raise ModelError(path, f"{kind} with a finite real value{where}", value, exc.hint) from None
+        return self.value(value, path, what=kind, **({"t": 0.0} if time else {}))
 
     @staticmethod
     def shown(value, number: float):
@@ -691,44 +637,67 @@ def _check_gravity(gravity, values: _Values) -> None:
 def _check_simulation(sim) -> None:
     if not isinstance(sim, Simulation):
         raise ModelError("simulation", "a table of run settings", sim)
-    for key, what in (("t_end", "end time [s]"), ("dt_out", "output interval [s]"),
-                      ("atol", "absolute tolerance [units of each state]"),
-                      ("deflection_warning", "fraction of a beam's length [-] above which a run warns"),
+    validate_run_arguments(t_end=sim.t_end, dt_out=sim.dt_out, rtol=sim.rtol, atol=sim.atol, method=sim.method,
+                           max_steps=sim.max_steps, prefix="simulation.", optional=("t_end", "dt_out"))
+    for key, what in (("deflection_warning", "fraction of a beam's length [-] above which a run warns"),
                       ("spin_warning", "fraction of a beam's first bending frequency [-] above which a run warns")):
         value = getattr(sim, key)
-        if value is None and key != "atol":
-            continue
-        if isinstance(value, bool) or not isinstance(value, numbers.Real) or not (math.isfinite(value) and value > 0):
+        if value is not None and not (_is_finite(value) and value > 0):
             raise ModelError(f"simulation.{key}", f"a positive finite {what}", value)
-    if sim.t_end is not None and sim.dt_out is not None:
-        _check_output_rows("simulation.dt_out", sim.t_end, sim.dt_out)
-    low, high = RTOL_RANGE
-    if isinstance(sim.rtol, bool) or not isinstance(sim.rtol, numbers.Real) or not low <= sim.rtol < high:
-        raise ModelError("simulation.rtol", f"a relative tolerance from {low:g} to below {high:g} [-]", sim.rtol)
-    _choice("simulation.method", sim.method, METHODS)
-    if sim.max_steps is not None and (isinstance(sim.max_steps, bool) or not isinstance(sim.max_steps, numbers.Integral)
-                                      or sim.max_steps < 1):
-        raise ModelError("simulation.max_steps", "a positive integer number of steps", sim.max_steps)
 
 
-def _check_output_rows(path: str, t_end: float, dt_out: float) -> None:
-    """Refuse an output grid of more than :data:`MAX_OUTPUT_ROWS` rows (t_end / dt_out)."""
+def _is_finite(value) -> bool:
+    return not isinstance(value, bool) and isinstance(value, numbers.Real) and math.isfinite(value)
+
+
+def _check_time(path: str, value) -> None:
+    """An end time or output interval [s]: positive and finite."""
+    if not (_is_finite(value) and value > 0):
+        what = "output interval [s]" if path.endswith("dt_out") else "end time [s]"
+        raise ModelError(path, f"a positive finite {what}", value)
+
+
+def check_output_grid(t_end, dt_out, *, prefix: str = "") -> None:
+    """Check an end time and output interval: positive, finite, at most :data:`MAX_OUTPUT_ROWS` rows.
+
+    Parameters
+    ----------
+    t_end : float
+        End time [s].
+    dt_out : float
+        Output interval [s].
+    prefix : str
+        Prefix of the key paths in messages (``simulation.``).
+
+    Raises
+    ------
+    ModelError
+        Naming ``t_end`` or ``dt_out``, what was expected and what was given.
+    """
+    for name, value in (("t_end", t_end), ("dt_out", dt_out)):
+        _check_time(prefix + name, value)
     rows = t_end / dt_out
     if not rows <= MAX_OUTPUT_ROWS:
-        raise ModelError(path, f"an output interval [s] giving at most {MAX_OUTPUT_ROWS:,} output rows "
-                         f"up to t_end = {t_end:g} s (dt_out >= {t_end / MAX_OUTPUT_ROWS:g} s)", dt_out,
+        raise ModelError(prefix + "dt_out", f"an output interval [s] giving at most {MAX_OUTPUT_ROWS:,} output "
+                         f"rows up to t_end = {t_end:g} s (dt_out >= {t_end / MAX_OUTPUT_ROWS:g} s)", dt_out,
                          f"that is {rows:.3g} rows")
 
 
-def validate_run_arguments(*, t_end, dt_out, rtol, atol, method="auto", max_steps=None, progress=None) -> None:
-    """Check the arguments of a run (:func:`flexkane.simulate`, ``flexkane run``) before it starts.
+#: The settings of a run, as :func:`validate_run_arguments` names them.
+RUN_SETTINGS = ("t_end", "dt_out", "rtol", "atol", "method", "max_steps")
+
+
+def validate_run_arguments(*, t_end, dt_out, rtol, atol, method="auto", max_steps=None, progress=None,
+                           prefix: str = "", optional=()) -> None:
+    """Check the settings of a run before it starts: the one check of :func:`flexkane.simulate`,
+    ``flexkane run``, a model's ``[simulation]`` table and a sweep's settings.
 
     Parameters
     ----------
     t_end : float
         End time [s], positive and finite.
     dt_out : float
-        Output interval [s], positive and finite.
+        Output interval [s], positive and finite, at most :data:`MAX_OUTPUT_ROWS` rows up to ``t_end``.
     rtol : float
         Relative tolerance [-], from 1e-13 to below 1.
     atol : float
@@ -739,6 +708,10 @@ def validate_run_arguments(*, t_end, dt_out, rtol, atol, method="auto", max_step
         Step budget, a positive integer.
     progress : callable, optional
         Called as ``progress(t_reached, t_end)``.
+    prefix : str
+        Prefix of the key paths in messages (``simulation.`` for a model's table).
+    optional : sequence of str
+        Settings among :data:`RUN_SETTINGS` that may be None (not given: another source supplies them).
 
     Raises
     ------
@@ -746,21 +719,24 @@ def validate_run_arguments(*, t_end, dt_out, rtol, atol, method="auto", max_step
         Naming the argument (``t_end``, ``rtol``, ...), what was expected and what was given; the
         command line names its option instead (:func:`flexkane.commands._common.cli_path`).
     """
-    def real(value) -> bool:
-        return not isinstance(value, bool) and isinstance(value, numbers.Real) and math.isfinite(value)
-
-    for name, value, what in (("t_end", t_end, "end time [s]"), ("dt_out", dt_out, "output interval [s]"),
-                              ("atol", atol, "absolute tolerance [units of each state]")):
-        if not (real(value) and value > 0):
-            raise ModelError(name, f"a positive finite {what}", value)
-    _check_output_rows("dt_out", t_end, dt_out)
+    given = {name: value is not None or name not in optional
+             for name, value in (("t_end", t_end), ("dt_out", dt_out), ("rtol", rtol), ("atol", atol),
+                                 ("method", method))}
+    for name, value in (("t_end", t_end), ("dt_out", dt_out)):
+        if given[name]:
+            _check_time(prefix + name, value)
+    if given["atol"] and not (_is_finite(atol) and atol > 0):
+        raise ModelError(prefix + "atol", "a positive finite absolute tolerance [units of each state]", atol)
+    if given["t_end"] and given["dt_out"]:
+        check_output_grid(t_end, dt_out, prefix=prefix)
     low, high = RTOL_RANGE
-    if not (real(rtol) and low <= rtol < high):
-        raise ModelError("rtol", f"a relative tolerance from {low:g} to below {high:g} [-]", rtol)
-    _choice("method", method, METHODS)
+    if given["rtol"] and not (_is_finite(rtol) and low <= rtol < high):
+        raise ModelError(prefix + "rtol", f"a relative tolerance from {low:g} to below {high:g} [-]", rtol)
+    if given["method"]:
+        _choice(prefix + "method", method, METHODS)
     if max_steps is not None and (isinstance(max_steps, bool) or not isinstance(max_steps, numbers.Integral)
                                   or max_steps < 1):
-        raise ModelError("max_steps", "a positive integer number of steps", max_steps)
+        raise ModelError(prefix + "max_steps", "a positive integer number of steps", max_steps)
     if progress is not None and not callable(progress):
         raise ModelError("progress", "a function progress(t_reached, t_end), or None", progress)
 

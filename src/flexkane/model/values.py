@@ -9,18 +9,17 @@ Every physical field of a model becomes a SymPy expression for the derivation:
 * fields that may depend on time (loads, drivers) are parsed into expressions of ``t`` and the
   parameter symbols.
 
-:class:`FieldSymbols` records, for each symbol, the expression that gives its value, so that
-:meth:`FieldSymbols.numeric_values` evaluates all of them for a given set of parameter values.
+:class:`FieldSymbols` records, for each symbol, the key path of the field that gives its value; the
+numbers come from the model's one evaluator (:class:`flexkane.model.field_values.FieldValues`, used by
+:func:`flexkane.kane.numeric.constant_values`).
 """
 
 from __future__ import annotations
 
-import math
 import re
 
 import sympy as sp
 
-from ..errors import ModelError
 from .model import Model
 
 __all__ = ["FieldSymbols", "GeneratedSymbol", "TIME", "symbol_order"]
@@ -120,23 +119,3 @@ class FieldSymbols:
         """An expression of t and the parameters (loads, drivers); kept as it is in the equations."""
         names = {**self.parameters, "t": TIME}
         return self._parse(value, names, path=path)
-
-    # ------------------------------------------------------------------ evaluation
-    def parameter_values(self) -> dict[str, float]:
-        """Numeric values of the model's parameters [their units]."""
-        from ..expressions import resolve_parameters
-
-        return resolve_parameters(self.model.parameters, path_prefix="parameters")
-
-    def numeric_values(self) -> dict[sp.Symbol, float]:
-        """Numeric value of every parameter symbol and field symbol."""
-        params = self.parameter_values()
-        values: dict[sp.Symbol, float] = {self.parameters[k]: float(v) for k, v in params.items()}
-        names = dict(self.parameters)
-        for symbol, (path, text) in self.definitions.items():
-            expr = self._parse(text, names, path=path)
-            number = float(expr.subs(values).evalf()) if expr.free_symbols else float(expr)
-            if not math.isfinite(number):
-                raise ModelError(path, "a finite value", text)
-            values[symbol] = number
-        return values

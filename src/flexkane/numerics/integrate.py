@@ -22,13 +22,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from flexkane.errors import ModelError
+from flexkane.model.parts import INTEGRATION_METHODS
 from flexkane.numerics.switching import MethodSwitch, chunk_work, evaluation_work
 
 __all__ = ["METHODS", "IntegrationResult", "Status", "StiffnessEstimate", "choose_method",
            "compile_integrators", "estimate_stiffness", "evaluate_outputs", "integrate"]
 
 # Method name -> name of the compiled chunk function in a generated module.
-METHODS = {"dop853": "dop853_chunk", "radau": "radau5_chunk"}
+METHODS = dict(zip(INTEGRATION_METHODS, ("dop853_chunk", "radau5_chunk"), strict=True))
 
 # Work per call of a chunk function: about this fraction of the span (its last step is not
 # shortened to end there), and at most this many floating-point operations (counted, see

@@ -36,7 +36,8 @@ from types import ModuleType
 
 import numba
 
-import flexkane
+from flexkane._version import __version__
+from flexkane.atomic import atomic_write_text
 from flexkane.numerics import dop853, linear_algebra, radau
 
 __all__ = ["TEMPLATE_BEGIN", "TEMPLATE_END", "build_module", "compile_in_subprocess", "compose_module_source",
@@ -138,7 +139,7 @@ def structure_key(*parts: str) -> str:
         change in any of them gives a new key, hence a new file and a fresh compilation.
     """
     digest = hashlib.sha256()
-    for text in (flexkane.__version__, numba.__version__, *(t for _, t in _templates()), *parts):
+    for text in (__version__, numba.__version__, *(t for _, t in _templates()), *parts):
         digest.update(text.encode("utf-8"))
         digest.update(b"\0")
     return digest.hexdigest()[:_KEY_LENGTH]
@@ -156,18 +157,6 @@ def compose_module_source(source: str, key: str) -> str:
     for module in (dop853, radau):
         blocks.append(f"# ==== template {module.__name__} ====\n" + templates[module.__name__])
     return "\n\n".join(block.rstrip("\n") for block in blocks) + "\n"
-
-
-def _write_atomically(path: Path, text: str) -> None:
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix="." + path.name, suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            handle.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
 
 
 _in_subprocess: list = []
@@ -213,7 +202,7 @@ def _compile_file(path: str) -> None:
     sys.modules[path.stem] = module
     spec.loader.exec_module(module)
     compile_integrators(module)
-    _write_atomically(_compiled_marker(path), _text_digest(path.read_text(encoding="utf-8")))
+    atomic_write_text(_compiled_marker(path), _text_digest(path.read_text(encoding="utf-8")))
 
 
 def _compile_in_child(path: Path) -> bool:
@@ -222,7 +211,7 @@ def _compile_in_child(path: Path) -> bool:
     The child runs in a session of its own (Ctrl-C in the terminal reaches this process only). On any
     exception here, a signal among them (:class:`KeyboardInterrupt`), the child is killed first.
     """
-    package_root = str(Path(flexkane.__file__).resolve().parent.parent)
+    package_root = str(Path(__file__).resolve().parents[2])   # the folder that holds the package
     code = ("import sys; sys.path.insert(0, sys.argv[1]); "
             "from flexkane.numerics.jit_module import _compile_file; _compile_file(sys.argv[2])")
     with tempfile.TemporaryFile() as errors:
@@ -285,7 +274,7 @@ def build_module(source: str, key: str, cache_dir: Path | None = None, *,
     except FileNotFoundError:
         current = None
     if current != text:
-        _write_atomically(path, text)
+        atomic_write_text(path, text)
     if in_subprocess is None:
         in_subprocess = bool(_in_subprocess)
     if in_subprocess:

@@ -54,16 +54,16 @@ def column_units(model, keys) -> dict:
     """
     import dataclasses
 
-    from ..kane.chain import build_chain
+    from ..model.coordinates import coordinate_names
     from ..model.paths import get_value, parse_path
 
     roles = {"x": "m", "y": "m", "angle": "rad", "slide": "m", "mode": "m", "axial": "m"}
     states = {}
     try:
-        for coord in build_chain(model).coordinates:
+        for coord in coordinate_names(model):
             unit = roles.get(coord.role)
             if unit:
-                states[coord.q.name], states[coord.u.name] = unit, f"{unit}/s"
+                states[coord.q], states[coord.u] = unit, f"{unit}/s"
     except Exception:  # noqa: BLE001 - a label is not worth a failure
         pass
     uses = {}   # parameter name -> unit of a field whose value is exactly that name

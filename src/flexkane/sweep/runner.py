@@ -105,14 +105,14 @@ def _is_done(record: dict, store: SweepStore, save_trajectories: bool, retry_fai
 def _check_initial_keys(spec: SweepSpec, base: Model) -> None:
     """Initial conditions varied must name a coordinate or speed (of the base model, unless the sweep
     changes the counts of modes, whose variants are then checked one by one)."""
-    from ..kane.chain import build_chain
+    from ..model.coordinates import coordinate_names
     from ..model.paths import parse_path
 
     if any(str(parse_path(v.key)[-1]).startswith("n_") for v in spec.vary):
         return
-    chain = build_chain(base)
-    names = [c.q.name for c in chain.coordinates if c.driver != "coordinate"]
-    names += [c.u.name for c in chain.coordinates if c.driver is None]
+    coordinates = coordinate_names(base)
+    names = [c.q for c in coordinates if c.driver != "coordinate"]
+    names += [c.u for c in coordinates if c.driver is None]
     for vary in spec.vary:
         if key_kind(base, vary.key) == "initial":
             name = parse_path(vary.key)[-1]

@@ -316,15 +316,10 @@ class SweepSpec:
             what = "samples" if self.sampling == "random" else "vary"
             raise ModelError(what, f"a sweep of at most {MAX_VARIANTS:,} variants",
                              f"{count:,} variants" if count < 10**30 else f"{count:.3g} variants")
-        for name in ("t_end", "dt_out", "rtol", "atol"):
-            value = getattr(self, name)
-            if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float))
-                                      or not math.isfinite(value) or value <= 0):
-                raise ModelError(name, "a positive number" + (" [s]" if name in ("t_end", "dt_out") else ""),
-                                 value)
-        if self.max_steps is not None and (isinstance(self.max_steps, bool) or not isinstance(self.max_steps, int)
-                                           or self.max_steps < 1):
-            raise ModelError("max_steps", "a positive integer number of steps", self.max_steps)
+        from ..model.validate import RUN_SETTINGS, validate_run_arguments
+
+        validate_run_arguments(t_end=self.t_end, dt_out=self.dt_out, rtol=self.rtol, atol=self.atol,
+                               method=self.method, max_steps=self.max_steps, optional=RUN_SETTINGS)
 
     @property
     def variant_count(self) -> int | None:
