@@ -206,8 +206,10 @@ class CompiledModel:
 
     def rhs(self, t: float, y: np.ndarray, p: np.ndarray) -> np.ndarray:
         """First-order right-hand side dy/dt, shape (n,)."""
+        from .numerics.constant_block import prepared_parameters
+
         dy = np.empty_like(np.asarray(y, dtype=float))
-        self.module.rhs(float(t), np.asarray(y, dtype=float), np.asarray(p, dtype=float), dy)
+        self.module.rhs(float(t), np.asarray(y, dtype=float), prepared_parameters(self.module, p), dy)
         return dy
 
 
@@ -313,6 +315,7 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
         For invalid or conflicting arguments (``t_end`` with ``t_span``, ``dt_out`` with ``t_eval``,
         output times outside ``t_span``, a ``y0`` of the wrong size ...), before any integration.
     """
+    from .numerics.constant_block import prepared_parameters
     from .numerics.integrate import integrate
 
     from .model.validate import validate_run_arguments
@@ -358,7 +361,8 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
     ud = None
     if n_valid:
         nq = len(eom.q)
-        ud = np.array([compiled.rhs(ti, yi, p)[nq:] for ti, yi in zip(t, state)]).reshape(n_valid, -1)
+        prepared = prepared_parameters(compiled.module, p)
+        ud = np.array([compiled.rhs(ti, yi, prepared)[nq:] for ti, yi in zip(t, state)]).reshape(n_valid, -1)
     outputs = compiled.outputs(t, state, p, ud) if n_valid else {k: np.zeros(0) for k in compiled.outputs.names}
     if "energy" in outputs:
         # work of the non-conservative forces, integrated with the motion (0 for a conservative

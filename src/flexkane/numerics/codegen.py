@@ -120,7 +120,8 @@ def _safe_names(symbols: Sequence[sympy.Basic], taken: set[str]) -> list[str]:
         base = re.sub(r"\W", "_", str(base))
         if not base or base[0].isdigit() or base.startswith("_") or keyword.iskeyword(base) \
                 or base in _RESERVED or re.fullmatch(r"\w+_(part\d+|table_sum|prepare)", base) \
-                or base.endswith("_TABLE_COEF") or base.endswith("_TABLE_INDEX"):
+                or base.endswith("_TABLE_COEF") or base.endswith("_TABLE_INDEX") \
+                or base.endswith("_PREPARE_COPY"):
             base = "s_" + base.lstrip("_")
         name = base
         k = 1

@@ -25,7 +25,6 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 
 import numpy as np
-import sympy
 
 __all__ = ["PREPARED_HEADER", "block_is_cheaper", "block_operations", "constant_block",
            "constant_intermediates", "plain_operations", "prepare_lines", "prepared_parameters"]
@@ -53,6 +52,8 @@ def constant_intermediates(eom) -> dict:
         recursively, free of ``q``, ``u``, ``t`` and of the other intermediates. Any other
         intermediate counts as state-dependent.
     """
+    import sympy
+
     constants = set(eom.constants)
     found: dict = {}
     for symbol, expr in getattr(eom, "intermediates", None) or []:
@@ -83,6 +84,8 @@ def constant_block(eom, mass: sympy.Matrix, intermediates: dict | None = None) -
         constant entries in their row first, ties by index, so the result is deterministic.
         Empty when no diagonal entry is constant.
     """
+    import sympy
+
     if intermediates is None:
         intermediates = constant_intermediates(eom)
     allowed = set(eom.constants) | set(intermediates)
@@ -145,24 +148,45 @@ def prepare_lines(name: str, n_constants: int, block_exprs: Sequence[Sequence[sy
         Lines of the function; it returns an array of ``n_constants + 2 + c * c`` entries
         (:func:`~flexkane.numerics.linear_algebra.constant_block_factor`).
     """
+    import sympy
+
     c = len(block_exprs)
-    upper = [block_exprs[i][j] for i in range(c) for j in range(i, c)]
-    replacements, reduced = sympy.cse(upper, symbols=sympy.numbered_symbols("_c"), order="none")
-    used = set().union(*(e.free_symbols for _, e in replacements), *(e.free_symbols for e in reduced))
+    index = {local: k for k, local in enumerate(constant_names)}
+    # entries that are one constant (most modal masses G_ij) or 0 are copied by a loop over an index
+    # table, the others computed (few, usually): the function's compile time stays small
+    copies, computed = [], []
+    for i in range(c):
+        for j in range(i, c):
+            expr = sympy.sympify(block_exprs[i][j])
+            if expr.is_Symbol and expr.name in index:
+                copies += [i, j, index[expr.name]]
+            elif expr != 0:
+                computed.append(((i, j), expr))
+    replacements, reduced = sympy.cse([e for _, e in computed],
+                                      symbols=sympy.numbered_symbols("_c"), order="none")
+    used = set().union(set(), *(e.free_symbols for _, e in replacements),
+                       *(e.free_symbols for e in reduced))
     used = {s.name for s in used}
     size = n_constants + PREPARED_HEADER + c * c
-    lines = ['@njit(cache=True, error_model="numpy")',
-             f"def {name}_prepare(p):",
-             f'    """Constants p ({n_constants},) followed by the factors of the constant block '
-             f'of the mass matrix ({size},)."""',
-             f"    _out = np.empty({size})",
-             f"    for _i in range({n_constants}):",
-             "        _out[_i] = p[_i]"]
+    table = f"{name.upper()}_PREPARE_COPY"
+    lines = []
+    if copies:
+        lines += [f"{table} = np.array({copies!r}, dtype=np.int64).reshape({len(copies) // 3}, 3)",
+                  "", ""]
+    lines += ['@njit(cache=True, error_model="numpy")',
+              f"def {name}_prepare(p):",
+              f'    """Constants p ({n_constants},) followed by the factors of the constant block '
+              f'of the mass matrix ({size},)."""',
+              f"    _out = np.empty({size})",
+              f"    for _i in range({n_constants}):",
+              "        _out[_i] = p[_i]",
+              f"    _G = np.zeros(({c}, {c}))"]
+    if copies:
+        lines += [f"    for _k in range({len(copies) // 3}):",
+                  f"        _G[{table}[_k, 0], {table}[_k, 1]] = p[{table}[_k, 2]]"]
     lines += [f"    {local} = p[{k}]" for k, local in enumerate(constant_names) if local in used]
     lines += [f"    {sym} = {print_expr(expr)}" for sym, expr in replacements]
-    lines.append(f"    _G = np.empty(({c}, {c}))")
-    pairs = [(i, j) for i in range(c) for j in range(i, c)]
-    lines += [f"    _G[{i}, {j}] = {print_expr(expr)}" for (i, j), expr in zip(pairs, reduced)]
+    lines += [f"    _G[{i}, {j}] = {print_expr(expr)}" for ((i, j), _), expr in zip(computed, reduced)]
     lines += [f"    constant_block_factor(_G, _out, {n_constants})",
               "    return _out"]
     return lines
