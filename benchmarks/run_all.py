@@ -9,7 +9,8 @@ Sections (one script each, also runnable alone):
 (e) ``scaling.py``      times against the number of modes (1-40) and of flexible links (1-5);
 (f) ``startup.py``      start-up of the command (--help, --version, check), derive n = 40, a cached run;
 (g) ``recursive_yardstick.py``  one evaluation of chain_model(k) against a hand-written recursive rhs;
-(h) ``chain_scaling.py``  derive, code generation and compilation of chain_model(k), k = 1 ... 20;
+(i) ``chain_scaling.py``  derive, code generation and compilation of chain_model(k), k = 1 ... 20;
+(h) ``constant_block.py``  the constant modal block factored once per run against L D L^T of all of M;
 and, when the sweep module and Dask are installed, ``sweep_throughput.py`` (variants per second).
 
 Compiled models go to a fresh cache directory, so compile times are those of a first run.
@@ -76,6 +77,7 @@ def main() -> dict:
         cache = tempfile.mkdtemp(prefix="flexkane-bench-cache-")
         os.environ["FLEXKANE_CACHE_DIR"] = cache
     import _common
+    import constant_block
     import derivation
     import recursive_yardstick
     import report
@@ -104,6 +106,7 @@ def main() -> dict:
         _section("recursive_yardstick", recursive_yardstick.run, results, (1, 2), (8,))
     else:
         _section("recursive_yardstick", recursive_yardstick.run, results)
+    _section("constant_block", constant_block.run, results, (10,) if quick else constant_block.MODES)
     import chain_scaling
     _section("chain_scaling", chain_scaling.run, results,
              chain_scaling.QUICK_LINKS if quick else chain_scaling.LINKS)

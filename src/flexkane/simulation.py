@@ -175,8 +175,10 @@ class CompiledModel:
 
     def rhs(self, t: float, y: np.ndarray, p: np.ndarray) -> np.ndarray:
         """First-order right-hand side dy/dt, shape (n,)."""
+        from .numerics.constant_block import prepared_parameters
+
         dy = np.empty_like(np.asarray(y, dtype=float))
-        self.module.rhs(float(t), np.asarray(y, dtype=float), np.asarray(p, dtype=float), dy)
+        self.module.rhs(float(t), np.asarray(y, dtype=float), prepared_parameters(self.module, p), dy)
         return dy
 
 

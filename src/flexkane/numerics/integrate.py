@@ -23,6 +23,7 @@ import numpy as np
 
 from flexkane.errors import ModelError
 from flexkane.model.parts import INTEGRATION_METHODS
+from flexkane.numerics.constant_block import prepared_parameters
 from flexkane.numerics.switching import MethodSwitch, chunk_work, evaluation_work
 
 __all__ = ["METHODS", "IntegrationResult", "Status", "StiffnessEstimate", "choose_method",
@@ -310,6 +311,7 @@ def integrate(module, y0, t_out, p, *, rtol: float, atol, method: str = "auto",
     if not (isinstance(max_steps, (int, np.integer)) and max_steps > 0):
         raise ModelError("max_steps", "a positive integer", max_steps)
     y0 = _with_quadratures(module, y0)
+    p = prepared_parameters(module, p)  # a constant block of the mass matrix factored once per run
     t0, t_end = float(t_out[0]), float(t_out[-1])
     switch = None
     if method == "auto":
@@ -424,5 +426,5 @@ def evaluate_outputs(module, t: np.ndarray, y: np.ndarray, p: np.ndarray,
     names = getattr(module, prefix + "OUTPUT_NAMES")
     values = getattr(module, name)(np.ascontiguousarray(t, dtype=np.float64),
                                    np.ascontiguousarray(y, dtype=np.float64),
-                                   np.ascontiguousarray(p, dtype=np.float64))
+                                   prepared_parameters(module, p))
     return {key: values[:, k] for k, key in enumerate(names)}

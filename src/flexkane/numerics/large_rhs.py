@@ -151,7 +151,8 @@ def _copy_source(st: Statement, fixed: dict[str, int]) -> int | None:
 
 
 def large_rhs_lines(name: str, statements: list[Statement], printer_fn, state_names: list[str],
-                    constant_names: list[str], t_name: str, nq: int, nu: int) -> list[str]:
+                    constant_names: list[str], t_name: str, nq: int, nu: int, *,
+                    prologue: list[str] = (), solve: str | None = None) -> list[str]:
     """Source lines of ``name`` (and its parts and tables) for a large right-hand side.
 
     Parameters
@@ -169,6 +170,13 @@ def large_rhs_lines(name: str, statements: list[Statement], printer_fn, state_na
         Local name of the time.
     nq, nu : int
         Numbers of coordinates and speeds.
+    prologue : list of str
+        Lines (indented) that open ``name``, before anything reads ``p``.
+    solve : str, optional
+        Expression solving ``_M u' = dy[nq:]`` in place and giving the status code; default
+        ``ldl_solve(_M, dy[nq:])`` (the block solve of
+        :mod:`~flexkane.numerics.constant_block` otherwise). Entries of ``_M`` that it does
+        not read need no statement.
     """
     statements, tables, atoms = _tabulate(statements, printer_fn, name)
     ny, n_p = len(state_names), len(constant_names)
@@ -257,6 +265,7 @@ def large_rhs_lines(name: str, statements: list[Statement], printer_fn, state_na
     lines += ['@njit(cache=True, error_model="numpy")',
               f"def {name}(t, y, p, dy):",
               f'    """Write [q\', u\'] (nq + nu = {nq + nu},) into dy; return 0, 2 or 4."""',
+              *prologue,
               f"    w = np.empty({one + 3 + len(slots)})",
               f"    for i in range({ny}):",
               "        w[i] = y[i]",
@@ -274,5 +283,5 @@ def large_rhs_lines(name: str, statements: list[Statement], printer_fn, state_na
                   f"        _M[{name.upper()}_COPY_M[k, 0], {name.upper()}_COPY_M[k, 1]] = "
                   f"w[{name.upper()}_COPY_M[k, 2]]"]
     lines += [f"    {name}_part{k}(t, y, p, w, _M, dy)" for k in range(len(parts))]
-    lines.append(f"    return ldl_solve(_M, dy[{nq}:])")
+    lines.append(f"    return {solve or f'ldl_solve(_M, dy[{nq}:])'}")
     return lines
