@@ -410,7 +410,7 @@ def _read_json(path: Path):
 
 def _write_json(path: Path, data: dict) -> None:
     try:
-        _write_atomically(path, json.dumps(data, separators=(",", ":")).encode("utf-8"))
+        atomic_write_bytes(path, json.dumps(data, separators=(",", ":")).encode("utf-8"))
     except OSError:
         pass  # a read-only cache only costs speed
 
