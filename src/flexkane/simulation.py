@@ -21,7 +21,7 @@ from .model.validate import MAX_OUTPUT_ROWS
 from .results import Results
 
 __all__ = ["COMPILING_MESSAGE", "CompiledModel", "compile_model", "simulate", "output_grid", "output_times",
-           "initial_state_vector", "OutputEvaluator", "work_integrands"]
+           "INTEGRATORS_MESSAGE", "initial_state_vector", "OutputEvaluator", "work_integrands"]
 
 
 def output_grid(t_end: float, dt_out: float) -> np.ndarray:
@@ -213,6 +213,8 @@ class CompiledModel:
 
 #: Message of :func:`compile_model` while Numba compiles a new model structure.
 COMPILING_MESSAGE = "compiling the right-hand side of this model structure (once)"
+#: Message of :func:`compile_model` while Numba compiles the integrators (once per installation).
+INTEGRATORS_MESSAGE = "compiling the integrators DOP853 and Radau IIA (once per installation)"
 
 
 def work_integrands(eom: EquationsOfMotion) -> dict:
@@ -237,7 +239,8 @@ def compile_model(eom: EquationsOfMotion, cache_dir=None, *, announce=None) -> C
         Root of the compiled-model cache (default: ``$FLEXKANE_CACHE_DIR`` or ``~/.cache/flexkane``).
     announce : callable, optional
         ``announce(text)`` is called with :data:`COMPILING_MESSAGE` before Numba compiles a model
-        structure that is not in the cache yet.
+        structure that is not in the cache yet, and with :data:`INTEGRATORS_MESSAGE` before it
+        compiles the integrators (the first run of an installation).
 
     Returns
     -------
@@ -250,12 +253,14 @@ def compile_model(eom: EquationsOfMotion, cache_dir=None, *, announce=None) -> C
     if not isinstance(eom, EquationsOfMotion):
         raise ModelError("eom", "EquationsOfMotion from flexkane.derive", type(eom).__name__)
     from .numerics.integrate import compile_integrators
-    from .numerics.jit_module import build_module, is_compiled, structure_key
+    from .numerics.jit_module import build_module, integrators_compiled, is_compiled, structure_key
 
     start = time.perf_counter()
     source = generate_rhs_source(eom, quadratures=work_integrands(eom))
     key = structure_key(__version__, source)
     module = build_module(source, key, cache_dir)
+    if announce is not None and not integrators_compiled():
+        announce(INTEGRATORS_MESSAGE)
     if announce is not None and not is_compiled(module):
         announce(COMPILING_MESSAGE)
     compile_integrators(module)

@@ -118,13 +118,14 @@ def _run_phases(model, out: Path, stop, *, t_end, dt_out, rtol, atol, method, ma
     from ..numerics.jit_module import compile_in_subprocess
     from ..progress import ProgressBar
     from ..report import equations_latex, equations_markdown, render_pdf
-    from ..simulation import COMPILING_MESSAGE, compile_model, simulate
+    from ..simulation import COMPILING_MESSAGE, INTEGRATORS_MESSAGE, compile_model, simulate
 
     started = time.perf_counter()
     eom = cached_derive(model, announce=lambda: _say(quiet, f"deriving the equations of motion of {model.name}"))
     derive_time = time.perf_counter() - started
     # a structure new to the cache compiles in a child process (a signal stops it at once)
-    with compile_in_subprocess(announce=lambda: _say(quiet, f"{COMPILING_MESSAGE} ...")):
+    with compile_in_subprocess(announce=lambda: _say(quiet, f"{COMPILING_MESSAGE} ..."),
+                               announce_integrators=lambda: _say(quiet, f"{INTEGRATORS_MESSAGE} ...")):
         compiled = compile_model(eom, announce=None if quiet else (lambda text: _say(quiet, f"{text} ...")))
     with stop.deferred():
         with ProgressBar(t_end, enabled=not quiet, unit="s", delay=0.0) as bar:

@@ -1,7 +1,11 @@
 """Write a generated module to the cache directory and import it (Numba on-disk cache).
 
-A generated module is one Python file: imports, the linear-algebra template, the generated
-fragments (``rhs``, ``outputs``), the DOP853 and Radau templates. Every Numba function in it is
+A generated module is one Python file: imports, the linear-algebra template and the generated
+fragments (``rhs``, ``system_rhs``, ``outputs``). The integrator loops are not in it: they are
+functions of the package (:mod:`~flexkane.numerics.dop853`, :mod:`~flexkane.numerics.radau`),
+compiled once per installation into the package's own Numba cache, that take the module's
+``system_rhs`` as a first-class function (:mod:`~flexkane.numerics.system_function`); a new model
+structure compiles only its own functions. Every Numba function in the module is
 ``@njit(cache=True)``, so Numba stores the machine code beside the file
 (``<cache_dir>/<key>/__pycache__``) and a later process importing the same key loads it instead
 of compiling. Numba checks the file's modification time and size, so the file is written only
@@ -17,7 +21,8 @@ Numba compiles a function on its first call, in C, for seconds to minutes, and P
 a signal meanwhile. Within :func:`compile_in_subprocess` (used by the command line), a structure
 met for the first time is therefore compiled by a child process that fills the on-disk cache; this
 process waits for it (a signal stops the child at once and raises :class:`KeyboardInterrupt`) and
-then loads the machine code from the cache.
+then loads the machine code from the cache. The same child compiles the integrator loops when the
+package's cache does not hold them yet (the first run of an installation).
 """
 
 from __future__ import annotations
@@ -40,7 +45,8 @@ import flexkane
 from flexkane.numerics import dop853, linear_algebra, radau
 
 __all__ = ["TEMPLATE_BEGIN", "TEMPLATE_END", "build_module", "compile_in_subprocess", "compose_module_source",
-           "default_cache_dir", "is_compiled", "structure_key", "template_text", "usable_cache_dir"]
+           "default_cache_dir", "integrators_compiled", "is_compiled", "structure_key", "template_text",
+           "usable_cache_dir"]
 
 TEMPLATE_BEGIN = "# >>> flexkane template >>>"
 TEMPLATE_END = "# <<< flexkane template <<<"
@@ -53,8 +59,7 @@ def template_text(module: ModuleType) -> str:
     Parameters
     ----------
     module : module
-        One of :mod:`~flexkane.numerics.linear_algebra`, :mod:`~flexkane.numerics.dop853`,
-        :mod:`~flexkane.numerics.radau`.
+        A module with template markers (:mod:`~flexkane.numerics.linear_algebra`).
 
     Returns
     -------
@@ -67,7 +72,7 @@ def template_text(module: ModuleType) -> str:
 
 
 def _templates() -> list[tuple[str, str]]:
-    return [(m.__name__, template_text(m)) for m in (linear_algebra, dop853, radau)]
+    return [(m.__name__, template_text(m)) for m in (linear_algebra,)]
 
 
 def default_cache_dir() -> Path:
@@ -134,8 +139,10 @@ def structure_key(*parts: str) -> str:
     Returns
     -------
     str
-        Digest of the flexkane and Numba versions, the integrator templates and ``parts``: a
-        change in any of them gives a new key, hence a new file and a fresh compilation.
+        Digest of the flexkane and Numba versions, the linear-algebra template and ``parts``: a
+        change in any of them gives a new key, hence a new file and a fresh compilation. (The
+        integrator loops are not part of a generated module: Numba's cache of the package
+        follows their source.)
     """
     digest = hashlib.sha256()
     for text in (flexkane.__version__, numba.__version__, *(t for _, t in _templates()), *parts):
@@ -153,8 +160,6 @@ def compose_module_source(source: str, key: str) -> str:
     blocks.append(f"# ==== template {linear_algebra.__name__} ====\n"
                   + templates[linear_algebra.__name__])
     blocks.append("# ==== generated ====\n" + source)
-    for module in (dop853, radau):
-        blocks.append(f"# ==== template {module.__name__} ====\n" + templates[module.__name__])
     return "\n\n".join(block.rstrip("\n") for block in blocks) + "\n"
 
 
@@ -174,16 +179,20 @@ _in_subprocess: list = []
 
 
 @contextlib.contextmanager
-def compile_in_subprocess(announce=None):
+def compile_in_subprocess(announce=None, announce_integrators=None):
     """Within the block, :func:`build_module` compiles a structure new to the cache in a child process.
 
     Parameters
     ----------
     announce : callable, optional
-        Called without arguments just before a child process starts compiling (e.g. to tell the
-        user that a first compilation takes a while).
+        Called without arguments just before a child process starts compiling a model structure
+        (e.g. to tell the user that a first compilation takes a while).
+    announce_integrators : callable, optional
+        Called without arguments just before a child process starts compiling the integrator
+        loops (once per installation, see :func:`integrators_compiled`); default ``announce``.
     """
-    _in_subprocess.append(announce or (lambda: None))
+    announce = announce or (lambda: None)
+    _in_subprocess.append((announce, announce_integrators or announce))
     try:
         yield
     finally:
@@ -263,9 +272,9 @@ def build_module(source: str, key: str, cache_dir: Path | None = None, *,
     Returns
     -------
     module
-        The imported module ``flexkane_generated_<key>`` with ``rhs``, ``dop853_chunk``,
-        ``radau5_chunk``, ``fd_jacobian`` (and ``outputs`` when generated). Importing twice in
-        one process returns the same module object.
+        The imported module ``flexkane_generated_<key>`` with ``rhs``, ``system_rhs`` (and
+        ``outputs`` when generated). Importing twice in one process returns the same module
+        object.
     """
     if not key or not all(ch.isalnum() or ch in "_-" for ch in key):
         raise ValueError(f"key must be letters, digits, '_' or '-', got {key!r}")
@@ -294,9 +303,14 @@ def build_module(source: str, key: str, cache_dir: Path | None = None, *,
             compiled = marker.read_text(encoding="utf-8") == _text_digest(text)
         except (OSError, UnicodeDecodeError):
             compiled = False
-        if not compiled:
+        integrators = integrators_compiled()
+        if not (compiled and integrators):
             if _in_subprocess:
-                _in_subprocess[-1]()
+                announce, announce_integrators = _in_subprocess[-1]
+                if not integrators:
+                    announce_integrators()
+                if not compiled and not (announce is announce_integrators and not integrators):
+                    announce()  # (once, when one callable announces both)
             _compile_in_child(path)
     spec = importlib.util.spec_from_file_location(module_name, path)
     module = importlib.util.module_from_spec(spec)
@@ -317,8 +331,18 @@ def build_module(source: str, key: str, cache_dir: Path | None = None, *,
     return module
 
 
+def _compiled_or_cached(dispatcher) -> bool:
+    """Whether a Numba dispatcher has a compiled signature here or an entry in its disk cache index."""
+    if dispatcher.signatures:
+        return True
+    try:
+        return bool(dispatcher._cache._cache_file._load_index())  # Numba's index of the disk cache
+    except Exception:  # noqa: BLE001 - a private API of Numba: unknown means "not cached"
+        return False
+
+
 def is_compiled(module: ModuleType) -> bool:
-    """Whether the integrators of a generated module are compiled or in Numba's disk cache.
+    """Whether the functions of a generated module that a run calls are compiled or in Numba's disk cache.
 
     Parameters
     ----------
@@ -328,17 +352,22 @@ def is_compiled(module: ModuleType) -> bool:
     Returns
     -------
     bool
-        True when ``dop853_chunk`` and ``radau5_chunk`` have a compiled signature in this process
-        or an entry for the module's current source in the on-disk cache index (a call will load
-        rather than compile them); False otherwise, or when the cache cannot be read.
+        True when ``rhs`` and ``system_rhs`` have a compiled signature in this process or an entry
+        for the module's current source in the on-disk cache index (a call will load rather than
+        compile them); False otherwise, or when the cache cannot be read. The integrator loops
+        are the package's: see :func:`integrators_compiled`.
     """
-    for name in ("dop853_chunk", "radau5_chunk"):
-        dispatcher = getattr(module, name)
-        if dispatcher.signatures:
-            continue
-        try:
-            if not dispatcher._cache._cache_file._load_index():  # Numba's index of the disk cache
-                return False
-        except Exception:  # noqa: BLE001 - a private API of Numba: unknown means "not cached"
-            return False
-    return True
+    return all(_compiled_or_cached(getattr(module, name, module.rhs)) for name in ("rhs", "system_rhs"))
+
+
+def integrators_compiled() -> bool:
+    """Whether the integrator loops (DOP853, Radau IIA) are compiled here or in the package's Numba cache.
+
+    Returns
+    -------
+    bool
+        False before the first run of an installation (or after their source changed): the next
+        run compiles them, for all models, once.
+    """
+    return all(_compiled_or_cached(function)
+               for function in (dop853.dop853_chunk, radau.radau5_chunk, radau.fd_jacobian))

@@ -1,0 +1,92 @@
+"""A generated module's right-hand side as a Numba first-class function, for the compiled-once loops.
+
+The integrator loops (:mod:`~flexkane.numerics.dop853`, :mod:`~flexkane.numerics.radau`) are
+``@njit(cache=True)`` functions of this package that take the model's integrated right-hand side
+``system_rhs(t, y, p, dy) -> int`` as an argument. Passed as a Numba dispatcher, that argument would
+be typed by its identity (a new specialisation of every loop, which Numba's disk cache cannot keep,
+for every model). :class:`SystemFunction` passes it instead as a *first-class function*: its Numba
+type is ``FunctionType(SIGNATURE)``, the same for every model, and at a call the loops receive the
+address of the generated function's C wrapper (machine code that the generated module's own disk
+cache holds). So the loops are compiled once per installation, and a new model structure compiles
+only its own functions.
+
+The price is an indirect call per evaluation instead of a direct (inlinable) one;
+``benchmarks/first_class_rhs.py`` measures it.
+"""
+
+from __future__ import annotations
+
+from types import ModuleType
+
+import numba.experimental.function_type  # noqa: F401 - registers the Numba type of SystemFunction
+from numba import types
+from numba.core.types import WrapperAddressProtocol
+
+__all__ = ["SIGNATURE", "SystemFunction", "system_function"]
+
+#: Numba signature of a generated ``system_rhs(t, y, p, dy) -> status``: time [s], state (n,),
+#: constants (n_p,) and derivative (n,) written in place, all contiguous float64 arrays.
+SIGNATURE = types.int64(types.float64, types.float64[::1], types.float64[::1], types.float64[::1])
+
+
+class SystemFunction(WrapperAddressProtocol):
+    """The compiled ``system_rhs`` of a generated module, passed to Numba as a first-class function.
+
+    Parameters
+    ----------
+    dispatcher : numba.core.registry.CPUDispatcher
+        The module's ``@njit(cache=True)`` function ``system_rhs(t, y, p, dy) -> int`` (see
+        :func:`~flexkane.numerics.codegen.generate_rhs_source`).
+
+    Notes
+    -----
+    The first call of :meth:`__wrapper_address__` compiles the dispatcher for :data:`SIGNATURE`
+    (or loads it from the generated module's disk cache); the address is kept after that. The
+    object keeps the dispatcher, hence the machine code at that address, alive.
+    """
+
+    def __init__(self, dispatcher):
+        self.dispatcher = dispatcher
+        self._address = 0
+
+    def __wrapper_address__(self) -> int:
+        """Address of the C-callable wrapper of ``system_rhs`` compiled for :data:`SIGNATURE`."""
+        if not self._address:
+            result = self.dispatcher.get_compile_result(SIGNATURE)
+            if result.signature.return_type != SIGNATURE.return_type:  # the loops read an int64
+                raise TypeError(f"{self!r} returns {result.signature.return_type}, not "
+                                f"{SIGNATURE.return_type}")
+            self._address = result.library.get_pointer_to_function(result.fndesc.llvm_cfunc_wrapper_name)
+        return self._address
+
+    def signature(self):
+        """The Numba signature of the function (:data:`SIGNATURE`)."""
+        return SIGNATURE
+
+    def is_compiled(self) -> bool:
+        """Whether ``system_rhs`` is compiled for :data:`SIGNATURE` in this process."""
+        return SIGNATURE.args in self.dispatcher.overloads
+
+    def __repr__(self) -> str:
+        return f"SystemFunction({self.dispatcher.py_func.__module__}.{self.dispatcher.py_func.__name__})"
+
+
+def system_function(module: ModuleType) -> SystemFunction:
+    """Return the integrated right-hand side of a generated module as a :class:`SystemFunction`.
+
+    Parameters
+    ----------
+    module : module
+        Generated module (:func:`~flexkane.numerics.jit_module.build_module`); its ``system_rhs``
+        (``rhs`` when the module has no quadrature states and no ``system_rhs``).
+
+    Returns
+    -------
+    SystemFunction
+        One object per module (kept on the module), so that the address is looked up once.
+    """
+    function = getattr(module, "__flexkane_system_function__", None)
+    if function is None:
+        function = SystemFunction(getattr(module, "system_rhs", None) or module.rhs)
+        module.__flexkane_system_function__ = function
+    return function
