@@ -44,3 +44,16 @@ def test_integrators_are_compiled_before_simulate_and_not_after(falling_beam):
     again = []
     compile_model(eom, announce=again.append)
     assert again == []
+
+
+def test_the_first_compile_of_the_integrators_is_announced(falling_beam, monkeypatch):
+    from flexkane.numerics import jit_module
+    from flexkane.simulation import COMPILING_MESSAGE, INTEGRATORS_MESSAGE
+
+    model, eom = falling_beam
+    compile_model(eom)
+    monkeypatch.setattr(jit_module, "integrators_compiled", lambda: False)  # as on a new installation
+    messages = []
+    compile_model(eom, announce=messages.append)
+    assert messages == [INTEGRATORS_MESSAGE]
+    assert COMPILING_MESSAGE not in messages  # the model's own functions are compiled already

@@ -149,3 +149,33 @@ def test_code_too_deeply_nested_for_python_is_a_model_error(tmp_path):
     deep = "+".join(["1.0"] * 200_000)   # a sum nested deeper than Python's compiler recurses
     with pytest.raises(ModelError, match="model size"):
         build_module(f"X = {deep}\n", "deeply_nested", tmp_path, in_subprocess=False)
+
+
+@pytest.mark.parametrize("model_compiled, integrators, callbacks, expected", [
+    (True, False, "both", ["integrators"]),          # first run of an installation, model known
+    (False, False, "both", ["integrators", "model"]),
+    (False, False, "one", ["model"]),                # one callback announces once
+    (False, True, "both", ["model"]),
+    (True, True, "both", []),                        # nothing to compile: no child
+])
+def test_the_child_compiles_and_announces_what_is_missing(tmp_path, monkeypatch, models, model_compiled,
+                                                          integrators, callbacks, expected):
+    from flexkane.numerics import jit_module
+
+    children = []
+    monkeypatch.setattr(jit_module, "_compile_in_child", lambda path: children.append(path) or True)
+    monkeypatch.setattr(jit_module, "integrators_compiled", lambda: integrators)
+    source = generate_rhs_source(models.pendulum())
+    key = structure_key(source, f"announce-{model_compiled}-{integrators}-{callbacks}")
+    path = tmp_path / key / f"flexkane_generated_{key}.py"
+    if model_compiled:  # the marker a child leaves after compiling the module
+        path.parent.mkdir(parents=True)
+        text = compose_module_source(source, key)
+        path.write_text(text, encoding="utf-8")
+        jit_module._compiled_marker(path).write_text(jit_module._text_digest(text), encoding="utf-8")
+    said = []
+    extra = {"announce_integrators": lambda: said.append("integrators")} if callbacks == "both" else {}
+    with jit_module.compile_in_subprocess(announce=lambda: said.append("model"), **extra):
+        build_module(source, key, tmp_path)
+    assert said == (expected if callbacks == "both" else expected[:1])
+    assert children == ([path] if expected else [])

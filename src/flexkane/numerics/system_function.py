@@ -40,8 +40,9 @@ class SystemFunction(WrapperAddressProtocol):
 
     Notes
     -----
-    The first call of :meth:`__wrapper_address__` compiles the dispatcher for :data:`SIGNATURE`
-    (or loads it from the generated module's disk cache); the address is kept after that. The
+    The first call of :meth:`__wrapper_address__` compiles the dispatcher for the arguments of
+    :data:`SIGNATURE` (or loads it from the generated module's disk cache, the entry that a call
+    from Python with the same arrays uses); the address is kept after that. The
     object keeps the dispatcher, hence the machine code at that address, alive.
     """
 
@@ -52,7 +53,10 @@ class SystemFunction(WrapperAddressProtocol):
     def __wrapper_address__(self) -> int:
         """Address of the C-callable wrapper of ``system_rhs`` compiled for :data:`SIGNATURE`."""
         if not self._address:
-            result = self.dispatcher.get_compile_result(SIGNATURE)
+            # compiled (or loaded from the disk cache) by the argument types, as a call from Python
+            # does: one cache entry serves both (a signature with its return type is another key)
+            self.dispatcher.compile(SIGNATURE.args)
+            result = self.dispatcher.overloads[SIGNATURE.args]
             if result.signature.return_type != SIGNATURE.return_type:  # the loops read an int64
                 raise TypeError(f"{self!r} returns {result.signature.return_type}, not "
                                 f"{SIGNATURE.return_type}")
