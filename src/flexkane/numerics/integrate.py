@@ -20,16 +20,17 @@ import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+import numba
 import numpy as np
 
 from flexkane.errors import ModelError
 from flexkane.numerics.dop853 import dop853_chunk
 from flexkane.numerics.radau import fd_jacobian, radau5_chunk
 from flexkane.numerics.switching import MethodSwitch, chunk_work, evaluation_work
-from flexkane.numerics.system_function import system_function
+from flexkane.numerics.system_function import FUNCTION_TYPE, system_function
 
 __all__ = ["METHODS", "IntegrationResult", "Status", "StiffnessEstimate", "choose_method",
-           "compile_integrators", "estimate_stiffness", "evaluate_outputs", "integrate"]
+           "compile_integrators", "estimate_stiffness", "evaluate_outputs", "integrate", "load_integrators"]
 
 # Method name -> name of its compiled chunk function (a function of the package, not of the model).
 METHODS = {"dop853": "dop853_chunk", "radau": "radau5_chunk"}
@@ -386,14 +387,9 @@ def compile_integrators(module) -> None:
     n = module.NQ + module.NU + _quadrature_count(module)
     p = np.ones(len(module.CONSTANT_NAMES))
     y = np.zeros(n)
-    t_out = np.zeros(3)[1:]  # a slice, as integrate passes
-    Y = np.empty((3, n))[1:]
-    atol = np.ones(n)
-    system = system_function(module)
     calls = [(_system(module), (0.0, y, p, np.empty(n))),
              (module.rhs, (0.0, np.zeros(module.NQ + module.NU), p, np.empty(module.NQ + module.NU)))]
-    calls += [(chunk, (system, 0.0, y, 0.0, t_out, p, 1e-6, atol, 1, Y, 0.0)) for chunk in _CHUNKS.values()]
-    calls += [(fd_jacobian, (system, 0.0, y, np.zeros(n), p, np.zeros((n, n)), np.empty(n), np.empty(n)))]
+    calls += _integrator_calls(system_function(module), n, p)
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore")
         for function, args in calls:
@@ -401,6 +397,29 @@ def compile_integrators(module) -> None:
                 function(*args)
             except (ArithmeticError, ValueError):
                 pass  # compiled already: only the made-up numbers failed (e.g. a division by 0)
+
+
+def _integrator_calls(system, n: int, p: np.ndarray) -> list:
+    """``(function, arguments)`` of each integrator function that :func:`integrate` calls, on an empty
+    span, with the argument types it passes (``system`` the model's first-class function)."""
+    y = np.zeros(n)
+    t_out = np.zeros(3)[1:]  # a slice, as integrate passes
+    Y = np.empty((3, n))[1:]
+    calls = [(chunk, (system, 0.0, y, 0.0, t_out, p, 1e-6, np.ones(n), 1, Y, 0.0)) for chunk in _CHUNKS.values()]
+    calls.append((fd_jacobian, (system, 0.0, y, np.zeros(n), p, np.zeros((n, n)), np.empty(n), np.empty(n))))
+    return calls
+
+
+def load_integrators() -> None:
+    """Load the integrator loops' machine code from the package's Numba cache, without a model.
+
+    The types of every model's calls are the same (the right-hand side is a first-class function
+    of type :data:`~flexkane.numerics.system_function.FUNCTION_TYPE`), so this needs no module; it
+    compiles them if the cache does not hold them (seconds). :func:`compile_integrators` then finds
+    them loaded. A process waiting for a child that compiles a new structure calls it meanwhile.
+    """
+    for function, args in _integrator_calls(None, 1, np.ones(1)):
+        function.compile(tuple(FUNCTION_TYPE if a is None else numba.typeof(a) for a in args))
 
 
 def evaluate_outputs(module, t: np.ndarray, y: np.ndarray, p: np.ndarray,

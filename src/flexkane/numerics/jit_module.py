@@ -225,11 +225,12 @@ def _compile_file(path: str) -> None:
     _write_atomically(_compiled_marker(path), _text_digest(path.read_text(encoding="utf-8")))
 
 
-def _compile_in_child(path: Path) -> bool:
+def _compile_in_child(path: Path, meanwhile=None) -> bool:
     """Compile the module at ``path`` into Numba's cache in a child process; return whether it worked.
 
     The child runs in a session of its own (Ctrl-C in the terminal reaches this process only). On any
     exception here, a signal among them (:class:`KeyboardInterrupt`), the child is killed first.
+    ``meanwhile`` (optional, no arguments) is called once the child has started, before waiting.
     """
     package_root = str(Path(flexkane.__file__).resolve().parent.parent)
     code = ("import sys; sys.path.insert(0, sys.argv[1]); "
@@ -239,6 +240,8 @@ def _compile_in_child(path: Path) -> bool:
                                  stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=errors,
                                  start_new_session=True)
         try:
+            if meanwhile is not None:
+                meanwhile()
             while True:
                 try:
                     return child.wait(timeout=0.1) == 0
@@ -311,7 +314,12 @@ def build_module(source: str, key: str, cache_dir: Path | None = None, *,
                     announce_integrators()
                 if not compiled and not (announce is announce_integrators and not integrators):
                     announce()  # (once, when one callable announces both)
-            _compile_in_child(path)
+            from flexkane.numerics.integrate import load_integrators
+
+            # while the child compiles, this process loads the integrators it will need from their
+            # cache (a fraction of a second: the other core's time; when they are not cached, the
+            # child compiles them and this process waits)
+            _compile_in_child(path, meanwhile=load_integrators if integrators else None)
     spec = importlib.util.spec_from_file_location(module_name, path)
     module = importlib.util.module_from_spec(spec)
     sys.modules[module_name] = module

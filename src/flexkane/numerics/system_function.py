@@ -22,11 +22,13 @@ import numba.experimental.function_type  # noqa: F401 - registers the Numba type
 from numba import types
 from numba.core.types import WrapperAddressProtocol
 
-__all__ = ["SIGNATURE", "SystemFunction", "system_function"]
+__all__ = ["FUNCTION_TYPE", "SIGNATURE", "SystemFunction", "system_function"]
 
 #: Numba signature of a generated ``system_rhs(t, y, p, dy) -> status``: time [s], state (n,),
 #: constants (n_p,) and derivative (n,) written in place, all contiguous float64 arrays.
 SIGNATURE = types.int64(types.float64, types.float64[::1], types.float64[::1], types.float64[::1])
+#: Numba type of a :class:`SystemFunction` argument: the same for every model.
+FUNCTION_TYPE = types.FunctionType(SIGNATURE)
 
 
 class SystemFunction(WrapperAddressProtocol):
