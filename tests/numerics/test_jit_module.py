@@ -52,7 +52,7 @@ _CHILD = textwrap.dedent("""
     t = np.linspace(0.0, 1.0, 11)
     Y = np.empty((11, 2))
     out = dop853_chunk(system_function(module), 0.0, np.array([1.0, 0.0]), 0.0, t,
-                       np.array([1.0, 1.0, 9.81]), 1e-8, np.full(2, 1e-8), 10000, Y)
+                       np.array([1.0, 1.0, 9.81]), 1e-8, np.full(2, 1e-8), 10000, Y, -np.inf)
     done = time.perf_counter()
     print(json.dumps({"import": imported - tic, "first_call": done - imported,
                       "status": int(out[3]), "y_end": Y[-1].tolist()}))
@@ -72,7 +72,7 @@ def test_second_process_loads_numba_cache(tmp_path, models, pendulum_module):
     """A child process building the session's pendulum key loads the compiled code from disk."""
     dop853_chunk(system_function(pendulum_module), 0.0, np.array([1.0, 0.0]), 0.0,
                  np.linspace(0.0, 1.0, 11), np.array([1.0, 1.0, 9.81]), 1e-8, np.full(2, 1e-8), 10000,
-                 np.empty((11, 2)))  # compiled (and cached) in this process
+                 np.empty((11, 2)), -np.inf)  # compiled (and cached) in this process
     path = Path(pendulum_module.__file__)
     key = path.parent.name
     source = generate_rhs_source(models.pendulum())
@@ -180,3 +180,34 @@ def test_the_child_compiles_and_announces_what_is_missing(tmp_path, monkeypatch,
         build_module(source, key, tmp_path)
     assert said == (expected if callbacks == "both" else expected[:1])
     assert children == ([path] if expected else [])
+
+
+@pytest.mark.parametrize("fork", [True, False], ids=["fork", "new-interpreter"])
+def test_a_failing_compile_child_reports_failure_and_leaves_no_marker(tmp_path, monkeypatch, fork):
+    from flexkane.numerics import jit_module
+
+    if fork and not jit_module._fork_allowed():
+        pytest.skip("no fork here (not Linux, or other threads)")
+    monkeypatch.setattr(jit_module, "_fork_allowed", lambda: fork)
+    path = tmp_path / "flexkane_generated_broken.py"
+    path.write_text("raise RuntimeError('a module that cannot be imported')\n", encoding="utf-8")
+    meanwhile = []
+    assert jit_module._compile_in_child(path, meanwhile=lambda: meanwhile.append(True)) is False
+    assert meanwhile == [True] and not jit_module._compiled_marker(path).exists()
+
+
+def test_a_forked_child_compiles_a_new_structure_into_the_cache(tmp_path, models):
+    from flexkane.numerics import jit_module
+
+    if not jit_module._fork_allowed():
+        pytest.skip("no fork here (not Linux, or other threads)")
+    source = generate_rhs_source(models.pendulum())
+    key = structure_key(source, "forked-child")
+    path = tmp_path / key / f"flexkane_generated_{key}.py"
+    path.parent.mkdir()
+    path.write_text(compose_module_source(source, key), encoding="utf-8")
+    assert jit_module._compile_in_child(path) is True
+    assert jit_module._compiled_marker(path).exists()
+    assert list((path.parent / "__pycache__").glob("*rhs*.nbi"))
+    module = build_module(source, key, tmp_path, in_subprocess=False)
+    assert jit_module.is_compiled(module)  # in the disk cache: this process loads, not compiles

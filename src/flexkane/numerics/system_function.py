@@ -11,18 +11,24 @@ cache holds). So the loops are compiled once per installation, and a new model s
 only its own functions.
 
 The price is an indirect call per evaluation instead of a direct (inlinable) one;
-``benchmarks/first_class_rhs.py`` measures it.
+``benchmarks/first_class_rhs.py`` measures it against :func:`direct_chunk`, the same loop with the
+right-hand side bound.
 """
 
 from __future__ import annotations
 
+import functools
+import importlib.util
+import sys
+import tempfile
+from pathlib import Path
 from types import ModuleType
 
 import numba.experimental.function_type  # noqa: F401 - registers the Numba type of SystemFunction
-from numba import types
+from numba import njit, types
 from numba.core.types import WrapperAddressProtocol
 
-__all__ = ["FUNCTION_TYPE", "SIGNATURE", "SystemFunction", "system_function"]
+__all__ = ["FUNCTION_TYPE", "SIGNATURE", "SystemFunction", "direct_chunk", "system_function"]
 
 #: Numba signature of a generated ``system_rhs(t, y, p, dy) -> status``: time [s], state (n,),
 #: constants (n_p,) and derivative (n,) written in place, all contiguous float64 arrays.
@@ -96,3 +102,54 @@ def system_function(module: ModuleType) -> SystemFunction:
         function = SystemFunction(getattr(module, "system_rhs", None) or module.rhs)
         module.__flexkane_system_function__ = function
     return function
+
+
+@functools.cache
+def _uncached_loops() -> dict[str, ModuleType]:
+    """Copies of the integrator modules whose functions Numba does not cache (``cache=False``).
+
+    A loop called with a Numba dispatcher instead of a :class:`SystemFunction` is specialised on
+    that dispatcher; the package's cached functions would add each specialisation (useless to any
+    other process) to the package's disk cache. The copies are imported from a temporary directory.
+    """
+    from flexkane.numerics import dop853, radau
+
+    directory = Path(tempfile.mkdtemp(prefix="flexkane-direct-loops-"))
+    loops = {}
+    for module in (dop853, radau):
+        name = f"flexkane_direct_{module.__name__.rsplit('.', 1)[1]}"
+        text = Path(module.__file__).read_text(encoding="utf-8").replace("cache=True", "cache=False")
+        text = text.replace(f"from {dop853.__name__} import", f"from {loops.get('dop853', dop853).__name__} import")
+        path = directory / f"{name}.py"
+        path.write_text(text, encoding="utf-8")
+        spec = importlib.util.spec_from_file_location(name, path)
+        loops[module.__name__.rsplit(".", 1)[1]] = copy = importlib.util.module_from_spec(spec)
+        sys.modules[name] = copy
+        spec.loader.exec_module(copy)
+    return loops
+
+
+def direct_chunk(method: str, dispatcher):
+    """The integrator loop ``method`` calling ``dispatcher`` directly, for measurements and tests.
+
+    Parameters
+    ----------
+    method : {"dop853", "radau"}
+        The loop (``dop853_chunk`` or ``radau5_chunk``, same source, not cached).
+    dispatcher : numba.core.registry.CPUDispatcher
+        A generated ``system_rhs``; bound at compile time, so LLVM may inline it.
+
+    Returns
+    -------
+    callable
+        ``chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop)``: the arguments of the
+        package's loop after the first-class function. Compiled on its first call (seconds).
+    """
+    loops = _uncached_loops()
+    chunk = loops["dop853"].dop853_chunk if method == "dop853" else loops["radau"].radau5_chunk
+
+    @njit(error_model="numpy")
+    def direct(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop):
+        return chunk(dispatcher, t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop)
+
+    return direct
