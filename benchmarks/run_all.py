@@ -9,6 +9,8 @@ Sections (one script each, also runnable alone):
 (e) ``scaling.py``      times against the number of modes (1-40) and of flexible links (1-5);
 (f) ``startup.py``      start-up of the command (--help, --version, check), derive n = 40, a cached run;
 (g) ``recursive_yardstick.py``  one evaluation of chain_model(k) against a hand-written recursive rhs;
+(h) ``first_class_rhs.py``  integrators compiled once: the cost of calling the right-hand side through a
+    first-class function, and the time of a new structure with the integrators cached;
 and, when the sweep module and Dask are installed, ``sweep_throughput.py`` (variants per second).
 
 Compiled models go to a fresh cache directory, so compile times are those of a first run.
@@ -103,6 +105,8 @@ def main() -> dict:
         _section("recursive_yardstick", recursive_yardstick.run, results, (1, 2), (8,))
     else:
         _section("recursive_yardstick", recursive_yardstick.run, results)
+    import first_class_rhs
+    _section("integrators", first_class_rhs.run, results, quick)
     _section("sweep", _sweep, results, quick)
     import startup
     _section("startup", startup.run, results, quick)
