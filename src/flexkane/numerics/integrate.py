@@ -2,9 +2,9 @@
 
 :func:`integrate` calls the compiled loop (``dop853_chunk`` or ``radau5_chunk``, compiled once per
 installation, with the model's right-hand side as a first-class function, see
-:mod:`flexkane.numerics.system_function`) on successive chunks of the output grid; between chunks it reports progress, and a ``KeyboardInterrupt`` or a
-failure ends the run with the rows computed so far. The stiff/non-stiff choice of
-``method="auto"`` is :func:`choose_method` at the start, then
+:mod:`flexkane.numerics.system_function`) on successive chunks of the output grid; between chunks
+it reports progress, and a ``KeyboardInterrupt`` or a failure ends the run with the rows computed
+so far. The stiff/non-stiff choice of ``method="auto"`` is :func:`choose_method` at the start, then
 :class:`~flexkane.numerics.switching.MethodSwitch` during the run.
 
 Nothing here depends on the clock: chunks end after a share of the span or a number of steps
@@ -405,7 +405,8 @@ def _integrator_calls(system, n: int, p: np.ndarray) -> list:
     y = np.zeros(n)
     t_out = np.zeros(3)[1:]  # a slice, as integrate passes
     Y = np.empty((3, n))[1:]
-    calls = [(chunk, (system, 0.0, y, 0.0, t_out, p, 1e-6, np.ones(n), 1, Y, 0.0)) for chunk in _CHUNKS.values()]
+    calls = [(chunk, (system, 0.0, y, 0.0, t_out, p, 1e-6, np.ones(n), 1, Y, 0.0))
+             for chunk in _CHUNKS.values()]
     calls.append((fd_jacobian, (system, 0.0, y, np.zeros(n), p, np.zeros((n, n)), np.empty(n), np.empty(n))))
     return calls
 

@@ -119,7 +119,8 @@ def _uncached_loops() -> dict[str, ModuleType]:
     for module in (dop853, radau):
         name = f"flexkane_direct_{module.__name__.rsplit('.', 1)[1]}"
         text = Path(module.__file__).read_text(encoding="utf-8").replace("cache=True", "cache=False")
-        text = text.replace(f"from {dop853.__name__} import", f"from {loops.get('dop853', dop853).__name__} import")
+        text = text.replace(f"from {dop853.__name__} import",
+                            f"from {loops.get('dop853', dop853).__name__} import")
         path = directory / f"{name}.py"
         path.write_text(text, encoding="utf-8")
         spec = importlib.util.spec_from_file_location(name, path)
