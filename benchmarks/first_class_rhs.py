@@ -181,7 +181,7 @@ def targets(result: dict) -> list[tuple[str, bool | None, str]]:
 
 def markdown(result: dict) -> list[str]:
     """The section of RESULTS.md."""
-    md = ["## Integrators compiled once (issue 16, item 5)", "",
+    md = ["## (h) Integrators compiled once (issue 16, item 5)", "",
           "`benchmarks/first_class_rhs.py`. The DOP853 and Radau IIA loops are functions of the package "
           "(`@njit(cache=True)`), compiled once per installation; they call the model's `system_rhs` "
           "through a Numba first-class function (`flexkane.numerics.system_function`), whose type is the "

@@ -239,7 +239,7 @@ def markdown(results) -> str:
 
         md += integrators_markdown(integrators)
     else:
-        md += ["## Integrators compiled once (issue 16, item 5)", "", f"Not run: {results.get('integrators')}", ""]
+        md += ["## (h) Integrators compiled once (issue 16, item 5)", "", f"Not run: {results.get('integrators')}", ""]
     sweep = results.get("sweep") or {}
     md += ["## Sweep throughput (issue 11)", ""]
     if "serial_per_s" in sweep:
