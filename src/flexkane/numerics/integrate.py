@@ -30,7 +30,8 @@ from flexkane.numerics.switching import MethodSwitch, chunk_work, evaluation_wor
 from flexkane.numerics.system_function import FUNCTION_TYPE, system_function
 
 __all__ = ["METHODS", "IntegrationResult", "Status", "StiffnessEstimate", "choose_method",
-           "compile_integrators", "estimate_stiffness", "evaluate_outputs", "integrate", "load_integrators"]
+           "compile_integrators", "estimate_stiffness", "evaluate_outputs", "integrate", "integrator_signatures",
+           "load_integrators"]
 
 # Method name -> name of its compiled chunk function (a function of the package, not of the model).
 METHODS = {"dop853": "dop853_chunk", "radau": "radau5_chunk"}
@@ -411,16 +412,26 @@ def _integrator_calls(system, n: int, p: np.ndarray) -> list:
     return calls
 
 
+def integrator_signatures() -> list:
+    """``(dispatcher, argument types)`` of each integrator function as :func:`integrate` calls it.
+
+    The same for every model: the right-hand side is a first-class function of type
+    :data:`~flexkane.numerics.system_function.FUNCTION_TYPE`.
+    """
+    return [(function, tuple(FUNCTION_TYPE if a is None else numba.typeof(a) for a in args))
+            for function, args in _integrator_calls(None, 1, np.ones(1))]
+
+
 def load_integrators() -> None:
     """Load the integrator loops' machine code from the package's Numba cache, without a model.
 
-    The types of every model's calls are the same (the right-hand side is a first-class function
-    of type :data:`~flexkane.numerics.system_function.FUNCTION_TYPE`), so this needs no module; it
-    compiles them if the cache does not hold them (seconds). :func:`compile_integrators` then finds
-    them loaded. A process waiting for a child that compiles a new structure calls it meanwhile.
+    The types of every model's calls are the same (:func:`integrator_signatures`), so this needs
+    no module; it compiles them if the cache does not hold them (seconds).
+    :func:`compile_integrators` then finds them loaded. A process about to fork a child that
+    compiles a new structure calls it first.
     """
-    for function, args in _integrator_calls(None, 1, np.ones(1)):
-        function.compile(tuple(FUNCTION_TYPE if a is None else numba.typeof(a) for a in args))
+    for function, types in integrator_signatures():
+        function.compile(types)
 
 
 def evaluate_outputs(module, t: np.ndarray, y: np.ndarray, p: np.ndarray,

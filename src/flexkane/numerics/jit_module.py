@@ -47,7 +47,8 @@ from types import ModuleType
 import numba
 
 import flexkane
-from flexkane.numerics import dop853, linear_algebra, radau
+from flexkane.numerics import linear_algebra
+from flexkane.numerics.system_function import SIGNATURE
 
 __all__ = ["TEMPLATE_BEGIN", "TEMPLATE_END", "build_module", "compile_in_subprocess", "compose_module_source",
            "default_cache_dir", "integrators_compiled", "is_compiled", "structure_key", "template_text",
@@ -390,13 +391,18 @@ def build_module(source: str, key: str, cache_dir: Path | None = None, *,
     return module
 
 
-def _compiled_or_cached(dispatcher) -> bool:
-    """Whether a Numba dispatcher has a compiled signature here or an entry in its disk cache index."""
-    if dispatcher.signatures:
+def _compiled_or_cached(dispatcher, types: tuple) -> bool:
+    """Whether a Numba dispatcher is compiled for the argument ``types`` here or in its disk cache.
+
+    The disk cache counts when its index (for the function's current source) has the entry that a
+    call with these types on this machine would load.
+    """
+    if types in dispatcher.overloads:
         return True
-    try:
-        return bool(dispatcher._cache._cache_file._load_index())  # Numba's index of the disk cache
-    except Exception:  # noqa: BLE001 - a private API of Numba: unknown means "not cached"
+    try:  # a private API of Numba (the key its cache looks up)
+        cache = dispatcher._cache
+        return cache._index_key(types, dispatcher.targetctx.codegen()) in cache._cache_file._load_index()
+    except Exception:  # noqa: BLE001 - unknown means "not cached"
         return False
 
 
@@ -411,12 +417,13 @@ def is_compiled(module: ModuleType) -> bool:
     Returns
     -------
     bool
-        True when ``rhs`` and ``system_rhs`` have a compiled signature in this process or an entry
-        for the module's current source in the on-disk cache index (a call will load rather than
-        compile them); False otherwise, or when the cache cannot be read. The integrator loops
-        are the package's: see :func:`integrators_compiled`.
+        True when ``rhs`` and ``system_rhs`` are compiled, in this process or in the on-disk cache
+        of the module's current source, for the arguments the integrators pass (a call will load
+        rather than compile them); False otherwise, or when the cache cannot be read. The
+        integrator loops are the package's: see :func:`integrators_compiled`.
     """
-    return all(_compiled_or_cached(getattr(module, name, module.rhs)) for name in ("rhs", "system_rhs"))
+    return all(_compiled_or_cached(getattr(module, name, module.rhs), SIGNATURE.args)
+               for name in ("rhs", "system_rhs"))
 
 
 def integrators_compiled() -> bool:
@@ -428,5 +435,6 @@ def integrators_compiled() -> bool:
         False before the first run of an installation (or after their source changed): the next
         run compiles them, for all models, once.
     """
-    return all(_compiled_or_cached(function)
-               for function in (dop853.dop853_chunk, radau.radau5_chunk, radau.fd_jacobian))
+    from flexkane.numerics.integrate import integrator_signatures
+
+    return all(_compiled_or_cached(function, types) for function, types in integrator_signatures())
