@@ -17,7 +17,7 @@ import sympy as sp
 
 from flexkane.numerics import Status, build_module, generate_rhs_source, integrate, structure_key
 from flexkane.numerics.dop853 import dop853_chunk
-from flexkane.numerics.integrate import compile_integrators
+from flexkane.numerics.integrate import compile_integrators, integrator_signatures
 from flexkane.numerics.jit_module import integrators_compiled, is_compiled
 from flexkane.numerics.radau import fd_jacobian, radau5_chunk
 from flexkane.numerics.system_function import SIGNATURE, SystemFunction, direct_chunk, system_function
@@ -38,6 +38,8 @@ def _index_files():
 def test_a_new_model_structure_does_not_recompile_the_integrators(tmp_path, models, pendulum_module):
     compile_integrators(pendulum_module)
     assert integrators_compiled()
+    # the signatures the installation's check looks up are those a run calls
+    assert all(types in function.overloads for function, types in integrator_signatures())
     signatures = {f.py_func.__name__: list(f.signatures) for f in INTEGRATORS}
     assert all(signatures.values()), signatures
     index = _index_files()

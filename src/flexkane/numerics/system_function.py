@@ -3,8 +3,8 @@
 The integrator loops (:mod:`~flexkane.numerics.dop853`, :mod:`~flexkane.numerics.radau`) are
 ``@njit(cache=True)`` functions of this package that take the model's integrated right-hand side
 ``system_rhs(t, y, p, dy) -> int`` as an argument. Passed as a Numba dispatcher, that argument would
-be typed by its identity (a new specialisation of every loop, which Numba's disk cache cannot keep,
-for every model). :class:`SystemFunction` passes it instead as a *first-class function*: its Numba
+be typed by its identity: a new specialisation of every loop for every model (compiled in seconds,
+and written to the package's disk cache where no other process can use it). :class:`SystemFunction` passes it instead as a *first-class function*: its Numba
 type is ``FunctionType(SIGNATURE)``, the same for every model, and at a call the loops receive the
 address of the generated function's C wrapper (machine code that the generated module's own disk
 cache holds). So the loops are compiled once per installation, and a new model structure compiles
