@@ -17,8 +17,10 @@ right-hand side bound.
 
 from __future__ import annotations
 
+import atexit
 import functools
 import importlib.util
+import shutil
 import sys
 import tempfile
 from pathlib import Path
@@ -115,6 +117,7 @@ def _uncached_loops() -> dict[str, ModuleType]:
     from flexkane.numerics import dop853, radau
 
     directory = Path(tempfile.mkdtemp(prefix="flexkane-direct-loops-"))
+    atexit.register(shutil.rmtree, directory, ignore_errors=True)
     loops = {}
     for module in (dop853, radau):
         name = f"flexkane_direct_{module.__name__.rsplit('.', 1)[1]}"
