@@ -9,8 +9,10 @@ Sections (one script each, also runnable alone):
 (e) ``scaling.py``      times against the number of modes (1-40) and of flexible links (1-5);
 (f) ``startup.py``      start-up of the command (--help, --version, check), derive n = 40, a cached run;
 (g) ``recursive_yardstick.py``  one evaluation of chain_model(k) against a hand-written recursive rhs;
-(i) ``chain_scaling.py``  derive, code generation and compilation of chain_model(k), k = 1 ... 20;
 (h) ``constant_block.py``  the constant modal block factored once per run against L D L^T of all of M;
+(i) ``first_class_rhs.py``  integrators compiled once: the cost of calling the right-hand side through a
+    first-class function, and the time of a new structure with the integrators cached;
+(j) ``chain_scaling.py``  derive, code generation and compilation of chain_model(k), k = 1 ... 20;
 and, when the sweep module and Dask are installed, ``sweep_throughput.py`` (variants per second).
 
 Compiled models go to a fresh cache directory, so compile times are those of a first run.
@@ -110,6 +112,8 @@ def main() -> dict:
     import chain_scaling
     _section("chain_scaling", chain_scaling.run, results,
              chain_scaling.QUICK_LINKS if quick else chain_scaling.LINKS)
+    import first_class_rhs
+    _section("integrators", first_class_rhs.run, results, quick)
     _section("sweep", _sweep, results, quick)
     import startup
     _section("startup", startup.run, results, quick)

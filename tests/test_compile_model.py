@@ -10,10 +10,12 @@ import pytest
 
 from flexkane.builtin import builtin_model
 from flexkane.derivation_cache import cached_derive
-from flexkane.numerics.jit_module import is_compiled
+from flexkane.numerics import dop853, radau
+from flexkane.numerics.jit_module import integrators_compiled, is_compiled
 from flexkane.simulation import compile_model, simulate
 
-FUNCTIONS = ("dop853_chunk", "radau5_chunk", "system_rhs", "rhs", "fd_jacobian")
+FUNCTIONS = ("system_rhs", "rhs")  # the model's own; the integrators are the package's
+INTEGRATORS = (dop853.dop853_chunk, radau.radau5_chunk, radau.fd_jacobian)
 
 
 @pytest.fixture(scope="module")
@@ -28,14 +30,30 @@ def test_integrators_are_compiled_before_simulate_and_not_after(falling_beam):
     compiled = compile_model(eom, announce=messages.append)
     module = compiled.module
     before = {name: list(getattr(module, name).signatures) for name in FUNCTIONS}
+    before.update({f.py_func.__name__: list(f.signatures) for f in INTEGRATORS})
     assert all(before.values()), before
-    assert is_compiled(module)
+    assert is_compiled(module) and integrators_compiled()
     for method in ("auto", "dop853", "radau"):
         res = simulate(compiled, t_end=0.05, dt_out=0.01, method=method, model=model)
         assert not res.partial
         assert {"compile_time", "wall_time"} <= set(res.solver)
-    assert {name: list(getattr(module, name).signatures) for name in FUNCTIONS} == before
+    after = {name: list(getattr(module, name).signatures) for name in FUNCTIONS}
+    after.update({f.py_func.__name__: list(f.signatures) for f in INTEGRATORS})
+    assert after == before
     # compiled in this process now: compiling again announces nothing
     again = []
     compile_model(eom, announce=again.append)
     assert again == []
+
+
+def test_the_first_compile_of_the_integrators_is_announced(falling_beam, monkeypatch):
+    from flexkane.numerics import jit_module
+    from flexkane.simulation import COMPILING_MESSAGE, INTEGRATORS_MESSAGE
+
+    model, eom = falling_beam
+    compile_model(eom)
+    monkeypatch.setattr(jit_module, "integrators_compiled", lambda: False)  # as on a new installation
+    messages = []
+    compile_model(eom, announce=messages.append)
+    assert messages == [INTEGRATORS_MESSAGE]
+    assert COMPILING_MESSAGE not in messages  # the model's own functions are compiled already

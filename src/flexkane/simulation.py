@@ -25,7 +25,7 @@ from .model.validate import MAX_OUTPUT_ROWS, check_output_grid
 from .results import Results
 
 __all__ = ["COMPILING_MESSAGE", "CompiledModel", "compile_model", "simulate", "output_grid", "output_times",
-           "initial_state_vector", "model_source", "work_integrands"]
+           "INTEGRATORS_MESSAGE", "initial_state_vector", "model_source", "work_integrands"]
 
 
 def output_grid(t_end: float, dt_out: float) -> np.ndarray:
@@ -184,6 +184,8 @@ class CompiledModel:
 
 #: Message of :func:`compile_model` while Numba compiles a new model structure.
 COMPILING_MESSAGE = "compiling the right-hand side of this model structure (once)"
+#: Message of :func:`compile_model` while Numba compiles the integrators (once per installation).
+INTEGRATORS_MESSAGE = "compiling the integrators DOP853 and Radau IIA (once per installation)"
 
 
 def work_integrands(eom) -> dict:
@@ -238,7 +240,8 @@ def compile_model(eom, cache_dir=None, *, announce=None) -> CompiledModel:
         Root of the compiled-model cache (default: ``$FLEXKANE_CACHE_DIR`` or ``~/.cache/flexkane``).
     announce : callable, optional
         ``announce(text)`` is called with :data:`COMPILING_MESSAGE` before Numba compiles a model
-        structure that is not in the cache yet.
+        structure that is not in the cache yet, and with :data:`INTEGRATORS_MESSAGE` before it
+        compiles the integrators (the first run of an installation).
 
     Returns
     -------
@@ -257,12 +260,14 @@ def compile_model(eom, cache_dir=None, *, announce=None) -> CompiledModel:
             raise ModelError("eom", "EquationsOfMotion from flexkane.derive", type(eom).__name__)
         derivation = Derivation(eom=eom, cache_dir=cache_dir)
     from .numerics.integrate import compile_integrators
-    from .numerics.jit_module import build_module, is_compiled, structure_key
+    from .numerics.jit_module import build_module, integrators_compiled, is_compiled, structure_key
 
     start = time.perf_counter()
     source = derivation.source()
     key = structure_key(__version__, source)
     module = build_module(source, key, cache_dir)
+    if announce is not None and not integrators_compiled():
+        announce(INTEGRATORS_MESSAGE)
     if announce is not None and not is_compiled(module):
         announce(COMPILING_MESSAGE)
     compile_integrators(module)

@@ -14,7 +14,9 @@ import pytest
 from child_env import child_env
 
 from flexkane.numerics import build_module, generate_rhs_source, structure_key
+from flexkane.numerics.dop853 import dop853_chunk
 from flexkane.numerics.jit_module import compose_module_source
+from flexkane.numerics.system_function import system_function
 
 
 def test_structure_key_is_deterministic_and_depends_on_every_part():
@@ -43,13 +45,15 @@ _CHILD = textwrap.dedent("""
     tic = time.perf_counter()
     import numpy as np
     from flexkane.numerics import build_module
+    from flexkane.numerics.dop853 import dop853_chunk
+    from flexkane.numerics.system_function import system_function
     source, key, cache = sys.argv[1:4]
     module = build_module(open(source).read(), key, cache)
     imported = time.perf_counter()
     t = np.linspace(0.0, 1.0, 11)
     Y = np.empty((11, 2))
-    out = module.dop853_chunk(0.0, np.array([1.0, 0.0]), 0.0, t, np.array([1.0, 1.0, 9.81]),
-                              1e-8, np.full(2, 1e-8), 10000, Y)
+    out = dop853_chunk(system_function(module), 0.0, np.array([1.0, 0.0]), 0.0, t,
+                       np.array([1.0, 1.0, 9.81]), 1e-8, np.full(2, 1e-8), 10000, Y, -np.inf)
     done = time.perf_counter()
     print(json.dumps({"import": imported - tic, "first_call": done - imported,
                       "status": int(out[3]), "y_end": Y[-1].tolist()}))
@@ -64,9 +68,9 @@ def _run_child(script, source_file, key, cache):
 
 def test_second_process_loads_numba_cache(tmp_path, models, pendulum_module):
     """A child process building the session's pendulum key loads the compiled code from disk."""
-    pendulum_module.dop853_chunk(0.0, np.array([1.0, 0.0]), 0.0, np.linspace(0.0, 1.0, 11),
-                                 np.array([1.0, 1.0, 9.81]), 1e-8, np.full(2, 1e-8), 10000,
-                                 np.empty((11, 2)))  # compiled (and cached) in this process
+    dop853_chunk(system_function(pendulum_module), 0.0, np.array([1.0, 0.0]), 0.0,
+                 np.linspace(0.0, 1.0, 11), np.array([1.0, 1.0, 9.81]), 1e-8, np.full(2, 1e-8), 10000,
+                 np.empty((11, 2)), -np.inf)  # compiled (and cached) in this process
     path = Path(pendulum_module.__file__)
     key = path.parent.name
     source = generate_rhs_source(models.pendulum())
@@ -110,8 +114,9 @@ def test_processes_building_the_same_key_at_once_leave_one_intact_file(tmp_path,
 
 @pytest.mark.slow
 def test_a_new_structure_is_compiled_by_a_child_process_into_the_cache(tmp_path, models):
-    """With in_subprocess, a child process compiles the right-hand side and the integrators into
-    Numba's cache (and marks the module compiled); this process then loads them from there."""
+    """With in_subprocess, a child process compiles the right-hand side into Numba's cache (and marks
+    the module compiled); this process then loads it from there. The integrators are the package's,
+    not the module's."""
     from flexkane.numerics import jit_module
 
     source = generate_rhs_source(models.pendulum())
@@ -121,7 +126,8 @@ def test_a_new_structure_is_compiled_by_a_child_process_into_the_cache(tmp_path,
         module = build_module(source, key, tmp_path)
     directory = tmp_path / key
     cached = {p.name.split(".")[1].split("-")[0] for p in (directory / "__pycache__").glob("*.nbi")}
-    assert {"rhs", "fd_jacobian", "dop853_chunk", "radau5_chunk"} <= cached
+    assert "rhs" in cached and not cached & {"fd_jacobian", "dop853_chunk", "radau5_chunk"}
+    assert jit_module.integrators_compiled()
     assert announced == [True] and list(directory.glob("*.compiled"))
     dy = np.empty(2)
     assert module.rhs(0.0, np.array([1.0, 0.0]), np.array([1.0, 1.0, 9.81]), dy) == 0
@@ -138,3 +144,65 @@ def test_code_too_deeply_nested_for_python_is_a_model_error(tmp_path):
     deep = "+".join(["1.0"] * 200_000)   # a sum nested deeper than Python's compiler recurses
     with pytest.raises(ModelError, match="model size"):
         build_module(f"X = {deep}\n", "deeply_nested", tmp_path, in_subprocess=False)
+
+
+@pytest.mark.parametrize("model_compiled, integrators, callbacks, expected", [
+    (True, False, "both", ["integrators"]),          # first run of an installation, model known
+    (False, False, "both", ["integrators", "model"]),
+    (False, False, "one", ["model"]),                # one callback announces once
+    (False, True, "both", ["model"]),
+    (True, True, "both", []),                        # nothing to compile: no child
+])
+def test_the_child_compiles_and_announces_what_is_missing(tmp_path, monkeypatch, models, model_compiled,
+                                                          integrators, callbacks, expected):
+    from flexkane.numerics import jit_module
+
+    children = []
+    monkeypatch.setattr(jit_module, "_compile_in_child",
+                        lambda path, meanwhile=None: children.append(path) or True)
+    monkeypatch.setattr(jit_module, "integrators_compiled", lambda: integrators)
+    source = generate_rhs_source(models.pendulum())
+    key = structure_key(source, f"announce-{model_compiled}-{integrators}-{callbacks}")
+    path = tmp_path / key / f"flexkane_generated_{key}.py"
+    if model_compiled:  # the marker a child leaves after compiling the module
+        path.parent.mkdir(parents=True)
+        text = compose_module_source(source, key)
+        path.write_text(text, encoding="utf-8")
+        jit_module._compiled_marker(path).write_text(jit_module._text_digest(text), encoding="utf-8")
+    said = []
+    extra = {"announce_integrators": lambda: said.append("integrators")} if callbacks == "both" else {}
+    with jit_module.compile_in_subprocess(announce=lambda: said.append("model"), **extra):
+        build_module(source, key, tmp_path)
+    assert said == (expected if callbacks == "both" else expected[:1])
+    assert children == ([path] if expected else [])
+
+
+@pytest.mark.parametrize("fork", [True, False], ids=["fork", "new-interpreter"])
+def test_a_failing_compile_child_reports_failure_and_leaves_no_marker(tmp_path, monkeypatch, fork):
+    from flexkane.numerics import jit_module
+
+    if fork and not jit_module._fork_allowed():
+        pytest.skip("no fork here (not Linux, or other threads)")
+    monkeypatch.setattr(jit_module, "_fork_allowed", lambda: fork)
+    path = tmp_path / "flexkane_generated_broken.py"
+    path.write_text("raise RuntimeError('a module that cannot be imported')\n", encoding="utf-8")
+    meanwhile = []
+    assert jit_module._compile_in_child(path, meanwhile=lambda: meanwhile.append(True)) is False
+    assert meanwhile == [True] and not jit_module._compiled_marker(path).exists()
+
+
+def test_a_forked_child_compiles_a_new_structure_into_the_cache(tmp_path, models):
+    from flexkane.numerics import jit_module
+
+    if not jit_module._fork_allowed():
+        pytest.skip("no fork here (not Linux, or other threads)")
+    source = generate_rhs_source(models.pendulum())
+    key = structure_key(source, "forked-child")
+    path = tmp_path / key / f"flexkane_generated_{key}.py"
+    path.parent.mkdir()
+    path.write_text(compose_module_source(source, key), encoding="utf-8")
+    assert jit_module._compile_in_child(path) is True
+    assert jit_module._compiled_marker(path).exists()
+    assert list((path.parent / "__pycache__").glob("*rhs*.nbi"))
+    module = build_module(source, key, tmp_path, in_subprocess=False)
+    assert jit_module.is_compiled(module)  # in the disk cache: this process loads, not compiles

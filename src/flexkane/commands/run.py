@@ -124,7 +124,7 @@ def _run_phases(model, out: Path, stop, *, t_end, dt_out, rtol, atol, method, ma
     from ..model import dumps_model
     from ..numerics.jit_module import compile_in_subprocess
     from ..progress import ProgressBar
-    from ..simulation import COMPILING_MESSAGE, compile_model, simulate
+    from ..simulation import COMPILING_MESSAGE, INTEGRATORS_MESSAGE, compile_model, simulate
 
     started = time.perf_counter()
     # the equations as far as the run needs them: from the cache, SymPy only for what it lacks
@@ -133,7 +133,8 @@ def _run_phases(model, out: Path, stop, *, t_end, dt_out, rtol, atol, method, ma
     derivation.manifest    # loaded, or made from the equations (derived or loaded first)
     derive_time = time.perf_counter() - started
     # a structure new to the cache compiles in a child process (a signal stops it at once)
-    with compile_in_subprocess(announce=lambda: _say(quiet, f"{COMPILING_MESSAGE} ...")):
+    with compile_in_subprocess(announce=lambda: _say(quiet, f"{COMPILING_MESSAGE} ..."),
+                               announce_integrators=lambda: _say(quiet, f"{INTEGRATORS_MESSAGE} ...")):
         compiled = compile_model(derivation, announce=None if quiet else (lambda text: _say(quiet, f"{text} ...")))
     with stop.deferred():
         with ProgressBar(t_end, enabled=not quiet, unit="s", delay=0.0) as bar:

@@ -5,7 +5,13 @@ Pipeline: :func:`generate_rhs_source` (SymPy equations -> source text; large mod
 compiled, disk-cached module), :func:`integrate` (module -> :class:`IntegrationResult` on a grid
 of output times; ``method="auto"`` switches between DOP853 and Radau IIA by counted work, never
 by time, see :mod:`~flexkane.numerics.switching`).
+
+The code generators (:mod:`~flexkane.numerics.codegen`, which needs SymPy) are imported on first
+use (PEP 562): the child process that compiles a new model structure imports this package without
+them.
 """
+
+import importlib
 
 from flexkane.numerics.integrate import (
     METHODS,
@@ -37,11 +43,18 @@ __all__ = [
     "structure_key",
 ]
 
+_LAZY = {"generate_outputs_source": ".codegen", "generate_rhs_source": ".codegen"}
+
 
 def __getattr__(name: str):
-    """The code generators, imported on first use: a cached run loads its module without SymPy."""
-    if name in ("generate_outputs_source", "generate_rhs_source"):
-        from flexkane.numerics import codegen
+    """Import a code generator's module on first access and keep the name here."""
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(module, __name__), name)
+    globals()[name] = value
+    return value
 
-        return getattr(codegen, name)
-    raise AttributeError(f"module 'flexkane.numerics' has no attribute {name!r}")
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))

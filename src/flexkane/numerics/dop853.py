@@ -1,4 +1,4 @@
-"""Dormand-Prince 8(5,3) integrator loop (template source for generated modules).
+"""Dormand-Prince 8(5,3) integrator loop, compiled once per installation.
 
 The explicit Runge-Kutta method of Dormand and Prince of order 8 with embedded error estimators of
 orders 5 and 3 and a dense output of order 7, with the step-size control of
@@ -8,13 +8,18 @@ orders 5 and 3 and a dense output of order 7, with the step-size control of
 
 The tableau numbers are SciPy's (``scipy.integrate._ivp.dop853_coefficients``), read at import.
 
-The text between the template markers is copied into each generated module after the generated
-``system_rhs(t, y, p, dy) -> int`` (0 ok, 2 non-finite, 4 singular mass matrix; the right-hand
-side ``rhs`` with the quadrature states appended, see :mod:`flexkane.numerics.codegen`), which it
-calls as a global, so that one Numba on-disk cache holds the right-hand side and the loop compiled together.
+The loop takes the model's integrated right-hand side ``system_rhs(t, y, p, dy) -> int`` (0 ok,
+2 non-finite, 4 singular mass matrix; the right-hand side ``rhs`` with the quadrature states
+appended, see :mod:`flexkane.numerics.codegen`) as its first argument, a Numba first-class function
+(:class:`~flexkane.numerics.system_function.SystemFunction`). Its functions are ``@njit(cache=True)``
+in this package module, so Numba compiles them once for every model (the first-class function type
+is the same for all of them) and stores the machine code in the package's ``__pycache__``; a new
+model structure compiles only its own functions.
 
 Contract of :func:`dop853_chunk` (also followed by ``radau5_chunk``)
 ------------------------------------------------------------------
+0. ``system_rhs`` is the model's integrated right-hand side (a
+   :class:`~flexkane.numerics.system_function.SystemFunction`); the other arguments follow.
 1. It integrates from ``t`` with state ``y`` (n,) to exactly ``t_out[-1]``, forward in time;
    ``t_out`` (m,) is increasing with ``t_out[0] >= t``. With ``t_stop > t`` it returns earlier,
    at the first step point at or after ``t_stop``: that step is not shortened (only the last one,
@@ -31,11 +36,15 @@ Contract of :func:`dop853_chunk` (also followed by ``radau5_chunk``)
 4. ``h <= 0`` on entry asks for an automatic starting step.
 """
 
-# >>> flexkane template >>>
+from __future__ import annotations
+
 import math
 
 import numpy as np
 from numba import njit
+
+__all__ = ["DOP853_A", "DOP853_B", "DOP853_C", "DOP853_D", "DOP853_E3", "DOP853_E5", "all_finite",
+           "dop853_chunk", "dop853_dense_fill", "fill_rows_at", "rms_norm", "starting_step"]
 
 
 def _dop853_tableau():
@@ -119,9 +128,10 @@ def fill_rows_at(t, y, t_out, i_out, Y_out):
 
 
 @njit(cache=True, error_model="numpy")
-def starting_step(t, y, f0, p, rtol, atol, order, t_end, work_y, work_f):
+def starting_step(system_rhs, t, y, f0, p, rtol, atol, order, t_end, work_y, work_f):
     """Starting step size [s] of Hairer et al. (1993), Sec. II.4; returns ``(h, nfev)``.
 
+    ``system_rhs`` is the model's first-class right-hand side.
     ``y``, ``f0``, ``atol``, ``work_y``, ``work_f`` are (n,); ``order`` is the method's order.
     """
     n = y.shape[0]
@@ -157,7 +167,7 @@ def starting_step(t, y, f0, p, rtol, atol, order, t_end, work_y, work_f):
 
 
 @njit(cache=True, error_model="numpy")
-def dop853_dense_fill(t, h, y, K, rc, t_out, i_out, t_new, Y_out, p, ytmp):
+def dop853_dense_fill(system_rhs, t, h, y, K, rc, t_out, i_out, t_new, Y_out, p, ytmp):
     """Fill rows of ``Y_out`` with ``t < t_out[i] <= t_new`` from the order-7 dense output.
 
     ``rc[0]`` holds ``y_new - y`` on entry. Computes the three extra stages ``K[13:16]``
@@ -206,12 +216,12 @@ def dop853_dense_fill(t, h, y, K, rc, t_out, i_out, t_new, Y_out, p, ytmp):
 
 
 @njit(cache=True, error_model="numpy")
-def dop853_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.inf):
+def dop853_chunk(system_rhs, t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.inf):
     """Integrate with DOP853 from ``t`` to ``t_out[-1]``, filling ``Y_out`` (see module docstring).
 
-    Parameters: ``t`` float, ``y`` (n,), ``h`` float (<= 0: automatic), ``t_out`` (m,),
-    ``p`` (n_p,), ``rtol`` float, ``atol`` (n,), ``max_steps`` int, ``Y_out`` (m, n),
-    ``t_stop`` float (optional soft stop).
+    Parameters: ``system_rhs`` the model's first-class right-hand side, ``t`` float, ``y`` (n,),
+    ``h`` float (<= 0: automatic), ``t_out`` (m,), ``p`` (n_p,), ``rtol`` float, ``atol`` (n,),
+    ``max_steps`` int, ``Y_out`` (m, n), ``t_stop`` float (optional soft stop).
     Returns ``(t, y, h, status, nfev, naccept, nreject, nstiff)``.
     """
     t_start = t
@@ -236,7 +246,7 @@ def dop853_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.i
     if t >= t_end:
         return t, y, h, 0, nfev, naccept, nreject, nstiff
     if h <= 0.0:
-        h, extra = starting_step(t, y, K[0], p, rtol, atol, 8, t_end, ytmp, ynew)
+        h, extra = starting_step(system_rhs, t, y, K[0], p, rtol, atol, 8, t_end, ytmp, ynew)
         nfev += extra
     facold = 1e-4
     expo1 = 1.0 / 8.0 - DOP853_BETA * 0.2
@@ -321,8 +331,8 @@ def dop853_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.i
             t_new = t_end if last else t + h
             for i in range(n):
                 rc[0, i] = ynew[i] - y[i]
-            i_out, extra, code = dop853_dense_fill(t, h, y, K, rc, t_out, i_out, t_new, Y_out, p,
-                                                  ytmp)
+            i_out, extra, code = dop853_dense_fill(system_rhs, t, h, y, K, rc, t_out, i_out, t_new,
+                                                  Y_out, p, ytmp)
             nfev += extra
             if code != 0:
                 return t, y, h, code, nfev, naccept, nreject, nstiff
@@ -346,12 +356,3 @@ def dop853_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.i
             rejected = True
             failure = 0
             nreject += 1
-# <<< flexkane template <<<
-
-
-def system_rhs(t, y, p, dy):  # pragma: no cover - placeholder, replaced in generated modules
-    """Placeholder for the generated right-hand side that the template calls."""
-    raise NotImplementedError("dop853 is a template: use flexkane.numerics.build_module")
-
-
-rhs = system_rhs

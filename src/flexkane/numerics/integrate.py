@@ -1,9 +1,10 @@
 """Integrate a generated module over a grid of output times, chunk by chunk.
 
-:func:`integrate` calls the compiled loop (``dop853_chunk`` or ``radau5_chunk``) on successive
-chunks of the output grid; between chunks it reports progress, and a ``KeyboardInterrupt`` or a
-failure ends the run with the rows computed so far. The stiff/non-stiff choice of
-``method="auto"`` is :func:`choose_method` at the start, then
+:func:`integrate` calls the compiled loop (``dop853_chunk`` or ``radau5_chunk``, compiled once per
+installation, with the model's right-hand side as a first-class function, see
+:mod:`flexkane.numerics.system_function`) on successive chunks of the output grid; between chunks
+it reports progress, and a ``KeyboardInterrupt`` or a failure ends the run with the rows computed
+so far. The stiff/non-stiff choice of ``method="auto"`` is :func:`choose_method` at the start, then
 :class:`~flexkane.numerics.switching.MethodSwitch` during the run.
 
 Nothing here depends on the clock: chunks end after a share of the span or a number of steps
@@ -19,18 +20,24 @@ import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+import numba
 import numpy as np
 
 from flexkane.errors import ModelError
 from flexkane.model.parts import INTEGRATION_METHODS
 from flexkane.numerics.constant_block import prepared_parameters
+from flexkane.numerics.dop853 import dop853_chunk
+from flexkane.numerics.radau import fd_jacobian, radau5_chunk
 from flexkane.numerics.switching import MethodSwitch, chunk_work, evaluation_work
+from flexkane.numerics.system_function import FUNCTION_TYPE, system_function
 
 __all__ = ["METHODS", "IntegrationResult", "Status", "StiffnessEstimate", "choose_method",
-           "compile_integrators", "estimate_stiffness", "evaluate_outputs", "integrate"]
+           "compile_integrators", "estimate_stiffness", "evaluate_outputs", "integrate", "integrator_signatures",
+           "load_integrators"]
 
-# Method name -> name of the compiled chunk function in a generated module.
+# Method name -> name of its compiled chunk function (a function of the package, not of the model).
 METHODS = dict(zip(INTEGRATION_METHODS, ("dop853_chunk", "radau5_chunk"), strict=True))
+_CHUNKS = dict(zip(INTEGRATION_METHODS, (dop853_chunk, radau5_chunk), strict=True))
 
 # Work per call of a chunk function: about this fraction of the span (its last step is not
 # shortened to end there), and at most this many floating-point operations (counted, see
@@ -198,7 +205,7 @@ def estimate_stiffness(module, t0: float, y0: np.ndarray, p: np.ndarray, span: f
     code = _system(module)(t0, y0, p, f0)
     J = np.zeros((n, n))
     if code == 0 and np.all(np.isfinite(f0)):
-        module.fd_jacobian(t0, y0, f0, p, J, np.empty(n), np.empty(n))
+        fd_jacobian(system_function(module), t0, y0, f0, p, J, np.empty(n), np.empty(n))
     J[~np.isfinite(J)] = 0.0
     lam = np.linalg.eigvals(J) if n else np.zeros(0)
     rho = float(np.max(np.abs(lam))) if n else 0.0
@@ -321,6 +328,7 @@ def integrate(module, y0, t_out, p, *, rtol: float, atol, method: str = "auto",
     if method not in METHODS:
         raise ModelError("method", f"one of 'auto', {', '.join(map(repr, METHODS))}", method)
     operations = int(getattr(module, "RHS_OPERATIONS", 100))
+    system = system_function(module)
     Y = np.full((t_out.shape[0], n), np.nan)
     t, y = t0, y0.copy()
     h_of = {name: 0.0 for name in METHODS}  # step size to try next, by method (0: automatic)
@@ -334,10 +342,10 @@ def integrate(module, y0, t_out, p, *, rtol: float, atol, method: str = "auto",
             progress(t0, t_end)
         while not started or t < t_end:
             name, limit = switch.next_chunk() if switch is not None else (method, None)
-            chunk = getattr(module, METHODS[name])
+            chunk = _CHUNKS[name]
             steps = budget[name] if limit is None else limit
             i_row = int(np.searchsorted(t_out, t, side="right")) if started else 0
-            result = chunk(t, y, h_of[name], t_out[i_row:], p, rtol, atol,
+            result = chunk(system, t, y, h_of[name], t_out[i_row:], p, rtol, atol,
                            min(steps, max_steps - naccept - nreject), Y[i_row:], t + span_step)
             t_new, y, h_of[name], code, fe, na, nr, ns = result
             t_before, t, started = t, float(t_new), True
@@ -369,9 +377,11 @@ def integrate(module, y0, t_out, p, *, rtol: float, atol, method: str = "auto",
 def compile_integrators(module) -> None:
     """Compile (or load from Numba's disk cache) everything :func:`integrate` calls.
 
-    Numba compiles a function at its first call; calling each integrator once here, on an
-    empty span with the argument types of :func:`integrate`, moves that cost out of the first
-    integration (so its time is integration only, and a caller can say that it compiles).
+    Numba compiles a function at its first call; calling each function once here, on an empty
+    span with the argument types of :func:`integrate`, moves that cost out of the first
+    integration (so its time is integration only, and a caller can say that it compiles). The
+    integrator loops are the package's (compiled once per installation, whatever the model);
+    the model's own functions are its ``rhs`` and ``system_rhs``.
 
     Parameters
     ----------
@@ -381,14 +391,9 @@ def compile_integrators(module) -> None:
     n = module.NQ + module.NU + _quadrature_count(module)
     p = np.ones(len(module.CONSTANT_NAMES))
     y = np.zeros(n)
-    t_out = np.zeros(3)[1:]  # a slice, as integrate passes
-    Y = np.empty((3, n))[1:]
-    atol = np.ones(n)
-    calls = [(getattr(module, name), (0.0, y, 0.0, t_out, p, 1e-6, atol, 1, Y, 0.0))
-             for name in METHODS.values()]
-    calls += [(_system(module), (0.0, y, p, np.empty(n))),
-              (module.rhs, (0.0, np.zeros(module.NQ + module.NU), p, np.empty(module.NQ + module.NU))),
-              (module.fd_jacobian, (0.0, y, np.zeros(n), p, np.zeros((n, n)), np.empty(n), np.empty(n)))]
+    calls = [(_system(module), (0.0, y, p, np.empty(n))),
+             (module.rhs, (0.0, np.zeros(module.NQ + module.NU), p, np.empty(module.NQ + module.NU)))]
+    calls += _integrator_calls(system_function(module), n, p)
     calls += [(getattr(module, name), (np.zeros(0), np.zeros((0, module.NQ + module.NU)), p))
               for name in ("outputs", "spin_rates") if hasattr(module, name)]   # evaluate_outputs' types
     with warnings.catch_warnings(), np.errstate(all="ignore"):
@@ -398,6 +403,40 @@ def compile_integrators(module) -> None:
                 function(*args)
             except (ArithmeticError, ValueError):
                 pass  # compiled already: only the made-up numbers failed (e.g. a division by 0)
+
+
+def _integrator_calls(system, n: int, p: np.ndarray) -> list:
+    """``(function, arguments)`` of each integrator function that :func:`integrate` calls, on an empty
+    span, with the argument types it passes (``system`` the model's first-class function)."""
+    y = np.zeros(n)
+    t_out = np.zeros(3)[1:]  # a slice, as integrate passes
+    Y = np.empty((3, n))[1:]
+    calls = [(chunk, (system, 0.0, y, 0.0, t_out, p, 1e-6, np.ones(n), 1, Y, 0.0))
+             for chunk in _CHUNKS.values()]
+    calls.append((fd_jacobian, (system, 0.0, y, np.zeros(n), p, np.zeros((n, n)), np.empty(n), np.empty(n))))
+    return calls
+
+
+def integrator_signatures() -> list:
+    """``(dispatcher, argument types)`` of each integrator function as :func:`integrate` calls it.
+
+    The same for every model: the right-hand side is a first-class function of type
+    :data:`~flexkane.numerics.system_function.FUNCTION_TYPE`.
+    """
+    return [(function, tuple(FUNCTION_TYPE if a is None else numba.typeof(a) for a in args))
+            for function, args in _integrator_calls(None, 1, np.ones(1))]
+
+
+def load_integrators() -> None:
+    """Load the integrator loops' machine code from the package's Numba cache, without a model.
+
+    The types of every model's calls are the same (:func:`integrator_signatures`), so this needs
+    no module; it compiles them if the cache does not hold them (seconds).
+    :func:`compile_integrators` then finds them loaded. A process about to fork a child that
+    compiles a new structure calls it first.
+    """
+    for function, types in integrator_signatures():
+        function.compile(types)
 
 
 def evaluate_outputs(module, t: np.ndarray, y: np.ndarray, p: np.ndarray,

@@ -1,7 +1,11 @@
 """Write a generated module to the cache directory and import it (Numba on-disk cache).
 
-A generated module is one Python file: imports, the linear-algebra template, the generated
-fragments (``rhs``, ``outputs``), the DOP853 and Radau templates. Every Numba function in it is
+A generated module is one Python file: imports, the linear-algebra template and the generated
+fragments (``rhs``, ``system_rhs``, ``outputs``). The integrator loops are not in it: they are
+functions of the package (:mod:`~flexkane.numerics.dop853`, :mod:`~flexkane.numerics.radau`),
+compiled once per installation into the package's own Numba cache, that take the module's
+``system_rhs`` as a first-class function (:mod:`~flexkane.numerics.system_function`); a new model
+structure compiles only its own functions. Every Numba function in the module is
 ``@njit(cache=True)``, so Numba stores the machine code beside the file
 (``<cache_dir>/<key>/__pycache__``) and a later process importing the same key loads it instead
 of compiling. Numba checks the file's modification time and size, so the file is written only
@@ -15,9 +19,11 @@ run, nothing fails.
 
 Numba compiles a function on its first call, in C, for seconds to minutes, and Python cannot handle
 a signal meanwhile. Within :func:`compile_in_subprocess` (used by the command line), a structure
-met for the first time is therefore compiled by a child process that fills the on-disk cache; this
+met for the first time is therefore compiled by a child process that fills the on-disk cache (on
+Linux a fork of this process, which has Numba loaded already; elsewhere a new interpreter); this
 process waits for it (a signal stops the child at once and raises :class:`KeyboardInterrupt`) and
-then loads the machine code from the cache.
+then loads the machine code from the cache. The same child compiles the integrator loops when the
+package's cache does not hold them yet (the first run of an installation).
 """
 
 from __future__ import annotations
@@ -28,9 +34,13 @@ import hashlib
 import importlib.util
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
+import threading
+import time
+import warnings
 from pathlib import Path
 from types import ModuleType
 
@@ -38,10 +48,12 @@ import numba
 
 from flexkane._version import __version__
 from flexkane.atomic import atomic_write_text
-from flexkane.numerics import dop853, linear_algebra, radau
+from flexkane.numerics import linear_algebra
+from flexkane.numerics.system_function import SIGNATURE
 
 __all__ = ["TEMPLATE_BEGIN", "TEMPLATE_END", "build_module", "compile_in_subprocess", "compose_module_source",
-           "default_cache_dir", "is_compiled", "structure_key", "template_text", "usable_cache_dir"]
+           "default_cache_dir", "integrators_compiled", "is_compiled", "structure_key", "template_text",
+           "usable_cache_dir"]
 
 TEMPLATE_BEGIN = "# >>> flexkane template >>>"
 TEMPLATE_END = "# <<< flexkane template <<<"
@@ -54,8 +66,7 @@ def template_text(module: ModuleType) -> str:
     Parameters
     ----------
     module : module
-        One of :mod:`~flexkane.numerics.linear_algebra`, :mod:`~flexkane.numerics.dop853`,
-        :mod:`~flexkane.numerics.radau`.
+        A module with template markers (:mod:`~flexkane.numerics.linear_algebra`).
 
     Returns
     -------
@@ -68,7 +79,7 @@ def template_text(module: ModuleType) -> str:
 
 
 def _templates() -> list[tuple[str, str]]:
-    return [(m.__name__, template_text(m)) for m in (linear_algebra, dop853, radau)]
+    return [(m.__name__, template_text(m)) for m in (linear_algebra,)]
 
 
 def default_cache_dir() -> Path:
@@ -135,8 +146,10 @@ def structure_key(*parts: str) -> str:
     Returns
     -------
     str
-        Digest of the flexkane and Numba versions, the integrator templates and ``parts``: a
-        change in any of them gives a new key, hence a new file and a fresh compilation.
+        Digest of the flexkane and Numba versions, the linear-algebra template and ``parts``: a
+        change in any of them gives a new key, hence a new file and a fresh compilation. (The
+        integrator loops are not part of a generated module: Numba's cache of the package
+        follows their source.)
     """
     digest = hashlib.sha256()
     for text in (__version__, numba.__version__, *(t for _, t in _templates()), *parts):
@@ -154,8 +167,6 @@ def compose_module_source(source: str, key: str) -> str:
     blocks.append(f"# ==== template {linear_algebra.__name__} ====\n"
                   + templates[linear_algebra.__name__])
     blocks.append("# ==== generated ====\n" + source)
-    for module in (dop853, radau):
-        blocks.append(f"# ==== template {module.__name__} ====\n" + templates[module.__name__])
     return "\n\n".join(block.rstrip("\n") for block in blocks) + "\n"
 
 
@@ -163,16 +174,20 @@ _in_subprocess: list = []
 
 
 @contextlib.contextmanager
-def compile_in_subprocess(announce=None):
+def compile_in_subprocess(announce=None, announce_integrators=None):
     """Within the block, :func:`build_module` compiles a structure new to the cache in a child process.
 
     Parameters
     ----------
     announce : callable, optional
-        Called without arguments just before a child process starts compiling (e.g. to tell the
-        user that a first compilation takes a while).
+        Called without arguments just before a child process starts compiling a model structure
+        (e.g. to tell the user that a first compilation takes a while).
+    announce_integrators : callable, optional
+        Called without arguments just before a child process starts compiling the integrator
+        loops (once per installation, see :func:`integrators_compiled`); default ``announce``.
     """
-    _in_subprocess.append(announce or (lambda: None))
+    announce = announce or (lambda: None)
+    _in_subprocess.append((announce, announce_integrators or announce))
     try:
         yield
     finally:
@@ -205,12 +220,60 @@ def _compile_file(path: str) -> None:
     atomic_write_text(_compiled_marker(path), _text_digest(path.read_text(encoding="utf-8")))
 
 
-def _compile_in_child(path: Path) -> bool:
+def _fork_allowed() -> bool:
+    """Whether a compiling child may be a fork of this process: Linux, and no other Python thread."""
+    return (sys.platform.startswith("linux") and hasattr(os, "fork") and threading.active_count() == 1
+            and threading.current_thread() is threading.main_thread())
+
+
+def _compile_in_fork(path: Path) -> bool:
+    """:func:`_compile_file` in a fork of this process (which has Numba and flexkane loaded already)."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    with warnings.catch_warnings():  # Python >= 3.12 warns of native threads (BLAS), unused by the child
+        warnings.simplefilter("ignore", DeprecationWarning)
+        pid = os.fork()
+    if pid == 0:  # the child: its own session, default signals, no output; never returns
+        status = 1
+        try:
+            os.setsid()
+            for number in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+                signal.signal(number, signal.SIG_DFL)
+            null = os.open(os.devnull, os.O_RDWR)
+            for fd in (0, 1, 2):
+                os.dup2(null, fd)
+            _compile_file(str(path))
+            status = 0
+        finally:
+            os._exit(status)
+    finished = False
+    try:
+        while not finished:
+            finished, code = os.waitpid(pid, os.WNOHANG)
+            if not finished:
+                time.sleep(0.02)
+        return os.waitstatus_to_exitcode(code) == 0
+    finally:
+        if not finished:
+            os.kill(pid, signal.SIGKILL)
+            os.waitpid(pid, 0)
+
+
+def _compile_in_child(path: Path, meanwhile=None) -> bool:
     """Compile the module at ``path`` into Numba's cache in a child process; return whether it worked.
 
     The child runs in a session of its own (Ctrl-C in the terminal reaches this process only). On any
     exception here, a signal among them (:class:`KeyboardInterrupt`), the child is killed first.
+    ``meanwhile`` (optional, no arguments; e.g. loading what this process needs from Numba's cache)
+    is called once: on Linux before the child is forked from this process, which then inherits its
+    result and Numba's loaded machinery (about a second less per new structure than a new
+    interpreter importing Numba); elsewhere, or with other threads running, while a new interpreter
+    compiles.
     """
+    if _fork_allowed():
+        if meanwhile is not None:
+            meanwhile()
+        return _compile_in_fork(path)
     package_root = str(Path(__file__).resolve().parents[2])   # the folder that holds the package
     code = ("import sys; sys.path.insert(0, sys.argv[1]); "
             "from flexkane.numerics.jit_module import _compile_file; _compile_file(sys.argv[2])")
@@ -219,6 +282,8 @@ def _compile_in_child(path: Path) -> bool:
                                  stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=errors,
                                  start_new_session=True)
         try:
+            if meanwhile is not None:
+                meanwhile()
             while True:
                 try:
                     return child.wait(timeout=0.1) == 0
@@ -252,9 +317,9 @@ def build_module(source: str, key: str, cache_dir: Path | None = None, *,
     Returns
     -------
     module
-        The imported module ``flexkane_generated_<key>`` with ``rhs``, ``dop853_chunk``,
-        ``radau5_chunk``, ``fd_jacobian`` (and ``outputs`` when generated). Importing twice in
-        one process returns the same module object.
+        The imported module ``flexkane_generated_<key>`` with ``rhs``, ``system_rhs`` (and
+        ``outputs`` when generated). Importing twice in one process returns the same module
+        object.
     """
     if not key or not all(ch.isalnum() or ch in "_-" for ch in key):
         raise ValueError(f"key must be letters, digits, '_' or '-', got {key!r}")
@@ -283,10 +348,19 @@ def build_module(source: str, key: str, cache_dir: Path | None = None, *,
             compiled = marker.read_text(encoding="utf-8") == _text_digest(text)
         except (OSError, UnicodeDecodeError):
             compiled = False
-        if not compiled:
+        integrators = integrators_compiled()
+        if not (compiled and integrators):
             if _in_subprocess:
-                _in_subprocess[-1]()
-            _compile_in_child(path)
+                announce, announce_integrators = _in_subprocess[-1]
+                if not integrators:
+                    announce_integrators()
+                if not compiled and not (announce is announce_integrators and not integrators):
+                    announce()  # (once, when one callable announces both)
+            from flexkane.numerics.integrate import load_integrators
+
+            # this process loads the integrators it will need from their cache (a fraction of a
+            # second); when they are not cached, the child compiles them and this process waits
+            _compile_in_child(path, meanwhile=load_integrators if integrators else None)
     spec = importlib.util.spec_from_file_location(module_name, path)
     module = importlib.util.module_from_spec(spec)
     sys.modules[module_name] = module
@@ -306,8 +380,23 @@ def build_module(source: str, key: str, cache_dir: Path | None = None, *,
     return module
 
 
+def _compiled_or_cached(dispatcher, types: tuple) -> bool:
+    """Whether a Numba dispatcher is compiled for the argument ``types`` here or in its disk cache.
+
+    The disk cache counts when its index (for the function's current source) has the entry that a
+    call with these types on this machine would load.
+    """
+    if types in dispatcher.overloads:
+        return True
+    try:  # a private API of Numba (the key its cache looks up)
+        cache = dispatcher._cache
+        return cache._index_key(types, dispatcher.targetctx.codegen()) in cache._cache_file._load_index()
+    except Exception:  # noqa: BLE001 - unknown means "not cached"
+        return False
+
+
 def is_compiled(module: ModuleType) -> bool:
-    """Whether the integrators of a generated module are compiled or in Numba's disk cache.
+    """Whether the functions of a generated module that a run calls are compiled or in Numba's disk cache.
 
     Parameters
     ----------
@@ -317,17 +406,24 @@ def is_compiled(module: ModuleType) -> bool:
     Returns
     -------
     bool
-        True when ``dop853_chunk`` and ``radau5_chunk`` have a compiled signature in this process
-        or an entry for the module's current source in the on-disk cache index (a call will load
-        rather than compile them); False otherwise, or when the cache cannot be read.
+        True when ``rhs`` and ``system_rhs`` are compiled, in this process or in the on-disk cache
+        of the module's current source, for the arguments the integrators pass (a call will load
+        rather than compile them); False otherwise, or when the cache cannot be read. The
+        integrator loops are the package's: see :func:`integrators_compiled`.
     """
-    for name in ("dop853_chunk", "radau5_chunk"):
-        dispatcher = getattr(module, name)
-        if dispatcher.signatures:
-            continue
-        try:
-            if not dispatcher._cache._cache_file._load_index():  # Numba's index of the disk cache
-                return False
-        except Exception:  # noqa: BLE001 - a private API of Numba: unknown means "not cached"
-            return False
-    return True
+    return all(_compiled_or_cached(getattr(module, name, module.rhs), SIGNATURE.args)
+               for name in ("rhs", "system_rhs"))
+
+
+def integrators_compiled() -> bool:
+    """Whether the integrator loops (DOP853, Radau IIA) are compiled here or in the package's Numba cache.
+
+    Returns
+    -------
+    bool
+        False before the first run of an installation (or after their source changed): the next
+        run compiles them, for all models, once.
+    """
+    from flexkane.numerics.integrate import integrator_signatures
+
+    return all(_compiled_or_cached(function, types) for function, types in integrator_signatures())

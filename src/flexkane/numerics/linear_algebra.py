@@ -1,9 +1,10 @@
-"""Dense linear algebra kernels for generated modules (template source).
+"""Dense linear algebra kernels for generated modules (template source) and the Radau loop.
 
 The text between the two template markers below is copied into every generated module (see
 :mod:`flexkane.numerics.jit_module`), where the functions are compiled by Numba together with the
-generated right-hand side, so that Numba's on-disk cache covers them. The module is also importable
-on its own; tests call the pure-Python originals through ``function.py_func``.
+generated right-hand side, so that Numba's on-disk cache covers them. The module is also a module
+of the package: :mod:`flexkane.numerics.radau` (compiled once per installation) imports its LU
+factorisation from here; tests call the pure-Python originals through ``function.py_func``.
 
 Functions
 ---------

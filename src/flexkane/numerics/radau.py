@@ -1,4 +1,4 @@
-"""Radau IIA of order 5, the stiff integrator loop (template source for generated modules).
+"""Radau IIA of order 5, the stiff integrator loop, compiled once per installation.
 
 The three-stage Radau IIA collocation method (order 5 at the step points, L-stable) solved by
 simplified Newton iterations in the transformed form of
@@ -17,14 +17,24 @@ eigenvalue and a complex pair, the embedded error weights, the dense-output matr
 here at import from the nodes ``c = ((4 - sqrt 6)/10, (4 + sqrt 6)/10, 1)``.
 
 The contract of :func:`radau5_chunk` is that of ``dop853_chunk`` (see
-:mod:`flexkane.numerics.dop853`); ``nfev`` includes the evaluations spent on Jacobians.
+:mod:`flexkane.numerics.dop853`): its first argument is the model's integrated right-hand side as a
+Numba first-class function, so that this module, like :mod:`~flexkane.numerics.dop853`, is compiled
+once for all models and cached by Numba with the package; ``nfev`` includes the evaluations spent on
+Jacobians.
 """
 
-# >>> flexkane template >>>
+from __future__ import annotations
+
 import math
 
 import numpy as np
 from numba import njit
+
+from flexkane.numerics.dop853 import all_finite, fill_rows_at, rms_norm, starting_step
+from flexkane.numerics.linear_algebra import lu_factor, lu_solve
+
+__all__ = ["RADAU_ALPHA", "RADAU_BETA", "RADAU_C", "RADAU_E", "RADAU_GAMMA", "RADAU_P", "RADAU_T",
+           "RADAU_TI", "fd_jacobian", "radau5_chunk", "radau_factor"]
 
 
 def _radau_constants():
@@ -72,8 +82,8 @@ RADAU_UNIT_ROUNDOFF = 2.220446049250313e-16
 
 
 @njit(cache=True, error_model="numpy")
-def fd_jacobian(t, y, f0, p, J, work_y, work_f):
-    """Forward-difference Jacobian ``J[i, j] = d f_i / d y_j`` (n, n) of ``rhs`` at ``(t, y)``.
+def fd_jacobian(system_rhs, t, y, f0, p, J, work_y, work_f):
+    """Forward-difference Jacobian ``J[i, j] = d f_i / d y_j`` (n, n) of ``system_rhs`` at ``(t, y)``.
 
     ``f0`` (n,) is ``system_rhs(t, y)``; increments ``sqrt(eps * max(1e-5, |y_j|))`` (RADAU5's choice).
     Returns ``(code, nfev)`` with the right-hand side's status code.
@@ -121,7 +131,7 @@ def radau_factor(J, h, LUr, pivr, LUc, pivc):
 
 
 @njit(cache=True, error_model="numpy")
-def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.inf):
+def radau5_chunk(system_rhs, t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.inf):
     """Integrate with Radau IIA (order 5) from ``t`` to ``t_out[-1]``, filling ``Y_out``.
 
     Same arguments and returns as ``dop853_chunk``, except the last count: the number of LU
@@ -163,10 +173,10 @@ def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.i
     if t >= t_end:
         return t, y, h, 0, nfev, naccept, nreject, nlu
     if h <= 0.0:
-        h, extra = starting_step(t, y, f0, p, rtol, atol, 5, t_end, ytmp, ftmp)
+        h, extra = starting_step(system_rhs, t, y, f0, p, rtol, atol, 5, t_end, ytmp, ftmp)
         nfev += extra
     newton_tol = max(10.0 * RADAU_UNIT_ROUNDOFF / rtol, min(0.03, math.sqrt(rtol)))
-    code, extra = fd_jacobian(t, y, f0, p, J, ytmp, ftmp)
+    code, extra = fd_jacobian(system_rhs, t, y, f0, p, J, ytmp, ftmp)
     nfev += extra
     if code != 0:
         return t, y, h, code, nfev, naccept, nreject, nlu
@@ -273,7 +283,7 @@ def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.i
                 failure = bad if failure == 0 or bad == 4 else failure
                 h = 0.25 * h
             elif not jac_current:
-                code, extra = fd_jacobian(t, y, f0, p, J, ytmp, ftmp)
+                code, extra = fd_jacobian(system_rhs, t, y, f0, p, J, ytmp, ftmp)
                 nfev += extra
                 if code != 0:
                     return t, y, h, code, nfev, naccept, nreject, nlu
@@ -356,7 +366,7 @@ def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.i
         failure = 0
         jac_current = False
         if rate > RADAU_JAC_REUSE_RATE:
-            code, extra = fd_jacobian(t, y, f0, p, J, ytmp, ftmp)
+            code, extra = fd_jacobian(system_rhs, t, y, f0, p, J, ytmp, ftmp)
             nfev += extra
             if code != 0:
                 return t, y, h, code, nfev, naccept, nreject, nlu
@@ -371,11 +381,3 @@ def radau5_chunk(t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_stop=-math.i
         if t >= t_stop > t_start:
             return t, y, h_new, 0, nfev, naccept, nreject, nlu
         h = h_new
-# <<< flexkane template <<<
-
-
-
-# Outside the template: what the template finds in a generated module, for direct import.
-from flexkane.numerics.dop853 import (  # noqa: E402,F401
-    all_finite, fill_rows_at, rms_norm, starting_step, system_rhs)
-from flexkane.numerics.linear_algebra import lu_factor, lu_solve  # noqa: E402
