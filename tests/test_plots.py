@@ -9,7 +9,8 @@ from PIL import Image
 import flexkane
 from flexkane import plots
 from flexkane.model import dumps_model
-from flexkane.plots import plot_runs, units, write_plots
+from flexkane.plots import plot_runs, write_plots
+from flexkane.run_manifest import units
 from flexkane.results import Results, load_results
 from flexkane.numerics import evaluate_outputs
 

@@ -410,6 +410,7 @@ def _read_json(path: Path):
 
 def _write_json(path: Path, data: dict) -> None:
     try:
+        path.parent.mkdir(parents=True, exist_ok=True)
         atomic_write_bytes(path, json.dumps(data, separators=(",", ":")).encode("utf-8"))
     except OSError:
         pass  # a read-only cache only costs speed

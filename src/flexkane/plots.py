@@ -13,10 +13,8 @@ import numpy as np
 from .atomic import atomic_writer
 from .results import Results
 
-__all__ = ["write_plots", "plot_series", "plot_energy", "plot_runs", "units"]
+__all__ = ["write_plots", "plot_series", "plot_energy", "plot_runs"]
 
-_UNITS = {"x": "m", "y": "m", "angle": "rad", "slide": "m", "mode": "m", "axial": "m"}
-_RATE = {"m": "m/s", "rad": "rad/s"}
 
 
 def _new_figure(width: float, height: float, rows: int = 1, columns: int = 1, **subplots):
@@ -43,30 +41,6 @@ def _margins(figure, *, title: bool, space: float = 0.3) -> None:
     top = 0.5 if title else 0.2
     figure.subplots_adjust(left=0.95 / width, right=1.0 - 0.2 / width, bottom=0.55 / height,
                            top=1.0 - top / height, wspace=space + 0.1, hspace=space)
-
-
-def units(eom) -> dict[str, str]:
-    """Unit of every state variable and output, by name."""
-    out = {}
-    for c in eom.chain.coordinates:
-        unit = _UNITS[c.role]
-        out[c.q.name] = unit
-        out[c.u.name] = _RATE[unit]
-    for name in eom.output_names:
-        if name.startswith(("x_", "y_", "tip_")):
-            out[name] = "m"
-        elif name.startswith("theta_"):
-            out[name] = "rad"
-        elif name in ("kinetic", "potential_gravity", "strain", "potential_springs", "energy"):
-            out[name] = "J"
-        elif name.startswith("effort_"):
-            joint = name[len("effort_"):]
-            role = eom.chain.of(joint)[0].role
-            out[name] = "N m" if role == "angle" else "N"
-        elif name == "power_nonconservative":
-            out[name] = "W"
-    out["work"] = out["energy_balance"] = "J"
-    return out
 
 
 def _save(fig, path: Path) -> Path:

@@ -19,7 +19,7 @@ Everything here is plain JSON data (lists, dicts, str, float): loading it import
 
 from __future__ import annotations
 
-__all__ = ["MANIFEST_FORMAT", "NUMBER_FIELDS", "manifest_of", "numbers_of"]
+__all__ = ["MANIFEST_FORMAT", "NUMBER_FIELDS", "manifest_of", "numbers_of", "units"]
 
 #: Layout of the stored manifests and numbers (a change invalidates the stored files).
 MANIFEST_FORMAT = 1
@@ -40,10 +40,9 @@ def manifest_of(eom) -> dict:
     dict
         ``coordinates`` (names of every coordinate of the chain, driven ones too, in state order),
         ``state_names`` (coordinates then speeds of the state), ``nq``, ``constant_names`` (the
-        order of p), ``units`` (column name to unit, :func:`flexkane.plots.units`) and ``spins``
+        order of p), ``units`` (column name to unit, :func:`units`) and ``spins``
         (beams whose spin is checked, :func:`flexkane.validity.spin_expressions`).
     """
-    from .plots import units
     from .validity import spin_expressions
 
     return {"format": MANIFEST_FORMAT,
@@ -98,4 +97,32 @@ def numbers_of(eom, model, fields, spins) -> dict:
             out["equations"] = {"md": equations_markdown(eom, values), "tex": equations_latex(eom, values)}
         finally:
             eom.model = bound
+    return out
+
+
+_UNITS = {"x": "m", "y": "m", "angle": "rad", "slide": "m", "mode": "m", "axial": "m"}
+_RATE = {"m": "m/s", "rad": "rad/s"}
+
+
+def units(eom) -> dict[str, str]:
+    """Unit of every state variable and output, by name."""
+    out = {}
+    for c in eom.chain.coordinates:
+        unit = _UNITS[c.role]
+        out[c.q.name] = unit
+        out[c.u.name] = _RATE[unit]
+    for name in eom.output_names:
+        if name.startswith(("x_", "y_", "tip_")):
+            out[name] = "m"
+        elif name.startswith("theta_"):
+            out[name] = "rad"
+        elif name in ("kinetic", "potential_gravity", "strain", "potential_springs", "energy"):
+            out[name] = "J"
+        elif name.startswith("effort_"):
+            joint = name[len("effort_"):]
+            role = eom.chain.of(joint)[0].role
+            out[name] = "N m" if role == "angle" else "N"
+        elif name == "power_nonconservative":
+            out[name] = "W"
+    out["work"] = out["energy_balance"] = "J"
     return out
