@@ -12,8 +12,9 @@ import numpy as np
 
 from .atomic import atomic_writer
 from .results import Results
+from .run_manifest import units  # noqa: F401 - the columns' units, here too for plotting scripts
 
-__all__ = ["write_plots", "plot_series", "plot_energy", "plot_runs"]
+__all__ = ["write_plots", "plot_series", "plot_energy", "plot_runs", "units"]
 
 
 

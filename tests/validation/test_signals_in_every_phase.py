@@ -147,9 +147,11 @@ def test_sigterm_during_a_first_compilation_stops_the_compiler_and_exits_130(tmp
 
 
 def test_a_signal_while_the_equations_are_written_stops_them_at_once(run_args, reference, tmp_path):
-    """The equations report (minutes for the largest models) is not deferred: the results are."""
+    """The equations report (minutes for the largest models) is not deferred: the results are.
+    (``--no-cache``: a repeated run takes the report's text from the cache instead of writing it.)"""
     out = tmp_path / "run"
-    process = _run_signalling("flexkane.report:equations_markdown", [*run_args, "--out", str(out)], loop=True,
+    process = _run_signalling("flexkane.report:equations_markdown", [*run_args, "--no-cache", "--out", str(out)],
+                              loop=True,
                               timeout=120)
     assert process.returncode == 130, process.stderr
     assert "Traceback" not in process.stderr and "interrupted after the integration" in process.stderr
