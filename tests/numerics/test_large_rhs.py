@@ -35,7 +35,7 @@ def test_large_model_is_generated_with_term_tables_and_parts_and_equals_sympy(mo
     eom = models.eom(t, x, u, constants, u, mass, forcing)
     monkeypatch.setattr(large_rhs, "SPLIT_CHARS", 100)
     source = generate_rhs_source(eom)
-    assert "rhs_table_sum(w, " in source and "def rhs_part1(" in source and "RHS_COPY_M" in source
+    assert "rhs_table_sums(w, p, " in source and "def rhs_part1(" in source and "_COPY_M = " in source
     module = models.compile(eom)
     rng = np.random.default_rng(3)
     p = rng.uniform(0.5, 1.5, len(constants))

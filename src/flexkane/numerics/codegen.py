@@ -119,7 +119,7 @@ def _safe_names(symbols: Sequence[sympy.Basic], taken: set[str]) -> list[str]:
         base = getattr(sym, "name", None) or getattr(getattr(sym, "func", None), "__name__", "s")
         base = re.sub(r"\W", "_", str(base))
         if not base or base[0].isdigit() or base.startswith("_") or keyword.iskeyword(base) \
-                or base in _RESERVED or re.fullmatch(r"\w+_(part\d+|table_sum|prepare)", base) \
+                or base in _RESERVED or re.fullmatch(r"\w+_(part\d+|table_sums?|table_coefficients|prepare)", base) \
                 or base.endswith("_TABLE_COEF") or base.endswith("_TABLE_INDEX") \
                 or base.endswith("_PREPARE_COPY"):
             base = "s_" + base.lstrip("_")
@@ -382,17 +382,26 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
               "",
               ""]
     prologue, solve = [], f"ldl_solve(_M, dy[{nq}:])"
+    print_fn = lambda e: _print(printer, e)  # noqa: E731
+    tabulated = large_rhs.tabulate(statements, print_fn, name, c_names) if split else None
+    n_coefficients = tabulated.n_coefficients if split else 0
+    block_exprs = []
     if block:
-        lines, prologue, solve = _block_solve_lines(eom, name, prefix, mass, block, subs, c_names,
-                                                    printer, lines)
+        lines, block_exprs, solve = _block_solve_lines(eom, name, prefix, mass, block, subs,
+                                                       c_names, lines)
+    if block or n_coefficients:
+        lines, prologue = _prepare_lines(name, prefix, len(c_names), block_exprs, c_names,
+                                         print_fn, n_coefficients, lines)
     loads = {n: f"y[{k}]" for k, n in enumerate([*q_names, *u_names])}
     loads.update({n: f"p[{k}]" for k, n in enumerate(c_names)})
     if t_name != "t":
         loads[t_name] = "t"
     if split:
-        lines += large_rhs.large_rhs_lines(name, statements, lambda e: _print(printer, e),
-                                           [*q_names, *u_names], c_names, t_name, nq, nu,
-                                           prologue=prologue, solve=solve)
+        coefficients_at = len(c_names) + (constant_block.PREPARED_HEADER + len(block) ** 2
+                                          if block else 0)
+        lines += large_rhs.large_rhs_lines(name, tabulated, [*q_names, *u_names], c_names, t_name,
+                                           nq, nu, prologue=prologue, solve=solve,
+                                           coefficients_at=coefficients_at)
         check_compiled_operations(compiled_operations(lines + system_lines))
         return "\n".join(lines + system_lines) + "\n"
     lines += ['@njit(cache=True, error_model="numpy")',
@@ -427,36 +436,52 @@ def _solve_operations(nu: int, c: int) -> int:
 
 
 def _block_solve_lines(eom, name: str, prefix: str, mass: sympy.Matrix, block: list[int],
-                       subs: dict, c_names: list[str], printer: _MathPrinter, lines: list[str]):
-    """Module lines of a block solve; return ``(lines, prologue of name, solve expression)``.
+                       subs: dict, c_names: list[str], lines: list[str]):
+    """Module lines of a block solve; return ``(lines, block expressions, solve expression)``.
 
-    Adds the module constants ``NP_PREPARED`` (length of a prepared parameter vector),
-    ``BLOCK_SPEEDS`` and ``REST_SPEEDS`` (indices into u) and the function ``{name}_prepare``
-    (:func:`flexkane.numerics.constant_block.prepare_lines`); the prologue makes ``name`` accept
-    unprepared constants too.
+    Adds the module constants ``BLOCK_SPEEDS`` and ``REST_SPEEDS`` (indices into u); the
+    block (in the constants' local names) is factored by ``{name}_prepare``
+    (:func:`_prepare_lines`).
     """
     nq, nu, n_p = len(eom.q), len(eom.u), len(c_names)
     rest = [i for i in range(nu) if i not in block]
     expand = constant_block.constant_intermediates(eom)
     block_exprs = [[sympy.sympify(mass[i, j]).xreplace(expand).xreplace(subs) for j in block]
                    for i in block]
-    prepared = n_p + constant_block.PREPARED_HEADER + len(block) ** 2
     lines = lines[:-2] + [
         f"# M u' = f by block elimination: the speeds {prefix}BLOCK_SPEEDS (indices into u) form a",
         "# block of M that depends on the constants only; it is factored once per run by "
-        f"{name}_prepare,",
-        f"# whose result p_prepared ({prefix}NP_PREPARED entries) the integrators pass as p.",
-        f"{prefix}NP_PREPARED = {prepared}",
+        f"{name}_prepare.",
         f"{prefix}BLOCK_SPEEDS = np.array({block!r}, dtype=np.int64)",
         f"{prefix}REST_SPEEDS = np.array({rest!r}, dtype=np.int64)",
         "", ""]
-    lines += constant_block.prepare_lines(name, n_p, block_exprs, c_names,
-                                          lambda e: _print(printer, e))
+    solve = f"schur_solve(_M, dy[{nq}:], p, {n_p}, {prefix}BLOCK_SPEEDS, {prefix}REST_SPEEDS)"
+    return lines, block_exprs, solve
+
+
+def _prepare_lines(name: str, prefix: str, n_p: int, block_exprs: list, c_names: list[str],
+                   print_fn, n_coefficients: int, lines: list[str]):
+    """Module lines of ``{name}_prepare``; return ``(lines, prologue of name)``.
+
+    Adds the module constant ``NP_PREPARED`` (length of a prepared parameter vector) and the
+    function (:func:`flexkane.numerics.constant_block.prepare_lines`): the factors of the
+    constant block ``block_exprs`` (if any), the ``n_coefficients`` coefficients of the term
+    tables (if any). The prologue makes ``name`` accept unprepared constants too.
+    """
+    c = len(block_exprs)
+    prepared = n_p + (constant_block.PREPARED_HEADER + c * c if c else 0) + n_coefficients
+    lines = lines[:-2] + [
+        f"# {name}_prepare computes once per run what depends on the constants only; its result "
+        f"p_prepared ({prefix}NP_PREPARED",
+        "# entries) is what the integrators pass as p.",
+        f"{prefix}NP_PREPARED = {prepared}",
+        "", ""]
+    lines += constant_block.prepare_lines(name, n_p, block_exprs, c_names, print_fn,
+                                          n_coefficients)
     lines += ["", ""]
     prologue = [f"    if p.shape[0] < {prefix}NP_PREPARED:",
                 f"        p = {name}_prepare(p)"]
-    solve = f"schur_solve(_M, dy[{nq}:], p, {n_p}, {prefix}BLOCK_SPEEDS, {prefix}REST_SPEEDS)"
-    return lines, prologue, solve
+    return lines, prologue
 
 
 def _quadrature_lines(eom, name: str, system_name: str, quadratures: dict,

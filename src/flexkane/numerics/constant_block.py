@@ -15,9 +15,12 @@ decides whether it pays, :func:`prepare_lines` generates the function that facto
 :func:`prepared_parameters` is what callers of a generated module use to call it once. The solve
 itself is :func:`~flexkane.numerics.linear_algebra.schur_solve`.
 
-A generated right-hand side with a constant block also accepts the constants alone: it then
-prepares them on every call (correct, but the factorisation is no longer once per run), which is
-why every caller that evaluates it many times passes :func:`prepared_parameters` instead.
+The same once-per-run step computes the coefficients of the term tables of a large right-hand
+side (their constant factors multiplied out, :mod:`~flexkane.numerics.large_rhs`), whether or
+not the mass matrix has a constant block: a module has ``<name>_prepare`` and ``NP_PREPARED``
+when it has either. A generated right-hand side that has them also accepts the constants alone:
+it then prepares them on every call (correct, but no longer once per run), which is why every
+caller that evaluates it many times passes :func:`prepared_parameters` instead.
 """
 
 from __future__ import annotations
@@ -125,9 +128,10 @@ def block_is_cheaper(c: int, n: int) -> bool:
 
 
 def prepare_lines(name: str, n_constants: int, block_exprs: Sequence[Sequence[sympy.Expr]],
-                  constant_names: Sequence[str], print_expr: Callable[[sympy.Expr], str]
-                  ) -> list[str]:
-    """Source of ``<name>_prepare(p)``: the constants, then the factors of the constant block.
+                  constant_names: Sequence[str], print_expr: Callable[[sympy.Expr], str],
+                  n_coefficients: int = 0) -> list[str]:
+    """Source of ``<name>_prepare(p)``: the constants, the factors of the constant block, then
+    the coefficients of the term tables.
 
     Parameters
     ----------
@@ -136,17 +140,22 @@ def prepare_lines(name: str, n_constants: int, block_exprs: Sequence[Sequence[sy
     n_constants : int
         Length of the parameter vector ``p``.
     block_exprs : (c, c) nested sequence of sympy.Expr
-        The block ``G`` in the local names of the constants (upper triangle read).
+        The block ``G`` in the local names of the constants (upper triangle read); empty when
+        the mass matrix has no constant block worth eliminating.
     constant_names : sequence of str
         Local name of each entry of ``p``, in order.
     print_expr : callable
         Prints a SymPy expression as Python.
+    n_coefficients : int
+        Number of coefficients of the term tables (:mod:`~flexkane.numerics.large_rhs`),
+        computed by ``<name>_table_coefficients`` after the factors; 0: none.
 
     Returns
     -------
     list of str
-        Lines of the function; it returns an array of ``n_constants + 2 + c * c`` entries
-        (:func:`~flexkane.numerics.linear_algebra.constant_block_factor`).
+        Lines of the function; it returns an array of ``n_constants`` entries, then, with a
+        block, ``2 + c * c`` (:func:`~flexkane.numerics.linear_algebra.constant_block_factor`),
+        then ``n_coefficients``.
     """
     import sympy
 
@@ -167,28 +176,36 @@ def prepare_lines(name: str, n_constants: int, block_exprs: Sequence[Sequence[sy
     used = set().union(set(), *(e.free_symbols for _, e in replacements),
                        *(e.free_symbols for e in reduced))
     used = {s.name for s in used}
-    size = n_constants + PREPARED_HEADER + c * c
+    factors = PREPARED_HEADER + c * c if c else 0
+    size = n_constants + factors + n_coefficients
     table = f"{name.upper()}_PREPARE_COPY"
     lines = []
     if copies:
         lines += [f"{table} = np.array({copies!r}, dtype=np.int64).reshape({len(copies) // 3}, 3)",
                   "", ""]
+    parts = ["the constants p"] + (["the factors of the constant block of the mass matrix"]
+                                   if c else []) \
+        + (["the coefficients of the term tables"] if n_coefficients else [])
     lines += ['@njit(cache=True, error_model="numpy")',
               f"def {name}_prepare(p):",
-              f'    """Constants p ({n_constants},) followed by the factors of the constant block '
-              f'of the mass matrix ({size},)."""',
+              f'    """{", ".join(parts[:-1])} and {parts[-1]} ({size},)."""' if len(parts) > 1
+              else f'    """{parts[0]} ({size},)."""',
               f"    _out = np.empty({size})",
               f"    for _i in range({n_constants}):",
-              "        _out[_i] = p[_i]",
-              f"    _G = np.zeros(({c}, {c}))"]
-    if copies:
-        lines += [f"    for _k in range({len(copies) // 3}):",
-                  f"        _G[{table}[_k, 0], {table}[_k, 1]] = p[{table}[_k, 2]]"]
-    lines += [f"    {local} = p[{k}]" for k, local in enumerate(constant_names) if local in used]
-    lines += [f"    {sym} = {print_expr(expr)}" for sym, expr in replacements]
-    lines += [f"    _G[{i}, {j}] = {print_expr(expr)}" for ((i, j), _), expr in zip(computed, reduced)]
-    lines += [f"    constant_block_factor(_G, _out, {n_constants})",
-              "    return _out"]
+              "        _out[_i] = p[_i]"]
+    if c:
+        lines.append(f"    _G = np.zeros(({c}, {c}))")
+        if copies:
+            lines += [f"    for _k in range({len(copies) // 3}):",
+                      f"        _G[{table}[_k, 0], {table}[_k, 1]] = p[{table}[_k, 2]]"]
+        lines += [f"    {local} = p[{k}]" for k, local in enumerate(constant_names) if local in used]
+        lines += [f"    {sym} = {print_expr(expr)}" for sym, expr in replacements]
+        lines += [f"    _G[{i}, {j}] = {print_expr(expr)}"
+                  for ((i, j), _), expr in zip(computed, reduced)]
+        lines.append(f"    constant_block_factor(_G, _out, {n_constants})")
+    if n_coefficients:
+        lines.append(f"    {name}_table_coefficients(p, _out, {n_constants + factors})")
+    lines.append("    return _out")
     return lines
 
 
@@ -208,8 +225,9 @@ def prepared_parameters(module, p, name: str = "rhs") -> np.ndarray:
     Returns
     -------
     ndarray
-        ``p`` itself (contiguous float64) when the module has no constant block; else ``p``
-        followed by the factors of the block (``<name>_prepare(p)``, computed once here).
+        ``p`` itself (contiguous float64) when the module has nothing to prepare; else ``p``
+        followed by the factors of the constant block and the coefficients of the term tables
+        (``<name>_prepare(p)``, computed once here).
     """
     p = np.ascontiguousarray(np.asarray(p, dtype=np.float64))
     prepare = getattr(module, f"{name}_prepare", None)

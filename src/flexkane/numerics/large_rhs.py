@@ -9,23 +9,30 @@ operations, which took 145 s to compile. So, above ``SPLIT_CHARS`` printed chara
 
 1. every sum of at least ``TABLE_TERMS_MIN`` terms becomes rows of a *term table*: each term is a
    coefficient times a product of at most ``FACTOR_MAX`` factors (states, constants, common
-   subexpressions), and one compiled loop, ``<name>_table_sum``, adds them up. Common
-   subexpressions that are products (``G_12*q_5``) are folded into the terms instead of being
-   computed on their own. The compiled code no longer grows with the number of terms;
+   subexpressions). Common subexpressions that are products (``G_12*q_5``) are folded into the
+   terms instead of being computed on their own. The factors that are constants (entries of
+   ``p``: modal constants, masses) are multiplied into the coefficient *once per run*, by
+   ``<name>_table_coefficients`` called from ``<name>_prepare`` (terms with the same remaining
+   factors share one coefficient), and the terms are stored by their number ``d`` of remaining
+   factors, so that one compiled loop per ``d`` in ``<name>_table_sums`` multiplies exactly
+   ``d`` factors (``u3^2 G_1j q_j`` costs two multiplications per call, not four). The compiled
+   code does not grow with the number of terms;
 2. the statements that remain are distributed over functions ``<name>_part<k>`` of about
    ``SPLIT_CHARS`` characters each.
 
-All values pass through one work array ``w``: ``w[:ny]`` the state, ``w[ny:ny + np]`` the
-constants, then 1.0, t and 0.0, then the common subexpressions that tables or later parts read.
+The tables' factors are read from one work array ``w``: ``w[:ny]`` the state, then 1.0, t and
+0.0, then the common subexpressions that tables or later parts read; their coefficients from the
+prepared parameter vector (:func:`~flexkane.numerics.constant_block.prepared_parameters`).
 Outputs that are a state, a constant, 0 or 1 (most of the mass matrix, all of ``q' = u``) are
-copied from ``w`` by a loop over an index table.
+copied from ``w`` or ``p`` by a loop over an index table.
 """
 
 from __future__ import annotations
 
 import sympy
 
-__all__ = ["FACTOR_MAX", "SPLIT_CHARS", "TABLE_TERMS_MIN", "Statement", "large_rhs_lines"]
+__all__ = ["FACTOR_MAX", "SPLIT_CHARS", "TABLE_TERMS_MIN", "Statement", "Tabulated", "large_rhs_lines",
+           "table_lines", "tabulate"]
 
 # Printed characters of a right-hand side above which it is generated in this form, and size of
 # each part (chosen by measuring compile times, see benchmarks/RESULTS.md).
@@ -99,8 +106,25 @@ class _Tables:
         return len(self.ranges) - 1
 
 
-def _tabulate(statements: list[Statement], printer_fn, name: str):
-    """Turn long sums into table rows; return ``(statements, tables, atoms)``."""
+def tabulate(statements: list[Statement], printer_fn, name: str, constant_names: list[str]
+             ) -> "Tabulated":
+    """Turn the long sums of ``statements`` into term tables.
+
+    Parameters
+    ----------
+    statements : list of Statement
+        Common subexpressions and outputs, in order of evaluation.
+    printer_fn : callable
+        Prints a SymPy expression as Python.
+    name : str
+        Name of the generated right-hand side.
+    constant_names : list of str
+        Local names of the entries of ``p``: the factors folded into the coefficients.
+
+    Returns
+    -------
+    Tabulated
+    """
     tables = _Tables(statements)
     out: list[Statement] = []
     counter = 0
@@ -122,12 +146,13 @@ def _tabulate(statements: list[Statement], printer_fn, name: str):
                 mono = (float(coef), (temp.name,))
             terms.append(mono)
         index = tables.add(terms)
-        start, stop = tables.ranges[index]
-        text = f"{name}_table_sum(w, {start}, {stop})"
+        text = f"{name}_table_sums(w, p, {index})"
         table_st = Statement(st.target, text, sympy.Integer(0))
         table_st.uses = set()
         out.append(table_st)
-    atoms = {n for _, names in tables.rows for n in names}
+    constants = set(constant_names)
+    groups = [_group_terms(tables.rows[a:b], constants) for a, b in tables.ranges]
+    atoms = {n for group in groups for names in group for n in names}
     # keep only what an output, a table or a kept statement reads
     needed = set(atoms)
     kept = []
@@ -135,35 +160,78 @@ def _tabulate(statements: list[Statement], printer_fn, name: str):
         if st.is_output or st.target in needed:
             needed |= st.uses
             kept.append(st)
-    return kept[::-1], tables, atoms
+    return Tabulated(kept[::-1], groups, atoms, constant_names)
 
 
-def _copy_source(st: Statement, fixed: dict[str, int]) -> int | None:
-    """Index in ``w`` of the value an output statement copies, or None."""
-    if not st.is_output or st.text.endswith(")") and "_table_sum(w, " in st.text:
+def _group_terms(rows, constants: set[str]) -> dict:
+    """The terms of one sum by their state-dependent factors: ``{factors: [(coef, constants)]}``.
+
+    ``factors`` is the sorted tuple of the factors that are not constants (entries of ``p``);
+    terms with the same such factors share one coefficient, the sum of their ``coef`` times the
+    product of their constants (computed once per run).
+    """
+    group: dict[tuple[str, ...], list] = {}
+    for coef, names in rows:
+        variable = tuple(sorted(n for n in names if n not in constants))
+        fixed = tuple(n for n in names if n in constants)
+        group.setdefault(variable, []).append((coef, fixed))
+    return group
+
+
+class Tabulated:
+    """The statements of a large right-hand side once its long sums are term tables.
+
+    Attributes
+    ----------
+    statements : list of Statement
+        What remains to be written out; a tabulated sum is a statement
+        ``target = <name>_table_sums(w, p, k)`` (written as a call of the loop over
+        consecutive sums and a read of its result).
+    groups : list of dict
+        Per sum ``k``: state-dependent factors (tuple of names) -> contributions
+        ``(coefficient, constant names)`` of its coefficient.
+    atoms : set of str
+        Names read by the tables (states, t, common subexpressions; no constants).
+    n_coefficients : int
+        Number of coefficients that ``<name>_table_coefficients`` computes once per run.
+    """
+
+    def __init__(self, statements, groups, atoms, constant_names):
+        self.statements = statements
+        self.groups = groups
+        self.atoms = atoms
+        self.constant_names = list(constant_names)
+        self.n_coefficients = sum(len(g) for g in groups)
+        self.sum_atoms = [{n for names in g for n in names} for g in groups]
+
+
+def _copy_source(st: Statement, fixed: dict[str, int], in_p: dict[str, int]) -> tuple | None:
+    """``(from_p, index)`` of the value an output statement copies (from ``w`` or ``p``), or None."""
+    if not st.is_output or st.text.endswith(")") and "_table_sums(w, p, " in st.text:
         return None
     expr = st.expr
     if expr.is_Symbol and expr.name in fixed:
-        return fixed[expr.name]
+        return False, fixed[expr.name]
+    if expr.is_Symbol and expr.name in in_p:
+        return True, in_p[expr.name]
     if expr == 0 or expr == 1:
-        return fixed[str(int(expr))]
+        return False, fixed[str(int(expr))]
     return None
 
 
-def large_rhs_lines(name: str, statements: list[Statement], printer_fn, state_names: list[str],
+def large_rhs_lines(name: str, tabulated: Tabulated, state_names: list[str],
                     constant_names: list[str], t_name: str, nq: int, nu: int, *,
-                    prologue: list[str] = (), solve: str | None = None) -> list[str]:
+                    prologue: list[str] = (), solve: str | None = None,
+                    coefficients_at: int = 0) -> list[str]:
     """Source lines of ``name`` (and its parts and tables) for a large right-hand side.
 
     Parameters
     ----------
     name : str
         Name of the generated function.
-    statements : list of Statement
-        Common subexpressions, then ``dy[i]`` (q', and f into ``dy[nq:]``) and ``_M[i, j]``
-        (upper triangle), in order of evaluation.
-    printer_fn : callable
-        Prints a SymPy expression as Python.
+    tabulated : Tabulated
+        :func:`tabulate` of the statements: common subexpressions, then ``dy[i]`` (q', and f
+        into ``dy[nq:]``) and ``_M[i, j]`` (upper triangle), in order of evaluation.
     state_names, constant_names : list of str
         Local names of ``y`` (ny,) and ``p`` entries, in order.
     t_name : str
@@ -171,32 +239,39 @@ def large_rhs_lines(name: str, statements: list[Statement], printer_fn, state_na
     nq, nu : int
         Numbers of coordinates and speeds.
     prologue : list of str
-        Lines (indented) that open ``name``, before anything reads ``p``.
+        Lines (indented) that open ``name``, before anything reads ``p``; they must make ``p``
+        the prepared vector when the tables have coefficients.
     solve : str, optional
         Expression solving ``_M u' = dy[nq:]`` in place and giving the status code; default
         ``ldl_solve(_M, dy[nq:])`` (the block solve of
         :mod:`~flexkane.numerics.constant_block` otherwise). Entries of ``_M`` that it does
         not read need no statement.
+    coefficients_at : int
+        Where the tables' coefficients start in the prepared parameter vector (written there by
+        ``<name>_table_coefficients(p, out, coefficients_at)``, once per run).
     """
-    statements, tables, atoms = _tabulate(statements, printer_fn, name)
+    statements, groups, atoms = tabulated.statements, tabulated.groups, tabulated.atoms
     ny, n_p = len(state_names), len(constant_names)
     fixed = {n: k for k, n in enumerate(state_names)}
-    fixed.update({n: ny + k for k, n in enumerate(constant_names)})
-    one = ny + n_p
+    one = ny
     fixed["1"] = one
     fixed[t_name] = one + 1
     fixed["0"] = one + 2
+    in_p = {n: k for k, n in enumerate(constant_names)}
     # outputs that are a state, a constant, 0 or 1 (most of M, all of q' = u) are copied by a loop
-    copy_dy, copy_m, rest = [], [], []
+    copies: dict[str, list] = {"DY": [], "M": [], "P_DY": [], "P_M": []}
+    rest = []
     for st in statements:
-        source = _copy_source(st, fixed)
+        source = _copy_source(st, fixed, in_p)
         if source is None:
             rest.append(st)
-        elif st.target.startswith("dy["):
-            copy_dy.append([int(st.target[3:-1]), source])
+            continue
+        from_p, k = source
+        label = ("P_" if from_p else "") + ("DY" if st.target.startswith("dy[") else "M")
+        if st.target.startswith("dy["):
+            copies[label].append([int(st.target[3:-1]), k])
         else:
-            i, j = (int(k) for k in st.target[3:-1].split(","))
-            copy_m.append([i, j, source])
+            copies[label].append([*(int(i) for i in st.target[3:-1].split(",")), k])
     statements = rest
     parts: list[list[Statement]] = [[]]
     size = 0
@@ -207,46 +282,29 @@ def large_rhs_lines(name: str, statements: list[Statement], printer_fn, state_na
         parts[-1].append(st)
         size += len(st.text)
     defined_in = {st.target: k for k, part in enumerate(parts) for st in part if not st.is_output}
+    results = one + 3                   # w[results + k]: sum k of the tables
+    first_slot = results + len(groups)
     slots: dict[str, int] = {}
     for atom in sorted(atoms, key=lambda a: (a not in defined_in, a)):
         if atom not in fixed:
-            slots[atom] = one + 3 + len(slots)
+            slots[atom] = first_slot + len(slots)
     for k, part in enumerate(parts):
         for st in part:
             for used in sorted(st.uses):
                 if defined_in.get(used, k) < k and used not in slots:
-                    slots[used] = one + 3 + len(slots)
+                    slots[used] = first_slot + len(slots)
+    index = {**fixed, **slots}
     loads = {n: f"y[{k}]" for k, n in enumerate(state_names)}
     loads.update({n: f"p[{k}]" for k, n in enumerate(constant_names)})
+    prefix = name.upper()
     lines = []
-    for label, rows in (("DY", copy_dy), ("M", copy_m)):
+    for label, rows in copies.items():
         if rows:
             flat = [v for row in rows for v in row]
-            lines += [f"{name.upper()}_COPY_{label} = np.array({flat!r}, dtype=np.int64).reshape("
+            lines += [f"{_copy_table(prefix, label)} = np.array({flat!r}, dtype=np.int64).reshape("
                       f"{len(rows)}, {len(rows[0])})"]
-    if tables.rows:
-        width = max(len(names) for _, names in tables.rows)
-        index = [fixed.get(n, slots.get(n)) for _, names in tables.rows
-                 for n in (list(names) + ["1"] * (width - len(names)))]
-        coef = [c for c, _ in tables.rows]
-        prefix = name.upper()
-        lines += [f"# Term tables of {name}: {len(coef)} terms of at most {width} factors each; the "
-                  "factors are entries of the work array w.",
-                  f"{prefix}_TABLE_COEF = np.array({coef!r}, dtype=np.float64)",
-                  f"{prefix}_TABLE_INDEX = np.array({index!r}, dtype=np.int64).reshape("
-                  f"{len(coef)}, {width})",
-                  "", "",
-                  '@njit(cache=True, error_model="numpy")',
-                  f"def {name}_table_sum(w, start, stop):",
-                  f'    """Sum of the terms start:stop of the {name} tables."""',
-                  "    s = 0.0",
-                  "    for k in range(start, stop):",
-                  f"        v = {prefix}_TABLE_COEF[k]",
-                  f"        for f in range({width}):",
-                  f"            v *= w[{prefix}_TABLE_INDEX[k, f]]",
-                  "        s += v",
-                  "    return s",
-                  "", ""]
+    if groups:
+        lines += table_lines(name, groups, index, tabulated.constant_names, results)
     for k, part in enumerate(parts):
         own = {st.target for st in part}
         uses = set().union(*(st.uses for st in part))
@@ -257,31 +315,154 @@ def large_rhs_lines(name: str, statements: list[Statement], printer_fn, state_na
         if t_name != "t" and t_name in uses:
             lines.append(f"    {t_name} = t")
         lines += [f"    {used} = w[{slots[used]}]" for used in sorted(uses - own) if used in slots]
-        for st in part:
-            lines.append(f"    {st.target} = {st.text}")
-            if st.target in slots:
-                lines.append(f"    w[{slots[st.target]}] = {st.target}")
+        for batch in _batches(part, tabulated.sum_atoms):
+            sums = [_sum_index(st) for st in batch]
+            if sums[0] is not None:
+                # consecutive sums, evaluated by one loop (one call site, not one per sum: LLVM
+                # would inline and vectorize every call with constant bounds, doubling compile time)
+                lines.append(f"    {name}_table_sums(w, p, {coefficients_at}, {sums[0]}, "
+                             f"{sums[-1] + 1})")
+            for st, k_sum in zip(batch, sums):
+                text = st.text if k_sum is None else f"w[{results + k_sum}]"
+                lines.append(f"    {st.target} = {text}")
+                if st.target in slots:
+                    lines.append(f"    w[{slots[st.target]}] = {st.target}")
         lines += ["", ""]
     lines += ['@njit(cache=True, error_model="numpy")',
               f"def {name}(t, y, p, dy):",
               f'    """Write [q\', u\'] (nq + nu = {nq + nu},) into dy; return 0, 2 or 4."""',
               *prologue,
-              f"    w = np.empty({one + 3 + len(slots)})",
+              f"    w = np.empty({first_slot + len(slots)})",
               f"    for i in range({ny}):",
               "        w[i] = y[i]",
-              f"    for i in range({n_p}):",
-              f"        w[{ny} + i] = p[i]",
               f"    w[{one}] = 1.0",
               f"    w[{one + 1}] = t",
               f"    w[{one + 2}] = 0.0",
               f"    _M = np.empty(({nu}, {nu}))"]
-    if copy_dy:
-        lines += [f"    for k in range({len(copy_dy)}):",
-                  f"        dy[{name.upper()}_COPY_DY[k, 0]] = w[{name.upper()}_COPY_DY[k, 1]]"]
-    if copy_m:
-        lines += [f"    for k in range({len(copy_m)}):",
-                  f"        _M[{name.upper()}_COPY_M[k, 0], {name.upper()}_COPY_M[k, 1]] = "
-                  f"w[{name.upper()}_COPY_M[k, 2]]"]
+    for label, rows in copies.items():
+        if not rows:
+            continue
+        source = "p" if label.startswith("P_") else "w"
+        table = _copy_table(prefix, label)
+        lines.append(f"    for k in range({len(rows)}):")
+        if label.endswith("DY"):
+            lines.append(f"        dy[{table}[k, 0]] = {source}[{table}[k, 1]]")
+        else:
+            lines.append(f"        _M[{table}[k, 0], {table}[k, 1]] = {source}[{table}[k, 2]]")
     lines += [f"    {name}_part{k}(t, y, p, w, _M, dy)" for k in range(len(parts))]
     lines.append(f"    return {solve or f'ldl_solve(_M, dy[{nq}:])'}")
     return lines
+
+
+def table_lines(name: str, groups: list[dict], index: dict[str, int], constant_names: list[str],
+                results: int) -> list[str]:
+    """Module lines of the term tables: data, ``<name>_table_sums``, ``<name>_table_coefficients``.
+
+    The coefficient of each term is the sum of its contributions, each a number times entries of
+    ``p``; ``<name>_table_coefficients(p, out, at)`` computes them once per run into
+    ``out[at:]``. The terms are stored by their number ``d`` of remaining factors (entries of
+    the work array ``w``), so that the loop over the terms of ``d`` factors multiplies exactly
+    ``d`` of them: ``<name>_table_sums(w, p, at, first, last)`` writes the sums ``first`` to
+    ``last - 1`` into ``w[results + k]``.
+    """
+    prefix = name.upper()
+    in_p = {n: k for k, n in enumerate(constant_names)}
+    degrees = sorted({len(f) for g in groups for f in g})
+    # coefficient number of each term: degree by degree, sum by sum
+    starts = []            # (n_sums + 1, len(degrees)): first term of sum k among those of degree d
+    base = {}
+    count = 0
+    factor_rows: dict[int, list[int]] = {}
+    contribution_ptr, contribution_coef, factor_ptr, factor_index = [0], [], [0], []
+    for d in degrees:
+        base[d] = count
+        rows = factor_rows.setdefault(d, [])
+        column = []
+        for group in groups:
+            column.append(count - base[d])
+            for factors, contributions in group.items():
+                if len(factors) != d:
+                    continue
+                rows.extend(index[f] for f in factors)
+                for coef, fixed in contributions:
+                    contribution_coef.append(coef)
+                    factor_index.extend(in_p[f] for f in fixed)
+                    factor_ptr.append(len(factor_index))
+                contribution_ptr.append(len(contribution_coef))
+                count += 1
+        column.append(count - base[d])
+        starts.append(column)
+    n_sums = len(groups)
+    starts_flat = [starts[c][k] for k in range(n_sums + 1) for c in range(len(degrees))]
+    lines = [f"# Term tables of {name}: {count} terms in {n_sums} sums; a term is a coefficient "
+             "(computed once per run from the constants) times d factors (entries of the work array",
+             f"# w), stored by d = {degrees}.",
+             f"{prefix}_TABLE_COEF = np.array({contribution_coef!r}, dtype=np.float64)",
+             f"{prefix}_TERMS_TABLE_INDEX = np.array({contribution_ptr!r}, dtype=np.int64)",
+             f"{prefix}_FACTORS_TABLE_INDEX = np.array({factor_ptr!r}, dtype=np.int64)",
+             f"{prefix}_CONSTANTS_TABLE_INDEX = np.array({factor_index or [0]!r}, dtype=np.int64)",
+             f"{prefix}_STARTS_TABLE_INDEX = np.array({starts_flat!r}, dtype=np.int64).reshape("
+             f"{n_sums + 1}, {len(degrees)})"]
+    for d in degrees:
+        if d:
+            lines.append(f"{prefix}_D{d}_TABLE_INDEX = np.array({factor_rows[d]!r}, "
+                         f"dtype=np.int64).reshape({len(factor_rows[d]) // d}, {d})")
+    lines += ["", "",
+              '@njit(cache=True, error_model="numpy")',
+              f"def {name}_table_coefficients(p, out, at):",
+              f'    """The {count} coefficients of the {name} tables into out[at:], from the '
+              'constants p."""',
+              f"    for k in range({count}):",
+              "        s = 0.0",
+              f"        for j in range({prefix}_TERMS_TABLE_INDEX[k], {prefix}_TERMS_TABLE_INDEX[k + 1]):",
+              f"            v = {prefix}_TABLE_COEF[j]",
+              f"            for f in range({prefix}_FACTORS_TABLE_INDEX[j], {prefix}_FACTORS_TABLE_INDEX[j + 1]):",
+              f"                v *= p[{prefix}_CONSTANTS_TABLE_INDEX[f]]",
+              "            s += v",
+              "        out[at + k] = s",
+              "", "",
+              '@njit(cache=True, error_model="numpy")',
+              f"def {name}_table_sums(w, p, at, first, last):",
+              f'    """Sums first:last of the {name} tables into w[{results} + k]; their coefficients '
+              'are p[at:] (prepared)."""',
+              "    for k in range(first, last):",
+              "        s = 0.0"]
+    for c, d in enumerate(degrees):
+        product = "".join(f" * w[{prefix}_D{d}_TABLE_INDEX[i, {f}]]" for f in range(d))
+        lines += [f"        for i in range({prefix}_STARTS_TABLE_INDEX[k, {c}], "
+                  f"{prefix}_STARTS_TABLE_INDEX[k + 1, {c}]):",
+                  f"            s += p[at + {base[d]} + i]{product}"]
+    lines += [f"        w[{results} + k] = s", "", ""]
+    return lines
+
+
+def _copy_table(prefix: str, label: str) -> str:
+    """Name of a copy table: ``label`` is DY or M (target), prefixed by P_ when read from p."""
+    return f"{prefix}_{'P' if label.startswith('P_') else 'W'}_COPY_{label.split('_')[-1]}"
+
+
+def _sum_index(st: Statement) -> int | None:
+    """Number of the table sum a statement takes, or None for a written-out statement."""
+    if "_table_sums(w, p, " in st.text and not st.uses:
+        return int(st.text.rsplit(", ", 1)[1].rstrip(")"))
+    return None
+
+
+def _batches(part: list[Statement], sum_atoms: list[set]) -> list[list[Statement]]:
+    """``part`` cut into runs of consecutive table sums (k, k + 1, ...) and single statements.
+
+    A run ends where a sum reads (as a factor) the target of an earlier sum of the run.
+    """
+    out: list[list[Statement]] = []
+    targets: set[str] = set()
+    for st in part:
+        k = _sum_index(st)
+        last = out[-1] if out else None
+        if k is not None and last and _sum_index(last[-1]) == k - 1 \
+                and not (sum_atoms[k] & targets):
+            last.append(st)
+            targets.add(st.target)
+            continue
+        out.append([st])
+        targets = {st.target} if k is not None else set()
+    return out
