@@ -35,8 +35,11 @@ __all__ = ["FACTOR_MAX", "SPLIT_CHARS", "TABLE_TERMS_MIN", "Statement", "Tabulat
            "table_lines", "tabulate"]
 
 # Printed characters of a right-hand side above which it is generated in this form, and size of
-# each part (chosen by measuring compile times, see benchmarks/RESULTS.md).
-SPLIT_CHARS = 12_000
+# each part (chosen by measuring compile times, see benchmarks/RESULTS.md). Measured CPU time of the
+# Numba compile of the right-hand side: chain_model(8) (many short statements) 19.0 s with parts of
+# 12,000 characters, 16.9 s with 40,000, 11.4 s with 100,000; falling-beam-exact with 40 modes (its
+# long sums in term tables) 4.1 s with each of them.
+SPLIT_CHARS = 100_000
 # Sums with at least this many terms are evaluated from a term table.
 TABLE_TERMS_MIN = 12
 # Largest number of factors of one term of a table.
