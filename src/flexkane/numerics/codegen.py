@@ -41,6 +41,13 @@ __all__ = ["UNROLL_LDL_MAX", "generate_outputs_source", "generate_rhs_source"]
 # Largest number of speeds for which L D L^T is written as scalar statements (no allocation,
 # about 20 ns saved per call); above it a loop over an allocated array is used.
 UNROLL_LDL_MAX = 8
+# Outputs with a statement longer than this (printed characters), or longer than a part of a large
+# right-hand side in all, are generated like a large right-hand side (term tables and parts): the
+# energies of a beam with many modes are sums of n^2 terms (falling-beam-exact: 7,210 characters at
+# 20 modes, 28,523 at 40; at 40 modes 25.8 s to compile written out, 3.7 s with tables), while the
+# many short statements of a long chain compile faster written out (chain_model(8), longest 2,782
+# characters: 20.7 s against 22.2 s).
+LONG_SUM_CHARS = 5_000
 # Largest |n| of an exponent printed as an integer (``x**n``); larger ones are printed as floats.
 _INTEGER_EXPONENT_MAX = 64
 
@@ -574,8 +581,12 @@ def generate_outputs_source(exprs: Mapping[str, sympy.Expr], args, name: str = "
     lines = _header(args, q_names, u_names, c_names, f"generated outputs {name}")
     lines += ["# Columns of the result:"]
     lines += [f"#   [:, {k}] = {key}" for k, key in enumerate(keys)]
-    lines += [f"{prefix}OUTPUT_NAMES = {tuple(keys)!r}", "", "",
-              '@njit(cache=True, error_model="numpy")',
+    lines += [f"{prefix}OUTPUT_NAMES = {tuple(keys)!r}", "", ""]
+    if max((len(st.text) for st in statements), default=0) > LONG_SUM_CHARS \
+            or sum(len(st.text) for st in statements) > large_rhs.SPLIT_CHARS:
+        return "\n".join(_large_outputs_lines(name, prefix, statements, printer, keys, q_names, u_names,
+                                               ud_names, c_names, t_name, rhs_name, lines)) + "\n"
+    lines += ['@njit(cache=True, error_model="numpy")',
               f"def {name}(_t, _Y, _p):",
               f'    """Outputs (N, {len(keys)}) at times _t (N,) and states _Y (N, nq + nu)."""',
               f"    _out = np.empty((_t.shape[0], {len(keys)}))"]
@@ -596,3 +607,52 @@ def generate_outputs_source(exprs: Mapping[str, sympy.Expr], args, name: str = "
         lines.append(f"{ind}{st.target} = {st.text}")
     lines.append("    return _out")
     return "\n".join(lines) + "\n"
+
+
+def _large_outputs_lines(name: str, prefix: str, statements: list, printer, keys: list, q_names: list,
+                         u_names: list, ud_names: list, c_names: list, t_name: str, rhs_name: str,
+                         lines: list) -> list[str]:
+    """Outputs of a large model, generated like a large right-hand side.
+
+    The outputs of one sample are written by ``{name}_row(t, y, p, dy)`` through
+    :mod:`flexkane.numerics.large_rhs` (term tables for the long sums, such as the kinetic and
+    strain energies of many modes, and parts), with ``y = [q, u, u']`` (u' only when an output
+    uses it) and ``dy`` the row of outputs; ``{name}`` loops over the samples. The constant
+    factors of the tables are folded once per call of ``{name}`` by ``{name}_row_prepare``.
+    """
+    row = f"{name}_row"
+    row_prefix = row.upper() + "_"
+    n_out = len(keys)
+    rows = {f"_out[_k, {k}]": f"dy[{k}]" for k in range(n_out)}
+    statements = [Statement(rows.get(st.target, st.target), st.text, st.expr) for st in statements]
+    print_fn = lambda e: _print(printer, e)  # noqa: E731
+    tabulated = large_rhs.tabulate(statements, print_fn, row, c_names)
+    nq, nu, n_p = len(q_names), len(u_names), len(c_names)
+    lines = lines + ["", ""]
+    prologue = []
+    if tabulated.n_coefficients:
+        lines, prologue = _prepare_lines(row, row_prefix, n_p, [], c_names, print_fn,
+                                         tabulated.n_coefficients, lines)
+    lines += large_rhs.large_rhs_lines(row, tabulated, [*q_names, *u_names, *ud_names], c_names, t_name,
+                                       n_out, 0, prologue=prologue, solve="0", coefficients_at=n_p)
+    prepare = f"{row}_prepare(_p[:{n_p}])" if tabulated.n_coefficients else f"_p[:{n_p}].copy()"
+    n_y = nq + nu
+    lines += ["", "",
+              '@njit(cache=True, error_model="numpy")',
+              f"def {name}(_t, _Y, _p):",
+              f'    """Outputs (N, {n_out}) at times _t (N,) and states _Y (N, nq + nu)."""',
+              f"    _out = np.empty((_t.shape[0], {n_out}))",
+              f"    _pp = {prepare}",
+              f"    _y = np.empty({n_y + len(ud_names)})"]
+    if ud_names:
+        lines.append(f"    _dy = np.empty({n_y})")
+    lines += ["    for _k in range(_t.shape[0]):",
+              f"        for _i in range({n_y}):",
+              "            _y[_i] = _Y[_k, _i]"]
+    if ud_names:
+        lines += [f"        {rhs_name}(_t[_k], _Y[_k], _p, _dy)",
+                  f"        for _i in range({len(ud_names)}):",
+                  f"            _y[{n_y} + _i] = _dy[{nq} + _i]"]
+    lines += [f"        {row}(_t[_k], _y, _pp, _out[_k])",
+              "    return _out"]
+    return lines
