@@ -81,8 +81,10 @@ def _forces(eom):
     flat = [e for star, active in rows for e in (star, *active.values())]
     named = eom.chain.intermediates.used_by(flat)
     if named:
+        from .kane.intermediates import written_out
+
         # a short chain's kinematic intermediates are written out, as the chapter's equations are
-        full = _written_out(named, TERM_BY_TERM_MAX)
+        full = written_out(named, fits=lambda e: printed_size([e]) <= TERM_BY_TERM_MAX)
         if full is not None:
             rows = [(star.xreplace(full), {k: v.xreplace(full) for k, v in active.items()})
                     for star, active in rows]
@@ -94,16 +96,6 @@ def _forces(eom):
     common, reduced = sp.cse(flat, symbols=sp.numbered_symbols("x_", real=True), order="none")
     it = iter(reduced)
     return named + common, [(next(it), {k: next(it) for k in active}) for _, active in rows]
-
-
-def _written_out(named: list, limit: int) -> dict | None:
-    """Each named intermediate written out in full, or None when one exceeds ``limit`` printed nodes."""
-    full: dict = {}
-    for symbol, definition in named:      # evaluation order: earlier ones are already written out
-        full[symbol] = definition.xreplace(full)
-        if printed_size([full[symbol]]) > limit:
-            return None
-    return full
 
 
 def _intermediates_note(intermediates) -> str:

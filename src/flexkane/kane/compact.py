@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from .intermediates import Intermediate
+from .intermediates import Intermediate, written_out
 
 __all__ = ["CompactEquations"]
 
@@ -87,13 +87,9 @@ class CompactEquations:
         return sp.sympify(expr).xreplace(full)
 
     def _full(self) -> dict:
-        full = getattr(self, "_full_memo", None)
-        if full is None:
-            full = {}
-            for s, e in self.intermediates:     # evaluation order: earlier ones are already full
-                full[s] = e.xreplace(full)
-            self._full_memo = full
-        return full
+        if getattr(self, "_full_memo", None) is None:
+            self._full_memo = written_out(self.intermediates)
+        return self._full_memo
 
     def expanded(self) -> "CompactEquations":
         """The same equations without intermediates."""

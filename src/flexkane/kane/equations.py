@@ -8,6 +8,8 @@ must supply is kept as an output.
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import numpy as np
 import sympy as sp
 
@@ -30,11 +32,13 @@ class _Expanded:
     """An attribute of :class:`EquationsOfMotion` read from the expanded equations.
 
     While the equations are built, the attribute holds the compact form in the instance's
-    ``__dict__``; once built, reading it gives the expanded form (intermediates substituted).
+    ``__dict__``; once built, reading it gives the attribute of the same name of the expanded form
+    (intermediates substituted) that the instance's method ``form`` returns.
     """
 
-    def __init__(self, name: str, doc: str):
+    def __init__(self, name: str, doc: str, form: str = "_expanded_form"):
         self.name = name
+        self.form = form
         self.__doc__ = doc + " Intermediates substituted (formed on first use)."
 
     def __get__(self, instance, owner=None):
@@ -42,9 +46,7 @@ class _Expanded:
             return self
         if self.name in instance.__dict__:
             return instance.__dict__[self.name]
-        if self.name in ("F_r_star", "F_r"):
-            return instance._expanded_forces()[self.name]
-        return getattr(instance._expanded_form(), self.name)
+        return getattr(getattr(instance, self.form)(), self.name)
 
     def __set__(self, instance, value):
         instance.__dict__[self.name] = value
@@ -173,13 +175,13 @@ class EquationsOfMotion:
         """``expr`` (an expression or a Matrix) with every intermediate replaced by its definition."""
         return self.compact.expand(expr)
 
-    def _expanded_forces(self) -> dict:
+    def _expanded_forces(self) -> SimpleNamespace:
         if self._forces_expanded is None:
             expand = self.chain.intermediates.expand
             forces = self.compact_forces
-            self._forces_expanded = {
-                "F_r_star": [expand(e) for e in forces["F_r_star"]],
-                "F_r": {k: [expand(e) for e in v] for k, v in forces["F_r"].items()}}
+            self._forces_expanded = SimpleNamespace(
+                F_r_star=[expand(e) for e in forces["F_r_star"]],
+                F_r={k: [expand(e) for e in v] for k, v in forces["F_r"].items()})
         return self._forces_expanded
 
     def _expanded_form(self) -> "CompactEquations":
@@ -187,8 +189,8 @@ class EquationsOfMotion:
             self._expanded = self.compact.expanded()
         return self._expanded
 
-    F_r_star = _Expanded("F_r_star", "list of sympy.Expr: F*_r of every speed (eq. 8.22).")
-    F_r = _Expanded("F_r", "dict of str to list of sympy.Expr: F_r by source (eq. 8.35).")
+    F_r_star = _Expanded("F_r_star", "list of sympy.Expr: F*_r of every speed (eq. 8.22).", "_expanded_forces")
+    F_r = _Expanded("F_r", "dict of str to list of sympy.Expr: F_r by source (eq. 8.35).", "_expanded_forces")
     mass_matrix = _Expanded("mass_matrix", "sympy.Matrix (len(u), len(u)): M of ``M u' = f``.")
     forcing = _Expanded("forcing", "sympy.Matrix (len(u), 1): f of ``M u' = f``.")
     qdot = _Expanded("qdot", "sympy.Matrix (len(q), 1): the kinematic equations q'.")

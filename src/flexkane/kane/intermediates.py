@@ -27,7 +27,8 @@ import sympy as sp
 
 from ..model.values import GeneratedSymbol
 
-__all__ = ["FRAME_NAME_ABOVE", "Intermediate", "Intermediates", "NAME_ABOVE"]
+__all__ = ["FRAME_NAME_ABOVE", "Intermediate", "Intermediates", "NAME_ABOVE", "needed_definitions",
+           "written_out"]
 
 #: An expression with more operations than this (``sympy.count_ops``) is named. Small enough that the
 #: size of every definition stays bounded; large enough that a chain of one link (the chapter's
@@ -41,6 +42,48 @@ FRAME_NAME_ABOVE = 4
 
 class Intermediate(GeneratedSymbol):
     """A symbol standing for a kinematic quantity whose definition is kept by :class:`Intermediates`."""
+
+
+def needed_definitions(definitions, exprs) -> list:
+    """The definitions that ``exprs`` need, directly or through other definitions.
+
+    Parameters
+    ----------
+    definitions : sequence of (Symbol, Expr)
+        Definitions in evaluation order (each refers only to earlier ones).
+    exprs : iterable of sympy.Expr
+
+    Returns
+    -------
+    list of (Symbol, Expr)
+        The needed ones, in evaluation order.
+    """
+    index = dict(definitions)
+    if not index:
+        return []
+    needed: set = set()
+    stack = [s for e in exprs for s in sp.sympify(e).free_symbols if s in index]
+    while stack:
+        s = stack.pop()
+        if s not in needed:
+            needed.add(s)
+            stack += [x for x in index[s].free_symbols if x in index and x not in needed]
+    return [(s, e) for s, e in index.items() if s in needed]
+
+
+def written_out(definitions, fits=None, full: dict | None = None) -> dict | None:
+    """Each symbol of ``definitions`` (evaluation order) mapped to its definition written out in full.
+
+    ``fits(expr) -> bool``, when given, is asked of each written-out definition; the first that does
+    not fit gives None. ``full``, when given, holds definitions written out already (those of the
+    symbols ``definitions`` refer to and does not list); it is extended and returned.
+    """
+    full = {} if full is None else full
+    for symbol, definition in definitions:    # earlier ones are written out already
+        full[symbol] = definition.xreplace(full)
+        if fits is not None and not fits(full[symbol]):
+            return None
+    return full
 
 
 class Intermediates:
@@ -64,7 +107,7 @@ class Intermediates:
         self._partial: dict[tuple, sp.Expr] = {}
         self._rate: dict[Intermediate, sp.Expr] = {}
         self._names: set[str] = set()
-        self._expanded: dict[Intermediate, sp.Expr] = {}
+        self._written: dict[Intermediate, sp.Expr] = {}   # definitions written out so far
 
     # ------------------------------------------------------------------ naming
     def _unique(self, label: str) -> str:
@@ -165,33 +208,17 @@ class Intermediates:
     def expand(self, expr) -> sp.Expr:
         """``expr`` with every intermediate replaced by its definition, recursively."""
         expr = sp.sympify(expr)
-        used = self._among(expr)
+        used = needed_definitions(self.definitions.items(), [expr])
         if not used:
             return expr
-        return expr.xreplace({s: self._expanded_of(s) for s in used})
+        written_out([(s, d) for s, d in used if s not in self._written], full=self._written)
+        return expr.xreplace({s: self._written[s] for s, _ in used})
 
-    def _expanded_of(self, s: Intermediate) -> sp.Expr:
-        if s not in self._expanded:
-            # definitions refer only to earlier ones: expand in creation order, no deep recursion
-            for k, e in self.definitions.items():
-                if k in self._expanded:
-                    continue
-                inner = [x for x in e.free_symbols if x in self.definitions]
-                self._expanded[k] = e.xreplace({x: self._expanded[x] for x in inner}) if inner else e
-                if k == s:
-                    break
-        return self._expanded[s]
+    def __getstate__(self):
+        state = dict(self.__dict__)
+        state["_written"] = {}      # a cache: not worth storing
+        return state
 
     def used_by(self, exprs) -> list[tuple[Intermediate, sp.Expr]]:
         """The definitions that ``exprs`` need, in evaluation order, as (symbol, expression) pairs."""
-        needed = set()
-        stack = []
-        for e in exprs:
-            stack += self._among(sp.sympify(e))
-        while stack:
-            s = stack.pop()
-            if s in needed:
-                continue
-            needed.add(s)
-            stack += self._among(self.definitions[s])
-        return [(s, e) for s, e in self.definitions.items() if s in needed]
+        return needed_definitions(self.definitions.items(), exprs)

@@ -168,18 +168,12 @@ def _needed_definitions(eom, exprs) -> list:
     ``eom.intermediates`` (absent: none) lists named intermediate quantities in evaluation order,
     each defined in terms of the earlier ones (see :mod:`flexkane.kane.intermediates`).
     """
-    definitions = list(getattr(eom, "intermediates", None) or [])
+    definitions = getattr(eom, "intermediates", None)
     if not definitions:
         return []
-    index = dict(definitions)
-    needed: set = set()
-    stack = [s for e in exprs for s in e.free_symbols if s in index]
-    while stack:
-        s = stack.pop()
-        if s not in needed:
-            needed.add(s)
-            stack += [x for x in index[s].free_symbols if x in index and x not in needed]
-    return [(s, e) for s, e in definitions if s in needed]
+    from flexkane.kane.intermediates import needed_definitions
+
+    return needed_definitions(definitions, exprs)
 
 
 def _assignments(values: list, definitions: list, subs: Mapping, printer, targets: list) -> list:
