@@ -129,3 +129,16 @@ def write_section(lines: list[str], section: str, path: Path | None = None) -> N
         following = text.find("\n## ", start + len(section))
         text = text[:start] + block + ("\n" + text[following + 1:] if following >= 0 else "")
     path.write_text(text, encoding="utf-8")
+
+
+def section_main(run, markdown, section: str) -> dict:
+    """Command line of a benchmark with a section of its own in RESULTS.md: ``run()`` measures,
+    ``markdown(result, machine)`` writes the section (printed; put into RESULTS.md with ``--write``)."""
+    machine = machine_info()
+    result = run()
+    lines = markdown(result, machine)
+    print("\n".join(lines))
+    if "--write" in sys.argv:
+        write_section(lines, section)
+        print("written: benchmarks/RESULTS.md")
+    return result

@@ -26,6 +26,7 @@ import os
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -89,7 +90,7 @@ def run(links=LINKS) -> dict:
         print(f"  k = {k:2d} ({row['speeds']} speeds, {row['intermediates']} intermediates): derive "
               f"{row['derive']:.2f} s, codegen {row['codegen']:.2f} s, compile {row['compile']:.2f} s, "
               f"total {row['total']:.2f} s, {row['operations']} operations per evaluation", flush=True)
-    return {"rows": rows, "load_average_end": os.getloadavg()[0]}
+    return {"rows": rows, "load_average_end": os.getloadavg()[0], "date": time.strftime("%Y-%m-%d")}
 
 
 def markdown(result: dict, machine: dict) -> list[str]:
@@ -100,8 +101,7 @@ def markdown(result: dict, machine: dict) -> list[str]:
           "`flexkane.derive(model, cache=False)`; *codegen*: the module source; *compile*: Numba, the "
           "model's functions; *per link*: the total's ratio to the previous row divided by the ratio of "
           "the link counts (1 = linear growth).", "",
-          f"Measured on {machine.get('date', '?')}: {machine.get('cpu') or machine.get('Model name', '?')}, "
-          f"{machine.get('cpus') or machine.get('CPU(s)', '?')} "
+          f"Measured on {result['date']}: {machine.get('Model name', '?')}, {machine.get('CPU(s)', '?')} "
           f"CPUs, load average {machine.get('load_average', float('nan')):.1f} at the start, "
           f"{result.get('load_average_end', float('nan')):.1f} at the end (the machine is shared).", "",
           "| links | speeds | intermediates | derive [s] | codegen [s] | compile [s] | total [s] | per link "
@@ -122,20 +122,10 @@ def markdown(result: dict, machine: dict) -> list[str]:
 
 def main() -> dict:
     sys.path.insert(0, str(HERE))
-    import time
-
     import _common
 
-    info = _common.machine_info()
-    machine = {"cpu": info.get("Model name", "?"), "cpus": info.get("CPU(s)", "?"),
-               "load_average": info["load_average"], "date": time.strftime("%Y-%m-%d")}
-    result = run(QUICK_LINKS if "--quick" in sys.argv else LINKS)
-    lines = markdown(result, machine)
-    print("\n".join(lines))
-    if "--write" in sys.argv:
-        _common.write_section(lines, SECTION)
-        print("written: benchmarks/RESULTS.md")
-    return result
+    return _common.section_main(lambda: run(QUICK_LINKS if "--quick" in sys.argv else LINKS), markdown,
+                                SECTION)
 
 
 if __name__ == "__main__":

@@ -34,7 +34,7 @@ from flexkane.numerics import build_module, codegen, compile_integrators, consta
 from flexkane.numerics.constant_block import prepared_parameters  # noqa: E402
 
 from _common import fmt_time, machine_info  # noqa: E402
-from recursive_yardstick import _calls_for, _time_flexkane  # noqa: E402
+from recursive_yardstick import _time_flexkane, alternate_medians  # noqa: E402
 
 MODES = (10, 20, 40)
 TARGET_S = 3.0   # issue 16: 40 modes at rtol 1e-8 in under 3 s
@@ -62,14 +62,7 @@ def _one_evaluation(modules, params, y, repeat: int = 9) -> list[float]:
     for module, p in zip(modules, params):
         dy = np.empty(y.shape[0])
         loops.append(lambda calls, m=module, p=p, dy=dy: _time_flexkane(m.rhs, 0.1, y, p, dy, calls))
-    calls = [_calls_for(loop) for loop in loops]
-    times: list[list[float]] = [[] for _ in loops]
-    for _ in range(repeat):
-        for loop, n_calls, out in zip(loops, calls, times):
-            tic = time.process_time()
-            loop(n_calls)
-            out.append((time.process_time() - tic) / n_calls)
-    return [float(np.median(t)) for t in times]
+    return alternate_medians(loops, repeat)
 
 
 def _run(module, y0, p, repeat: int = 2):

@@ -508,7 +508,13 @@ def time_one_evaluation(data: ChainData, fk=None, repeat: int = 9) -> tuple[floa
     count); the two loops are timed alternately, ``repeat`` times each, so both see the same load,
     and the median of each is returned.
     """
-    loops = [loop for loop in _loops(data, fk) if loop is not None]
+    medians = alternate_medians([loop for loop in _loops(data, fk) if loop is not None], repeat)
+    return medians[0], (medians[1] if fk is not None else None)
+
+
+def alternate_medians(loops, repeat: int = 9) -> list[float]:
+    """CPU time [s] of one call of each timing loop ``loop(calls)``: the loops are run alternately,
+    ``repeat`` times each, so that all see the same load; the median of each is returned."""
     calls = [_calls_for(loop) for loop in loops]
     times: list[list[float]] = [[] for _ in loops]
     for _ in range(repeat):
@@ -516,8 +522,7 @@ def time_one_evaluation(data: ChainData, fk=None, repeat: int = 9) -> tuple[floa
             tic = time.process_time()
             loop(n_calls)
             out.append((time.process_time() - tic) / n_calls)
-    medians = [float(np.median(t)) for t in times]
-    return medians[0], (medians[1] if fk is not None else None)
+    return [float(np.median(t)) for t in times]
 
 
 def fmt(seconds: float) -> str:

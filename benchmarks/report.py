@@ -268,7 +268,7 @@ def markdown(results) -> str:
     md += ["## Notes", "", NOTES]
     if "rows" in results.get("chain_scaling", {}):
         from chain_scaling import markdown as chain_markdown
-        md += [""] + chain_markdown(results["chain_scaling"], {**results.get("machine", {}), **info})
+        md += [""] + chain_markdown(results["chain_scaling"], info)
     if "rows" in results.get("startup", {}):
         from startup import markdown as startup_markdown
 

@@ -169,14 +169,7 @@ def main() -> dict:
     sys.path.insert(0, str(HERE))
     import _common
 
-    machine = _common.machine_info()
-    result = run(quick="--quick" in sys.argv)
-    lines = markdown(result, machine)
-    print("\n".join(lines))
-    if "--write" in sys.argv:
-        _common.write_section(lines, SECTION)
-        print("written: benchmarks/RESULTS.md")
-    return result
+    return _common.section_main(lambda: run(quick="--quick" in sys.argv), markdown, SECTION)
 
 
 if __name__ == "__main__":
