@@ -120,7 +120,6 @@ class EquationsOfMotion:
         sub = (lambda e: e.xreplace(subs)) if subs else (lambda e: e)
         free = [r for r, c in enumerate(coords) if c.driver is None]
         driven = [r for r, c in enumerate(coords) if c.driver is not None]
-        self._sub = sub
         self.q = [c.q for c in coords if c.driver != "coordinate"]
         self.u = [coords[r].u for r in free]
         self.ud = [chain.ud[u] for u in self.u]
@@ -200,7 +199,6 @@ class EquationsOfMotion:
         state = dict(self.__dict__)
         state["_expanded"] = None
         state["_forces_expanded"] = None
-        state.pop("_sub", None)
         return state
 
     def __setstate__(self, state):

@@ -100,8 +100,9 @@ class RigidProperties:
                                chain.name(self.K, f"K_{label}"))
 
 
-def _own_properties(kin: Kinematics, link: str, joint) -> RigidProperties:
-    """Properties of one link about its own frame (the child frame of the joint that carries it)."""
+def _own_properties(kin: Kinematics, link: str, joint, beam_a_rem: dict) -> RigidProperties:
+    """Properties of one link about its own frame (the child frame of the joint that carries it);
+    ``beam_a_rem``: the acceleration remainder field of every beam, by name."""
     chain = kin.chain
     model = chain.model
     if link in model.bodies:
@@ -118,7 +119,7 @@ def _own_properties(kin: Kinematics, link: str, joint) -> RigidProperties:
                                (m * ax, m * ay), m * (c[0] * ay - c[1] * ax) + inertia * alpha)
     bm = kin.beams[link]
     consts = bm.constants
-    a = kin.acceleration_remainder(bm.v, bm.frame.omega)
+    a = beam_a_rem[link]
     return RigidProperties(consts.pair(ONE, ONE), (consts.integrate1(bm.X), consts.integrate1(bm.Y)),
                            consts.integrate(bm.X, bm.X) + consts.integrate(bm.Y, bm.Y),
                            (consts.integrate1(a[0]), consts.integrate1(a[1])),
@@ -149,11 +150,12 @@ def generalized_inertia_forces(kin: Kinematics) -> InertiaForces:
     beyond: dict[str, set] = {}
     for j in reversed(joints):
         beyond[j.child] = {j.child}.union(*(beyond[c] for c in children.get(j.child, [])))
+    beam_a_rem = {name: kin.acceleration_remainder(bm.v, bm.frame.omega) for name, bm in kin.beams.items()}
     # composite properties, from the tips inwards, named at each link
     composite: dict[str, RigidProperties] = {}
     for j in reversed(joints):
         link = j.child
-        total = _own_properties(kin, link, j)
+        total = _own_properties(kin, link, j, beam_a_rem)
         for child in children.get(link, []):
             d, angle = kin.link_offsets[joint_of[child]]    # the child's frame in this link's frame
             total = total + composite[child].moved(d, angle)
@@ -203,7 +205,7 @@ def generalized_inertia_forces(kin: Kinematics) -> InertiaForces:
         if not own:
             continue
         V = [vec_map(bm.v, lambda c, u=u: chain.partial(c, u)) for u in speeds]
-        a_rem = kin.acceleration_remainder(bm.v, bm.frame.omega)
+        a_rem = beam_a_rem[name]
         active = [r for r in range(n) if not (V[r][0].is_zero() and V[r][1].is_zero())]
         for i, r in enumerate(active):
             for s in active[i:]:
