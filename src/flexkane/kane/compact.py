@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from .intermediates import Intermediate, written_out
+from .intermediates import written_out
 
 __all__ = ["CompactEquations"]
 
@@ -57,17 +57,8 @@ class CompactEquations:
         M, f, qdot, outputs = eom.mass_matrix, eom.forcing, eom.qdot, dict(eom.outputs)
         # every definition is kept (generated code takes those it needs): other expressions of the
         # kinematics (the spin of a beam's frame for the validity checks) may use any of them
-        definitions: dict = {}
-        stack = list(registry.definitions)
-        while stack:
-            s = stack.pop()
-            if s in definitions:
-                continue
-            d = sub(registry.definitions[s])
-            if dependent:
-                d = d.xreplace(dependent)
-            definitions[s] = d
-            stack += _among([d], registry.definitions)
+        definitions = {s: sub(d).xreplace(dependent) if dependent else sub(d)
+                       for s, d in registry.definitions.items()}
         order = {s: k for k, s in enumerate(registry.definitions)}
         return cls(_topological(definitions, order), M, f, qdot, outputs)
 
@@ -102,13 +93,6 @@ class CompactEquations:
         state = dict(self.__dict__)
         state.pop("_full_memo", None)
         return state
-
-
-def _among(exprs, definitions) -> list:
-    out = []
-    for e in exprs:
-        out += [s for s in sp.sympify(e).free_symbols if isinstance(s, Intermediate) and s in definitions]
-    return out
 
 
 def _topological(definitions: dict, order: dict) -> list:

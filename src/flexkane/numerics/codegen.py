@@ -23,6 +23,7 @@ a module with the imports and the integrator templates.
 
 from __future__ import annotations
 
+import heapq
 import keyword
 import re
 from collections.abc import Mapping, Sequence
@@ -206,8 +207,6 @@ def _evaluation_order(statements: list) -> list:
         for u in st.uses:
             if u in producers and producers[u] != k:
                 readers.setdefault(producers[u], []).append(k)
-    import heapq
-
     ready = [k for k, w in enumerate(waiting) if w == 0]
     heapq.heapify(ready)
     out = []
