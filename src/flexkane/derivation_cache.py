@@ -63,7 +63,7 @@ VALUE_FIELDS = tuple(re.compile(pattern) for pattern in (
     r"gravity\.g",
     r"bodies\.[^.]+\.(mass|inertia)",
     r"bodies\.[^.]+\.points\.[^.]+\[[01]\]",
-    r"beams\.[^.]+\.(EI|rho|EA)",
+    r"beams\.[^.]+\.(EI|rho|EA|rotary_inertia)",
     r"beams\.[^.]+\.damping\[\d+\]",
     r"joints\.[^.]+\.(angle|axis|stiffness|damping|rest)",
     r"joints\.[^.]+\.parent_position\[[01]\]",
@@ -88,6 +88,8 @@ _RUN_SOURCES = ("modes/*.py", "report.py", "validity.py", "run_manifest.py", "pl
 # ---------------------------------------------------------------------- structure signature
 def _value_class(value, parameters) -> list:
     """Class of a constant field as the derivation sees it (see ``FieldSymbols.value``)."""
+    if value is None:       # an optional field left out (a beam's rotary_inertia) adds no terms
+        return ["absent"]
     if isinstance(value, (int, float)) and not isinstance(value, bool) and value == 0:
         return ["zero"]
     if isinstance(value, str) and value.strip() in parameters:

@@ -364,6 +364,8 @@ def _atom_latex(atom) -> str:
         return rf"\Phi_{{{atom[1]}}}(x)"
     if kind == "psi":
         return rf"\Psi_{{{atom[1]}}}(x)"
+    if kind == "dphi":
+        return rf"\Phi_{{{atom[1]}}}'(x)"
     return rf"d_{{{atom[1]}{atom[2]}}}(x)"
 
 
@@ -403,6 +405,9 @@ def _kinematics(eom, names) -> list[tuple[str, list[str]]]:
         velocities.append(f"beam {name}: angular velocity of its frame $\\omega = {_latex(bm.frame.omega, names)}$, "
                           f"velocity of the point P at x along the beam axes (eq. 8.18) "
                           f"$({_field_latex(bm.v[0], names)},\\ {_field_latex(bm.v[1], names)})$")
+        if bm.rotation is not None:
+            velocities.append(f"beam {name}: angular velocity of the section at x (Rayleigh beam) "
+                              f"$\\omega_s = {_field_latex(bm.rotation, names)}$")
     partial = []
     for name, frame in kin.bodies.items():
         for u in speeds:
@@ -440,6 +445,10 @@ def _definition(spec) -> tuple[str, str]:
     kind = spec[0]
     if kind == "pair":
         return _pair_definition(spec[1], spec[2])
+    if kind == "rotary":
+        body = "".join(f + r"\," for f in (_atom_latex(spec[1]), _atom_latex(spec[2])) if f)
+        slopes = sum(1 for atom in spec[1:] if atom[0] == "dphi")
+        return rf"\int_0^L \rho I\,{body}dx", ("kg m^2", "kg m", "kg")[slopes]
     if kind == "H":
         return rf"\int_0^L EI\,\Phi_{{{spec[1]}}}''\,\Phi_{{{spec[2]}}}''\,dx", "N/m"
     if kind == "HA":

@@ -5,7 +5,12 @@ The chapter defines, below eq. 8.22,
     m_B = int rho dx,  e_B = int x rho dx,  I_B = int x^2 rho dx,
     E_i = int Phi_i rho dx,  F_i = int x Phi_i rho dx,  G_ij = int Phi_i Phi_j rho dx,
 
-and in eq. 8.32 ``H_ij = int EI Phi_i'' Phi_j'' dx``. :class:`BeamConstants` hands out such symbols
+and in eq. 8.32 ``H_ij = int EI Phi_i'' Phi_j'' dx``. For a Rayleigh beam (rotary inertia of the
+sections, weight ``rho_I`` [kg m] instead of ``rho``) it adds
+
+    Ir_B = int rho_I dx,  Er_i = int rho_I Phi_i' dx,  Gr_ij = int rho_I Phi_i' Phi_j' dx.
+
+:class:`BeamConstants` hands out such symbols
 for the integral over the beam of the product of any two atoms of :mod:`flexkane.kane.modal_field`
 (and of single atoms, for distributed gravity), records which ones a derivation used, and computes
 their values by Gauss-Legendre quadrature for given L [m], rho [kg/m], EI [N m^2].
@@ -91,6 +96,28 @@ class BeamConstants:
             name = self._modal("DD", *(a[1:] + b[1:]))
         return self._symbol(("pair", a, b), name)
 
+    def rotary(self, a: Atom, b: Atom) -> sp.Symbol:
+        """``int_0^L rho_I a(x) b(x) dx`` for atoms ``ONE`` and ``dphi(i)`` (Rayleigh beam)."""
+        a, b = sorted((a, b), key=atom_order)
+        kinds = (a[0], b[0])
+        if kinds == ("1", "1"):
+            name = f"Ir_{self.name}"
+        elif kinds == ("1", "dphi"):
+            name = self._modal("Er", b[1])
+        elif kinds == ("dphi", "dphi"):
+            name = self._modal("Gr", a[1], b[1])
+        else:
+            raise ValueError(f"no rotary-inertia constant for the atoms {a!r}, {b!r}")
+        return self._symbol(("rotary", a, b), name)
+
+    def rotary_integrate(self, f: Field, g: Field) -> sp.Expr:
+        """``int_0^L rho_I f(x) g(x) dx`` for two fields of the atoms ``ONE`` and ``dphi(i)``."""
+        return sp.Add(*[ca * cb * self.rotary(a, b) for a, ca in f.items() for b, cb in g.items()])
+
+    def rotary_integrate1(self, f: Field) -> sp.Expr:
+        """``int_0^L rho_I f(x) dx``."""
+        return sp.Add(*[c * self.rotary(ONE, a) for a, c in f.items()])
+
     def single(self, a: Atom) -> sp.Symbol:
         """``int_0^L rho a(x) dx`` (equal to :meth:`pair` with ``ONE``)."""
         return self.pair(ONE, a)
@@ -134,7 +161,7 @@ class BeamConstants:
             return sp.Integer(1) if deriv == 0 else sp.Integer(0)
         if atom == X:
             return x if deriv == 0 else (sp.Integer(1) if deriv == 1 else sp.Integer(0))
-        stem = {"phi": "Phi", "psi": "Psi", "d": "d"}[atom[0]] + "'" * deriv
+        stem = {"phi": "Phi", "psi": "Psi", "d": "d", "dphi": "Phi'"}[atom[0]] + "'" * deriv
         name = f"{self._modal(stem, *atom[1:])}({text})"
         return self._symbol(("station", atom, deriv, x), name)
 
@@ -150,7 +177,7 @@ class BeamConstants:
         label : str
             Names the load and its profile in the symbol (``K_wind_y1_Phi1``).
         """
-        stem = {"1": "1", "x": "x", "phi": "Phi", "psi": "Psi", "d": "d"}[atom[0]]
+        stem = {"1": "1", "x": "x", "phi": "Phi", "psi": "Psi", "d": "d", "dphi": "dPhi"}[atom[0]]
         name = f"K_{label}_{stem}{_idx(*atom[1:]) if len(atom) > 1 else ''}"
         return self._symbol(("load", atom, profile), name)
 
@@ -167,7 +194,7 @@ class BeamConstants:
     # ------------------------------------------------------------------ numbers
     def values(self, *, L: float, rho: float, EI: float, family, n: int, EA: float | None = None,
                axial_family=None, n_axial: int = 0, station_values: dict | None = None,
-               profiles: dict | None = None) -> dict:
+               profiles: dict | None = None, rotary_inertia: float | None = None) -> dict:
         """Numeric value of every constant used.
 
         Parameters
@@ -187,6 +214,9 @@ class BeamConstants:
         profiles : dict, optional
             For each x-profile of a distributed load used, a function of x [m] (array (m,) to
             array (m,)) with the parameters' values substituted.
+        rotary_inertia : float, optional
+            Mass moment of inertia of the section per unit length ``rho_I`` [kg m] (Rayleigh
+            beam), required when a rotary constant is used.
 
         Returns
         -------
@@ -200,6 +230,8 @@ class BeamConstants:
             kind = spec[0]
             if kind == "pair":
                 out[symbol] = rho * ev.integral(spec[1], spec[2])
+            elif kind == "rotary":
+                out[symbol] = rotary_inertia * ev.integral(spec[1], spec[2])
             elif kind == "H":
                 out[symbol] = EI * ev.derivative_integral(("phi", spec[1]), ("phi", spec[2]), 2)
             elif kind == "HA":

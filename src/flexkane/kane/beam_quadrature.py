@@ -87,6 +87,8 @@ class AtomEvaluator:
             return self._phi(xi, deriv)[atom[1] - 1]
         if kind == "psi":
             return self._psi(xi, deriv)[atom[1] - 1]
+        if kind == "dphi":
+            return self._phi(xi, deriv + 1)[atom[1] - 1]
         if kind == "d":
             if deriv == 0:
                 return self._dfs(atom[1], atom[2], xi)

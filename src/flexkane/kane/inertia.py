@@ -23,6 +23,12 @@ its own plus those of the links attached to it, moved to its frame: named interm
 from the tips of the chain inwards. Each entry of M then costs a few operations whatever the
 length of the chain. The terms of a beam's own modal speeds (which deform it rather than move it
 rigidly) are integrated over that beam alone, with its modal constants (eq. 8.22).
+
+A Rayleigh beam's sections also turn, at ``w_s(x) = w_B + sum_i Phi_i'(x) q_i'``, with the mass
+moment of inertia ``rho_I`` per unit length: F*_r gains ``-int rho_I w_s,r alpha_s dx``. A speed
+that moves the beam rigidly turns every section by ``W_r``, so the beam's composite moment of
+inertia gains ``int rho_I dx`` and its moment ``K`` gains ``int rho_I alpha_s,rem dx``; the rows of
+its own modal speeds gain ``int rho_I w_s,r w_s,s dx`` and ``int rho_I w_s,r alpha_s,rem dx``.
 """
 
 from __future__ import annotations
@@ -100,9 +106,11 @@ class RigidProperties:
                                chain.name(self.K, f"K_{label}"))
 
 
-def _own_properties(kin: Kinematics, link: str, joint, beam_a_rem: dict) -> RigidProperties:
+def _own_properties(kin: Kinematics, link: str, joint, beam_a_rem: dict,
+                    beam_alpha_rem: dict) -> RigidProperties:
     """Properties of one link about its own frame (the child frame of the joint that carries it);
-    ``beam_a_rem``: the acceleration remainder field of every beam, by name."""
+    ``beam_a_rem``: the acceleration remainder field of every beam, by name; ``beam_alpha_rem``:
+    the angular acceleration remainder of the sections of every Rayleigh beam, by name."""
     chain = kin.chain
     model = chain.model
     if link in model.bodies:
@@ -120,10 +128,15 @@ def _own_properties(kin: Kinematics, link: str, joint, beam_a_rem: dict) -> Rigi
     bm = kin.beams[link]
     consts = bm.constants
     a = beam_a_rem[link]
-    return RigidProperties(consts.pair(ONE, ONE), (consts.integrate1(bm.X), consts.integrate1(bm.Y)),
-                           consts.integrate(bm.X, bm.X) + consts.integrate(bm.Y, bm.Y),
-                           (consts.integrate1(a[0]), consts.integrate1(a[1])),
-                           consts.integrate(bm.X, a[1]) - consts.integrate(bm.Y, a[0]))
+    own = RigidProperties(consts.pair(ONE, ONE), (consts.integrate1(bm.X), consts.integrate1(bm.Y)),
+                          consts.integrate(bm.X, bm.X) + consts.integrate(bm.Y, bm.Y),
+                          (consts.integrate1(a[0]), consts.integrate1(a[1])),
+                          consts.integrate(bm.X, a[1]) - consts.integrate(bm.Y, a[0]))
+    if link in beam_alpha_rem:    # the sections' rotation (Rayleigh beam)
+        zero = sp.Integer(0)
+        own = own + RigidProperties(zero, (zero, zero), consts.rotary(ONE, ONE), (zero, zero),
+                                    consts.rotary_integrate1(beam_alpha_rem[link]))
+    return own
 
 
 def generalized_inertia_forces(kin: Kinematics) -> InertiaForces:
@@ -151,11 +164,13 @@ def generalized_inertia_forces(kin: Kinematics) -> InertiaForces:
     for j in reversed(joints):
         beyond[j.child] = {j.child}.union(*(beyond[c] for c in children.get(j.child, [])))
     beam_a_rem = {name: kin.acceleration_remainder(bm.v, bm.frame.omega) for name, bm in kin.beams.items()}
+    beam_alpha_rem = {name: bm.rotation.map(chain.dt) for name, bm in kin.beams.items()
+                      if bm.rotation is not None}
     # composite properties, from the tips inwards, named at each link
     composite: dict[str, RigidProperties] = {}
     for j in reversed(joints):
         link = j.child
-        total = _own_properties(kin, link, j, beam_a_rem)
+        total = _own_properties(kin, link, j, beam_a_rem, beam_alpha_rem)
         for child in children.get(link, []):
             d, angle = kin.link_offsets[joint_of[child]]    # the child's frame in this link's frame
             total = total + composite[child].moved(d, angle)
@@ -213,6 +228,15 @@ def generalized_inertia_forces(kin: Kinematics) -> InertiaForces:
                     M[r][s] += consts.integrate(V[r][0], V[s][0]) + consts.integrate(V[r][1], V[s][1])
             if speeds[r] in own:
                 rem[r] += consts.integrate(V[r][0], a_rem[0]) + consts.integrate(V[r][1], a_rem[1])
+        if bm.rotation is not None:   # the sections' rotation (Rayleigh beam)
+            W = [bm.rotation.map(lambda c, u=u: chain.partial(c, u)) for u in speeds]
+            turning = [r for r in range(n) if not W[r].is_zero()]
+            for i, r in enumerate(turning):
+                for s in turning[i:]:
+                    if speeds[r] in own or speeds[s] in own:
+                        M[r][s] += consts.rotary_integrate(W[r], W[s])
+                if speeds[r] in own:
+                    rem[r] += consts.rotary_integrate(W[r], beam_alpha_rem[name])
     for r in range(n):
         for s in range(r):
             M[r][s] = M[s][r]

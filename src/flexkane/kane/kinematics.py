@@ -12,7 +12,8 @@ from the root (eq. 8.18):
     r_P = r_Q + X(x) b1 + Y(x) b2,   v_P = v_Q + w_B x (X, Y) + (X', Y'),
 
 with ``Y = sum_i Phi_i q_i`` (eq. 8.15), ``X = x + sum_k Psi_k s_k`` for axial modes and
-``- 1/2 sum_ij d_ij q_i q_j`` for the foreshortening (geometric stiffening). Accelerations are
+``- 1/2 sum_ij d_ij q_i q_j`` for the foreshortening (geometric stiffening). The section at x of a
+Rayleigh beam turns at ``w_B + sum_i Phi_i'(x) q_i'`` (``BeamMotion.rotation``). Accelerations are
 ``a = sum_r v_r u_r' + a_rem`` with ``a_rem`` = (time derivative of the components without the u'
 terms) + ``w x v`` (eq. 8.21).
 """
@@ -27,8 +28,8 @@ from ..model.parts import Beam, Joint
 from .beam_constants import BeamConstants
 from .chain import Chain
 from .intermediates import FRAME_NAME_ABOVE
-from .modal_field import (ONE, X, Field, Vec, cross_z, dfs, phi, psi, rigid, rotate, vec, vec_add,
-                          vec_map)
+from .modal_field import (ONE, X, Field, Vec, cross_z, dfs, dphi, phi, psi, rigid, rotate, vec,
+                          vec_add, vec_map)
 
 __all__ = ["FrameMotion", "BeamMotion", "Kinematics", "rot"]
 
@@ -100,6 +101,10 @@ class BeamMotion:
         Position of the point at x, along and across the undeformed axis [m].
     v : Vec
         Velocity of the point at x in N, along the beam frame's axes [m/s] (eq. 8.18).
+    rotation : Field or None
+        Angular velocity of the section at x about k0, ``omega_B + sum_i Phi_i'(x) q_i'``
+        [rad/s], for a Rayleigh beam (``rotary_inertia`` given and not a literal zero); None for
+        an Euler-Bernoulli beam, whose sections' rotation carries no kinetic energy.
     """
 
     beam: Beam
@@ -108,6 +113,7 @@ class BeamMotion:
     X: Field
     Y: Field
     v: Vec
+    rotation: Field | None = None
 
 
 class Kinematics:
@@ -288,12 +294,24 @@ class Kinematics:
             Xf, Yf = self._beam_fields(beam)
             pv = (Xf, Yf)
             v = vec_add(vec_add(vec(*child.v), cross_z(child.omega, pv)), vec_map(pv, chain.dt))
-            self.beams[beam.name] = BeamMotion(beam, child, self.constants[beam.name], Xf, Yf, v)
+            rotation = None
+            if has_rotary_inertia(beam):
+                slope = Field({dphi(i + 1): q for i, q in enumerate(chain.beam_modes(beam.name))})
+                rotation = rigid(child.omega) + slope.map(chain.dt)
+            self.beams[beam.name] = BeamMotion(beam, child, self.constants[beam.name], Xf, Yf, v, rotation)
 
     # ------------------------------------------------------------------ accelerations
     def acceleration_remainder(self, v: Vec, omega) -> Vec:
         """The part of the acceleration that does not multiply u' (eq. 8.21 without u' terms)."""
         return vec_add(vec_map(v, self.chain.dt), cross_z(omega, v))
+
+
+def has_rotary_inertia(beam: Beam) -> bool:
+    """Whether a beam is a Rayleigh beam: ``rotary_inertia`` given and not a literal zero (a literal
+    zero adds no terms, as every zero field, so the equations equal those without the field)."""
+    value = beam.rotary_inertia
+    return value is not None and not (isinstance(value, (int, float)) and not isinstance(value, bool)
+                                      and value == 0)
 
 
 def rigid_vec(v: tuple) -> Vec:

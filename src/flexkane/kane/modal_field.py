@@ -3,22 +3,26 @@
 Along a beam, every kinematic quantity of eqs. 8.18-8.21 is a finite sum ``sum_a c_a(q, u, t) f_a(x)``
 whose *atoms* ``f_a`` are fixed functions of x:
 
-========== ====================================== ===============================
-atom       function of x                          origin
-========== ====================================== ===============================
-``ONE``    1                                      rigid motion of the beam frame
-``X``      x                                      position along the undeformed axis
-``phi(i)`` Phi_i(x)                               transverse shape functions (8.15)
-``psi(k)`` Psi_k(x)                               axial shape functions
-``d(i,j)`` int_0^x Phi_i' Phi_j' dxi              foreshortening (geometric stiffening)
-========== ====================================== ===============================
+=========== ====================================== ===============================
+atom        function of x                          origin
+=========== ====================================== ===============================
+``ONE``     1                                      rigid motion of the beam frame
+``X``       x                                      position along the undeformed axis
+``phi(i)``  Phi_i(x)                               transverse shape functions (8.15)
+``psi(k)``  Psi_k(x)                               axial shape functions
+``d(i,j)``  int_0^x Phi_i' Phi_j' dxi              foreshortening (geometric stiffening)
+``dphi(i)`` Phi_i'(x)                              slope of the section (Rayleigh beams)
+=========== ====================================== ===============================
 
 Integrating the product of two such sums over the beam, as eq. 8.22 does, needs only the integrals of
 products of atoms, which are the modal constants (``m_B, e_B, I_B, E_i, F_i, G_ij``). So the
 generalized inertia forces are obtained by algebra on the coefficients, with the constants as
 symbols: no symbolic integration over x ever happens.
 
-A rigid quantity is a field with the single atom ``ONE``.
+A rigid quantity is a field with the single atom ``ONE``. The angular velocity of the section of a
+Rayleigh beam at x, ``omega_B + sum_i Phi_i'(x) q_i'``, is a scalar field of the atoms ``ONE`` and
+``dphi(i)``; its products are integrated with the weight ``rho_I`` (the section's mass moment of
+inertia per unit length) instead of ``rho``.
 """
 
 from __future__ import annotations
@@ -27,7 +31,7 @@ from typing import Callable, Iterable
 
 import sympy as sp
 
-__all__ = ["Atom", "ONE", "X", "phi", "psi", "dfs", "Field", "Vec", "vec", "rigid", "dot_fields"]
+__all__ = ["Atom", "ONE", "X", "phi", "psi", "dfs", "dphi", "Field", "Vec", "vec", "rigid", "dot_fields"]
 
 #: An atom: a tuple whose first item names the kind (see the module docstring).
 Atom = tuple
@@ -50,9 +54,14 @@ def dfs(i: int, j: int) -> Atom:
     return ("d", min(i, j), max(i, j))
 
 
+def dphi(i: int) -> Atom:
+    """Slope Phi_i'(x) [1/m] of transverse shape function i (1-based): the section's rotation."""
+    return ("dphi", i)
+
+
 def atom_order(atom: Atom) -> tuple:
     """A total order on atoms (for deterministic output)."""
-    kinds = {"1": 0, "x": 1, "phi": 2, "psi": 3, "d": 4}
+    kinds = {"1": 0, "x": 1, "phi": 2, "psi": 3, "d": 4, "dphi": 5}
     return (kinds[atom[0]],) + tuple(atom[1:])
 
 

@@ -77,7 +77,9 @@ def constant_values(eom, model=None) -> dict:
                     L=fields.value(beam.L, f"{path}.L"), rho=fields.value(beam.rho, f"{path}.rho"),
                     EI=fields.value(beam.EI, f"{path}.EI"), family=family, n=beam.n_modes,
                     EA=fields.value(beam.EA, f"{path}.EA") if beam.EA is not None else None,
-                    axial_family=axial, n_axial=beam.n_axial, station_values=stations, profiles=profiles)
+                    axial_family=axial, n_axial=beam.n_axial, station_values=stations, profiles=profiles,
+                    rotary_inertia=(fields.value(beam.rotary_inertia, f"{path}.rotary_inertia")
+                                    if beam.rotary_inertia is not None else None))
             except (OverflowError, FloatingPointError, ValueError) as exc:
                 raise ModelError(path, "values of L, rho, EI (and EA) whose modal constants are finite",
                                  f"{exc}") from None

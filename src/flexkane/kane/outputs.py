@@ -3,7 +3,8 @@
 Names of the outputs (columns of results files):
 
 * ``kinetic``, ``potential_gravity``, ``strain``, ``potential_springs``, ``energy`` [J]:
-  kinetic energy ``1/2 sum m v.v + 1/2 I w^2 + 1/2 int rho v_P.v_P dx``, gravity potential
+  kinetic energy ``1/2 sum m v.v + 1/2 I w^2 + 1/2 int rho v_P.v_P dx`` (``+ 1/2 int rho_I w_s^2 dx``
+  for the turning sections of a Rayleigh beam), gravity potential
   ``-sum m g.r - int rho g.r_P dx`` (or the whole weight at the deformed midpoint for ``midpoint``
   beams), strain energy ``1/2 q^T H q`` (eq. 8.32) plus axial, spring energy, and their sum;
 * ``power_nonconservative`` [W]: power of drivers (their efforts, constraint forces of closed loops
@@ -77,6 +78,9 @@ def output_expressions(eom) -> dict:
         r_local = rot(-fr.theta, fr.r)
         h_origin.append(_cross(r_local, mom_local)
                         + c.integrate(bm.X, v[1]) - c.integrate(bm.Y, v[0]))
+        if bm.rotation is not None:   # the sections' own rotation (Rayleigh beam)
+            kinetic.append(c.rotary_integrate(bm.rotation, bm.rotation) / 2)
+            h_origin.append(c.rotary_integrate1(bm.rotation))
         out[f"x_{name}"], out[f"y_{name}"], out[f"theta_{name}"] = fr.r[0], fr.r[1], fr.theta
         L = kin.value(f"beams.{name}.L", bm.beam.L, f"L_{name}")
         text = bm.beam.L.strip() if isinstance(bm.beam.L, str) else repr(bm.beam.L)

@@ -16,8 +16,9 @@ MODAL_STEMS = {
     "D": "int rho d dx", "Dx": "int rho x d dx", "Dphi": "int rho Phi_i d dx",
     "Dpsi": "int rho Psi_k d dx", "DD": "int rho d d dx", "J": "int Phi_i'''' dx",
     "Jx": "int x Phi_i'''' dx", "JPhi": "int Phi_j Phi_i'''' dx",
+    "Er": "int rho_I Phi_i' dx", "Gr": "int rho_I Phi_i' Phi_j' dx",
 }
-_MASS_NAMES = {"m": "int rho dx", "e": "int rho x dx", "I": "int rho x^2 dx"}
+_MASS_NAMES = {"m": "int rho dx", "e": "int rho x dx", "I": "int rho x^2 dx", "Ir": "int rho_I dx"}
 
 
 def generated_constant(name: str, beam: str, label: str) -> str | None:

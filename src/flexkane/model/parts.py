@@ -82,7 +82,9 @@ class Beam:
 
     The beam frame has its origin at the root (x = 0, the point Q of Fig. 8.2) and its x axis along
     the undeformed beam. A point at distance x from the root is displaced by
-    ``y(x, t) = sum_i Phi_i(x) q_i(t)`` along the beam frame's y axis.
+    ``y(x, t) = sum_i Phi_i(x) q_i(t)`` along the beam frame's y axis. With ``rotary_inertia`` it is
+    a Rayleigh beam: the section at x turns with the frame and the slope ``y'(x, t)``, and its
+    rotation carries kinetic energy.
 
     Parameters
     ----------
@@ -114,6 +116,10 @@ class Beam:
         Number of axial shape functions.
     axial_shape : ShapeSpec, optional
         Axial shape-function family.
+    rotary_inertia : Value, optional
+        Mass moment of inertia of the section about its neutral axis per unit length, ``rho I``
+        [kg m] (Rayleigh beam); absent, the sections' rotation carries no kinetic energy
+        (Euler-Bernoulli beam).
     """
 
     name: str
@@ -129,6 +135,7 @@ class Beam:
     EA: Value | None = None
     n_axial: int = 0
     axial_shape: ShapeSpec | None = None
+    rotary_inertia: Value | None = None
 
 
 @dataclass

@@ -45,7 +45,7 @@ _TOP_KEYS = ("name", "description", "naming", "parameters", "bodies", "beams", "
              "loads", "distributed_loads", "springs", "constraints", "initial", "simulation", "sweep")
 _BODY_KEYS = ("mass", "inertia", "points", "outline")
 _BEAM_KEYS = ("L", "EI", "rho", "n_modes", "shape", "damping", "gravity", "elastic_forces",
-              "geometric_stiffening", "EA", "n_axial", "axial_shape")
+              "geometric_stiffening", "EA", "n_axial", "axial_shape", "rotary_inertia")
 _SHAPE_KEYS = ("family", "roots")  # plus the options of the family, checked by the family
 _JOINT_KEYS = ("type", "parent", "child", "parent_point", "parent_position", "station", "child_point",
                "angle", "axis", "coordinates", "speeds", "stiffness", "damping", "rest", "torque", "driver")
@@ -160,7 +160,8 @@ def _model_from_dict(data: dict) -> Model:
             damping=damping if isinstance(damping, list) else [damping],
             gravity=beam.get("gravity", "distributed"), elastic_forces=beam.get("elastic_forces", "strain-energy"),
             geometric_stiffening=beam.get("geometric_stiffening", False), EA=beam.get("EA"), n_axial=n_axial,
-            axial_shape=_shape(beam, "axial_shape", path, "axial-fixed-free" if n_axial else None))
+            axial_shape=_shape(beam, "axial_shape", path, "axial-fixed-free" if n_axial else None),
+            rotary_inertia=beam.get("rotary_inertia"))
     for name, joint in _parts(data, "joints", _JOINT_KEYS).items():
         path = f"joints.{name}"
         driver = None
@@ -320,6 +321,8 @@ def model_to_dict(model: Model) -> dict:
         if b.n_axial:
             t["n_axial"] = b.n_axial
             t["axial_shape"] = _shape_out(b.axial_shape)
+        if b.rotary_inertia is not None:
+            t["rotary_inertia"] = b.rotary_inertia
         beams[b.name] = t
     if beams:
         out["beams"] = beams

@@ -369,6 +369,9 @@ def _check_beam(beam: Beam, values: _Values) -> float:
             raise ModelError(f"{path}.axial_shape", "an axial shape family (required with n_axial > 0)",
                              None, show_given=False)
         _check_shape_spec(f"{path}.axial_shape", beam.axial_shape, values)
+    if beam.rotary_inertia is not None:
+        values.non_negative(f"{path}.rotary_inertia", beam.rotary_inertia,
+                            "mass moment of inertia of the section per unit length, rho I", "kg m")
     if beam.elastic_forces == "shear-moment" and (beam.geometric_stiffening or n_axial):
         raise ModelError(f"{path}.elastic_forces", "'strain-energy' with geometric_stiffening or axial modes",
                          beam.elastic_forces)
@@ -778,8 +781,9 @@ def _family(spec: ShapeSpec, path: str, n: int, kind: str, values: _Values) -> N
             hint = _suggest(option, words)
         raise ModelError(exc.path, exc.expected, exc.given, hint) from None
     if family.kind != kind and spec.family != "expression":   # user expressions serve either use
-        raise ModelError(f"{path}.family", f"the name of {'an axial' if kind == 'axial' else 'a transverse'}"
-                         " shape-function family", spec.family)
+        raise ModelError(f"{path}.family", f"the name of {'an axial' if kind == 'axial' else 'a ' + kind}"
+                         " shape-function family", spec.family,
+                         f"{spec.family!r} is a family of {family.kind} shape functions")
     if family.max_modes is not None and n > family.max_modes:
         count = path.rsplit(".", 1)[0] + (".n_axial" if kind == "axial" else ".n_modes")
         raise ModelError(count, f"at most {family.max_modes} shape function(s): as many as family "
