@@ -160,7 +160,7 @@ def test_registry_lists_every_family_named_in_the_design():
     assert set(family_names()) == {
         "clamped-free", "pinned-free", "pinned-pinned", "clamped-pinned", "clamped-clamped",
         "free-free", "clamped-free-tip-mass", "polynomial", "expression", "axial-fixed-free",
-        "axial-fixed-fixed"}
+        "axial-fixed-fixed", "torsion-clamped-free", "torsion-clamped-clamped", "torsion-free-free"}
 
 
 def test_unknown_family_name_lists_the_valid_names():

@@ -5,7 +5,7 @@ Example::
     flexkane modes clamped-free --n 4 --L 1 --EI 35.3 --rho 0.21991
 
 prints ``i, lambda_i`` and, when ``--L``, ``--EI`` (``--EA`` for an axial family) and ``--rho``
-are all given, ``p_i`` [rad/s] (eq. 8.7) and ``f_i = p_i / (2 pi)`` [Hz]; it writes
+(``--GJ`` and ``--rhoIp`` for a torsion family) are all given, ``p_i`` [rad/s] (eq. 8.7) and ``f_i = p_i / (2 pi)`` [Hz]; it writes
 ``modes-<family>.png`` to ``--out DIR`` (default ``out/modes-<family>``; a non-empty directory needs
 ``--force``). For ``polynomial`` and ``expression`` families, which have no
 eigenvalues, the table shows the Rayleigh-Ritz values (``H v = p^2 G v``).
@@ -137,24 +137,30 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--EI", type=float, default=None, help="flexural rigidity [N m^2]")
     parser.add_argument("--EA", type=float, default=None, help="axial rigidity [N] (axial families)")
     parser.add_argument("--rho", type=float, default=None, help="mass per unit length [kg/m]")
+    parser.add_argument("--GJ", type=float, default=None, help="torsional rigidity [N m^2] (torsion families)")
+    parser.add_argument("--rhoIp", type=float, default=None,
+                        help="polar mass moment of inertia of the section per unit length [kg m] "
+                             "(torsion families)")
     add_out_arguments(parser, "out/modes-FAMILY")
     parser.set_defaults(handler=run)
 
 
-def _physical(args: argparse.Namespace, axial: bool) -> tuple[float, float, float] | None:
-    rigidity = ("--EA", args.EA, "the axial rigidity [N]") if axial else \
-        ("--EI", args.EI, "the flexural rigidity [N m^2]")
-    given = [("--L", args.L, "the length of the beam [m]"), rigidity,
-             ("--rho", args.rho, "the mass per unit length [kg/m]")]
+def _physical(args: argparse.Namespace, kind: str) -> tuple[float, float, float] | None:
+    rigidity = {"axial": ("--EA", args.EA, "the axial rigidity [N]"),
+                "torsion": ("--GJ", args.GJ, "the torsional rigidity [N m^2]")}.get(
+        kind, ("--EI", args.EI, "the flexural rigidity [N m^2]"))
+    inertia = ("--rhoIp", args.rhoIp, "the polar mass moment of inertia of the section per unit length"
+               " [kg m]") if kind == "torsion" else ("--rho", args.rho, "the mass per unit length [kg/m]")
+    given = [("--L", args.L, "the length of the beam [m]"), rigidity, inertia]
     if all(value is None for _, value, _ in given):
         return None
     for flag, value, what in given:
         if value is None:
             raise ModelError(flag, what, None, show_given=False,
-                             hint=f"frequencies need --L, {rigidity[0]} and --rho together")
+                             hint=f"frequencies need --L, {rigidity[0]} and {inertia[0]} together")
         if not math.isfinite(value) or value <= 0.0:
             raise ModelError(flag, f"{what}, a positive number", value)
-    return args.L, given[1][1], args.rho
+    return args.L, given[1][1], given[2][1]
 
 
 def _table(family, n: int, physical: tuple[float, float, float] | None) -> list[str]:
@@ -163,7 +169,7 @@ def _table(family, n: int, physical: tuple[float, float, float] | None) -> list[
     from ..modes.free_vibration import rayleigh_ritz_frequencies
 
     lam = family.roots(n)
-    symbol = "beta_i" if family.kind == "axial" else "lambda_i"
+    symbol = "beta_i" if family.kind in ("axial", "torsion") else "lambda_i"
     note = ""
     if lam is None:
         # Ritz values of the dimensionless problem: p L^2 sqrt(rho/EI) = lambda^2
@@ -176,7 +182,7 @@ def _table(family, n: int, physical: tuple[float, float, float] | None) -> list[
     header = f"{'i':>4}  {symbol:>20}"
     if physical is not None:
         L, stiffness, rho = physical
-        if family.kind == "axial":
+        if family.kind in ("axial", "torsion"):
             p = family.frequencies(n, L, stiffness, rho)
         else:
             p = (lam / L) ** 2 * math.sqrt(stiffness / rho)
@@ -223,7 +229,7 @@ def run(args: argparse.Namespace) -> int:
     n = args.n if args.n is not None else min(4, family.max_modes or 4)
     if family.max_modes is not None and n > family.max_modes:
         raise ModelError("--n", f"at most {family.max_modes} modes for this family", n)
-    physical = _physical(args, family.kind == "axial")
+    physical = _physical(args, family.kind)
     directory = output_directory(args, "modes", family.name)
     for line in _table(family, n, physical):
         print(line)

@@ -7,20 +7,23 @@ for a beam on a fixed base.
 
 Families (``get_family`` names and options):
 
-=========================  ==========================================================
-``clamped-free``           the chapter's cantilever, eqs. 8.4 and 8.6; option ``roots``
-                           (``lambda_i`` as typed, e.g. ``[1.875]``)
-``pinned-free``            elastic modes; rigid rotation about the pin in ``rigid_modes``
-``pinned-pinned``          ``sqrt(2) sin(i pi xi)``
-``clamped-pinned``         ``tan l = tanh l``
-``clamped-clamped``        ``cos l cosh l = 1``
-``free-free``              elastic modes; two rigid modes in ``rigid_modes``
-``clamped-free-tip-mass``  options ``mass_ratio = M/(rho L)``, ``inertia_ratio = J/(rho L^3)``
-``polynomial``             Rayleigh-Ritz ``xi^(k+1)``, ``k = 1..n``
-``expression``             options ``expressions`` (SymPy, in ``xi``), ``boundary``
-``axial-fixed-free``       ``sqrt(2) sin((2k-1) pi xi / 2)``, axial deformation
-``axial-fixed-fixed``      ``sqrt(2) sin(k pi xi)``, axial deformation
-=========================  ==========================================================
+===========================  ==========================================================
+``clamped-free``             the chapter's cantilever, eqs. 8.4 and 8.6; option ``roots``
+                             (``lambda_i`` as typed, e.g. ``[1.875]``)
+``pinned-free``              elastic modes; rigid rotation about the pin in ``rigid_modes``
+``pinned-pinned``            ``sqrt(2) sin(i pi xi)``
+``clamped-pinned``           ``tan l = tanh l``
+``clamped-clamped``          ``cos l cosh l = 1``
+``free-free``                elastic modes; two rigid modes in ``rigid_modes``
+``clamped-free-tip-mass``    options ``mass_ratio = M/(rho L)``, ``inertia_ratio = J/(rho L^3)``
+``polynomial``               Rayleigh-Ritz ``xi^(k+1)``, ``k = 1..n``
+``expression``               options ``expressions`` (SymPy, in ``xi``), ``boundary``
+``axial-fixed-free``         ``sqrt(2) sin((2k-1) pi xi / 2)``, axial deformation
+``axial-fixed-fixed``        ``sqrt(2) sin(k pi xi)``, axial deformation
+``torsion-clamped-free``     ``sqrt(2) sin((2k-1) pi xi / 2)``, torsion
+``torsion-clamped-clamped``  ``sqrt(2) sin(k pi xi)``, torsion
+``torsion-free-free``        ``sqrt(2) cos(k pi xi)``, torsion; rigid rotation in ``rigid_modes``
+===========================  ==========================================================
 """
 
 from __future__ import annotations
@@ -33,6 +36,7 @@ from .base import RigidMode, ShapeFamily
 from .expression import Expression
 from .polynomial import Polynomial
 from .tip_mass import ClampedFreeTipMass
+from .torsion import TorsionClampedClamped, TorsionClampedFree, TorsionFreeFree
 from .transverse import (ClampedClamped, ClampedFree, ClampedPinned, FreeFree, PinnedFree,
                          PinnedPinned)
 
@@ -41,7 +45,8 @@ __all__ = ["get_family", "family_names", "numeric_option_names", "ShapeFamily", 
 _FAMILIES: dict[str, type[ShapeFamily]] = {
     cls.name: cls for cls in (ClampedFree, PinnedFree, PinnedPinned, ClampedPinned, ClampedClamped,
                               FreeFree, ClampedFreeTipMass, Polynomial, Expression,
-                              AxialFixedFree, AxialFixedFixed)
+                              AxialFixedFree, AxialFixedFixed, TorsionClampedFree, TorsionClampedClamped,
+                              TorsionFreeFree)
 }
 
 

@@ -3,42 +3,26 @@
 These are the eigenfunctions of the axial wave equation ``EA u'' = rho u_tt``:
 
 * ``axial-fixed-free``: ``psi_k = sqrt(2) sin((2k - 1) pi xi / 2)``, ``beta_k = (2k - 1) pi / 2``;
-* ``axial-fixed-fixed``: ``psi_k = sqrt(2) sin(k pi xi)``, ``beta_k = k pi``.
+* ``axial-fixed-fixed``: ``psi_k = sqrt(2) sin(k pi xi)``, ``beta_k = k pi``
 
-The factor ``sqrt(2)`` gives the mass normalisation ``int_0^1 psi_k psi_l dxi = delta_kl`` shared
-by every eigenfunction family of this package. The natural frequencies are
+(:mod:`flexkane.modes.wave`, mass-normalised). The natural frequencies are
 ``p_k = (beta_k / L) (EA / rho)^(1/2)`` (not eq. 8.7), and the stiffness integrals are
 ``int_0^L EA psi_k' psi_l' dx``.
 """
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
 
-from .base import check_positive
-from .eigen import EigenFamily
+from .wave import WaveFamily, fixed_free_roots, whole_wave_roots
 
 __all__ = ["AxialFixedFree", "AxialFixedFixed"]
 
 
-class _AxialFamily(EigenFamily):
+class _AxialFamily(WaveFamily):
     kind = "axial"
-
-    def _raw_coefficients(self, lam: np.ndarray) -> np.ndarray:
-        zero = np.zeros_like(lam)
-        return np.vstack([zero, zero, zero, np.full_like(lam, math.sqrt(2.0))])
-
-    def _ensure(self, n: int) -> None:
-        # already mass-normalised; the fourth-order norm identity is not needed
-        if self._lam.size < n:
-            self._lam = self._compute_roots(n)
-            self._coeffs = self._raw_coefficients(self._lam)
-
-    def quadrature_order(self, n: int) -> int:
-        return n + 30
 
     def frequencies(self, n: int, L: float, EA: Any, rho: float) -> np.ndarray:
         """Natural circular frequencies of axial vibration ``p_k = (beta_k / L) (EA / rho)^(1/2)``.
@@ -59,11 +43,8 @@ class _AxialFamily(EigenFamily):
         numpy.ndarray
             ``p_k`` [rad/s], shape ``(n,)``.
         """
-        beta = self.roots(n)
-        L = check_positive(L, "L", "the length of the beam [m]")
-        EA = check_positive(EA, "EA", "the axial rigidity [N]")
-        rho = check_positive(rho, "rho", "the mass per unit length [kg/m]")
-        return beta / L * math.sqrt(EA / rho)
+        return self._wave_frequencies(n, L, EA, rho, ("EA", "the axial rigidity [N]",
+                                                     "rho", "the mass per unit length [kg/m]"))
 
 
 class AxialFixedFree(_AxialFamily):
@@ -73,7 +54,7 @@ class AxialFixedFree(_AxialFamily):
     boundary = "fixed-free"
 
     def _compute_roots(self, n: int) -> np.ndarray:
-        return (2.0 * np.arange(1, n + 1) - 1.0) * math.pi / 2.0
+        return fixed_free_roots(n)
 
 
 class AxialFixedFixed(_AxialFamily):
@@ -83,4 +64,4 @@ class AxialFixedFixed(_AxialFamily):
     boundary = "fixed-fixed"
 
     def _compute_roots(self, n: int) -> np.ndarray:
-        return np.arange(1, n + 1) * math.pi
+        return whole_wave_roots(n)

@@ -276,9 +276,9 @@ def _unit_mass(family: ShapeFamily, n: int) -> tuple[np.ndarray, np.ndarray, np.
 
 @functools.lru_cache(maxsize=256)
 def _unit_stiffness(family: ShapeFamily, n: int) -> np.ndarray:
-    """``int_0^1 Phi_i^(k) Phi_j^(k) dxi``, ``k = 2`` (bending) or ``1`` (axial)."""
+    """``int_0^1 Phi_i^(k) Phi_j^(k) dxi``, ``k = 2`` (bending) or ``1`` (axial, torsion)."""
     x, w = gauss_legendre(quadrature_order(family, n))
-    values = family.phi(x, n, 1 if family.kind == "axial" else 2)
+    values = family.phi(x, n, 1 if family.kind in ("axial", "torsion") else 2)
     return _frozen(gram_matrix(values, values, w))[0]
 
 
@@ -318,7 +318,9 @@ def stiffness_integrals(family: ShapeFamily, n: int, L: float, EI: float) -> np.
     ----------
     family : ShapeFamily
         Shape functions; for an axial family (``family.kind == "axial"``) the result is
-        ``int_0^L EA psi_i' psi_j' dx`` and ``EI`` stands for the axial rigidity ``EA`` [N].
+        ``int_0^L EA psi_i' psi_j' dx`` and ``EI`` stands for the axial rigidity ``EA`` [N]; for a
+        torsion family, ``int_0^L GJ Theta_i' Theta_j' dx`` [N m] with ``EI`` standing for the
+        torsional rigidity ``GJ`` [N m^2].
     n : int
         Number of modes.
     L : float
@@ -337,6 +339,9 @@ def stiffness_integrals(family: ShapeFamily, n: int, L: float, EI: float) -> np.
     if family.kind == "axial":
         EA = check_positive(EI, "EA", "the axial rigidity [N]")
         return EA / L * _unit_stiffness(family, n)
+    if family.kind == "torsion":
+        GJ = check_positive(EI, "GJ", "the torsional rigidity [N m^2]")
+        return GJ / L * _unit_stiffness(family, n)
     EI = check_positive(EI, "EI", "the flexural rigidity [N m^2]")
     return EI / L ** 3 * _unit_stiffness(family, n)
 
