@@ -185,3 +185,18 @@ def test_report_defines_the_rotary_constants_and_the_sections_angular_velocity()
     gr = next(row for symbol, row in rows.items() if "Gr" in symbol and "11" in symbol)
     assert gr[2] == r"\int_0^L \rho I\,\Phi_{1}'(x)\,\Phi_{1}'(x)\,dx" and gr[3] == "kg"
     assert "angular velocity of the section at x" in equations_markdown(eom, values)
+
+
+def test_check_command_reads_rotary_inertia_and_refuses_a_negative_one(tmp_path, capsys):
+    from flexkane.cli import main
+    from flexkane.model.toml_io import dumps_model
+
+    good = tmp_path / "rayleigh.toml"
+    good.write_text(dumps_model(hub_beam(6.0, "rI")))
+    assert main(["check", str(good)]) == 0
+    assert "B: 3 clamped-free, Rayleigh" in capsys.readouterr().out
+    bad = tmp_path / "negative.toml"
+    bad.write_text(dumps_model(hub_beam(6.0, "-rI")))
+    assert main(["check", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert "beams.B.rotary_inertia" in err and "non-negative" in err and "kg m" in err

@@ -26,7 +26,7 @@ def _handle(args) -> int:
     coordinates = coordinate_names(model)
     free = [c for c in coordinates if c.driver is None]
     modes = ", ".join(f"{b.name}: {b.n_modes} {b.shape.family}" + (f" + {b.n_axial} axial" if b.n_axial else "")
-                      for b in model.beams.values())
+                      + (", Rayleigh" if b.rayleigh else "") for b in model.beams.values())
     print(f"{args.model}: valid ({len(model.bodies)} bodies, {len(model.beams)} beams"
           + (f" [{modes}]" if modes else "") + f", {len(model.joints)} joints"
           + (f", {len(model.constraints)} loop constraints" if model.constraints else "")

@@ -295,7 +295,7 @@ class Kinematics:
             pv = (Xf, Yf)
             v = vec_add(vec_add(vec(*child.v), cross_z(child.omega, pv)), vec_map(pv, chain.dt))
             rotation = None
-            if has_rotary_inertia(beam):
+            if beam.rayleigh:
                 slope = Field({dphi(i + 1): q for i, q in enumerate(chain.beam_modes(beam.name))})
                 rotation = rigid(child.omega) + slope.map(chain.dt)
             self.beams[beam.name] = BeamMotion(beam, child, self.constants[beam.name], Xf, Yf, v, rotation)
@@ -304,14 +304,6 @@ class Kinematics:
     def acceleration_remainder(self, v: Vec, omega) -> Vec:
         """The part of the acceleration that does not multiply u' (eq. 8.21 without u' terms)."""
         return vec_add(vec_map(v, self.chain.dt), cross_z(omega, v))
-
-
-def has_rotary_inertia(beam: Beam) -> bool:
-    """Whether a beam is a Rayleigh beam: ``rotary_inertia`` given and not a literal zero (a literal
-    zero adds no terms, as every zero field, so the equations equal those without the field)."""
-    value = beam.rotary_inertia
-    return value is not None and not (isinstance(value, (int, float)) and not isinstance(value, bool)
-                                      and value == 0)
 
 
 def rigid_vec(v: tuple) -> Vec:

@@ -137,6 +137,14 @@ class Beam:
     axial_shape: ShapeSpec | None = None
     rotary_inertia: Value | None = None
 
+    @property
+    def rayleigh(self) -> bool:
+        """Whether the sections' rotation enters the equations: ``rotary_inertia`` given and not a
+        literal zero (a literal zero adds no terms, as every zero field does)."""
+        value = self.rotary_inertia
+        return value is not None and not (isinstance(value, (int, float)) and not isinstance(value, bool)
+                                          and value == 0)
+
 
 @dataclass
 class Driver:
