@@ -200,3 +200,21 @@ def test_check_command_reads_rotary_inertia_and_refuses_a_negative_one(tmp_path,
     assert main(["check", str(bad)]) == 2
     err = capsys.readouterr().err
     assert "beams.B.rotary_inertia" in err and "non-negative" in err and "kg m" in err
+
+
+@pytest.mark.slow
+def test_driven_two_link_arm_with_rayleigh_beams_balances_power():
+    """Joint torques' work equals the change of kinetic (sections' rotation included) plus strain
+    energy; one beam with geometric stiffening, both with rotary inertia (labelled constants)."""
+    model = flexkane.builtin_model("two-link-flexible-arm")
+    model.beams["upper"].rotary_inertia = 0.002
+    model.beams["upper"].geometric_stiffening = True
+    model.beams["fore"].rotary_inertia = "0.001"
+    model.validate()
+    eom = flexkane.derive(model)
+    assert {"Er_upper_1", "Gr_fore_12", "Ir_upper"} <= {s.name for s in eom.constants}
+    results = flexkane.simulate(flexkane.compile_model(eom), rtol=1e-10, atol=1e-12)
+    assert not results.partial
+    scale = np.max(np.abs(results["work"])) + np.max(np.abs(results["kinetic"]))
+    assert np.max(np.abs(results["energy_balance"])) < 1e-8 * scale
+    assert np.max(np.abs(results["work"])) > 1e-3 * scale
