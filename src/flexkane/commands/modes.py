@@ -5,8 +5,8 @@ Example::
     flexkane modes clamped-free --n 4 --L 1 --EI 35.3 --rho 0.21991
 
 prints ``i, lambda_i`` and, when ``--L``, ``--EI`` (``--EA`` for an axial family) and ``--rho``
-(``--GJ`` and ``--rhoIp`` for a torsion family) are all given, ``p_i`` [rad/s] (eq. 8.7) and ``f_i = p_i / (2 pi)`` [Hz]; it writes
-``modes-<family>.png`` to ``--out DIR`` (default ``out/modes-<family>``; a non-empty directory needs
+(``--GJ`` and ``--rhoIp`` for a torsion family) are all given, ``p_i`` [rad/s] (eq. 8.7) and
+``f_i = p_i / (2 pi)`` [Hz]; it writes ``modes-<family>.png`` to ``--out DIR`` (default ``out/modes-<family>``; a non-empty directory needs
 ``--force``). For ``polynomial`` and ``expression`` families, which have no
 eigenvalues, the table shows the Rayleigh-Ritz values (``H v = p^2 G v``).
 """
