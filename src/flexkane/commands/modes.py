@@ -6,9 +6,9 @@ Example::
 
 prints ``i, lambda_i`` and, when ``--L``, ``--EI`` (``--EA`` for an axial family) and ``--rho``
 (``--GJ`` and ``--rhoIp`` for a torsion family) are all given, ``p_i`` [rad/s] (eq. 8.7) and
-``f_i = p_i / (2 pi)`` [Hz]; it writes ``modes-<family>.png`` to ``--out DIR`` (default ``out/modes-<family>``; a non-empty directory needs
-``--force``). For ``polynomial`` and ``expression`` families, which have no
-eigenvalues, the table shows the Rayleigh-Ritz values (``H v = p^2 G v``).
+``f_i = p_i / (2 pi)`` [Hz]; it writes ``modes-<family>.png`` to ``--out DIR`` (default
+``out/modes-<family>``; a non-empty directory needs ``--force``). For ``polynomial`` and
+``expression`` families, which have no eigenvalues, the table shows the Rayleigh-Ritz values (``H v = p^2 G v``).
 """
 
 from __future__ import annotations
