@@ -194,7 +194,9 @@ def test_header_documents_the_orders_of_the_run_manifest(tmp_path):
     assert [u for _, _, u in states] == [manifest["units"][n] for n in manifest["state_names"]]
     constants = _documented(header, "p")
     assert [n for _, n, _ in constants] == manifest["constant_names"]
-    assert dict((n, u) for _, n, u in constants)["H_11"] == "N/m"
+    unit = {n: u for _, n, u in constants}
+    # a modal constant (as the report), a parameter a field names, a field's own constant
+    assert (unit["H_11"], unit["m1"], unit["L2"], unit["x_crank_pin"], unit["Omega"]) == ("N/m", "kg", "m", "m", "?")
     assert f"#define SLIDER_CRANK_NY {len(manifest['state_names'])}" in header
     assert f"#define SLIDER_CRANK_NP {len(manifest['constant_names'])}" in header
     outputs = [n for _, n, _ in _documented(header, "out")]

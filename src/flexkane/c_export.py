@@ -21,27 +21,41 @@ from .model import Model
 __all__ = ["export_c", "constant_descriptions"]
 
 
-def constant_descriptions(eom) -> tuple[list[str], list[str]]:
+def constant_descriptions(eom, model: Model) -> tuple[list[str], list[str]]:
     """Unit and description of every constant of ``eom``, in the order of ``eom.constants``.
 
     Parameters
     ----------
     eom : EquationsOfMotion
+    model : Model
+        A model of the structure of ``eom`` (the units of its fields are those validation checks).
 
     Returns
     -------
     units : list of str
-        The unit of a beam's modal constant (as the report gives it), ``""`` where the model does
-        not say (parameters and fields of the model file carry no unit).
+        The unit of a beam's modal constant (as the report gives it), of a field of the model (as
+        validation checks it), of a parameter that fields of one unit name; ``""`` where the model
+        does not say (a parameter used only in expressions of t).
     notes : list of str
         What the constant is: ``beam B: <definition>``, ``parameter`` (with its expression when it
-        has one) or the key path of the field it stands for.
+        has one, and the fields that name it) or the key path of the field it stands for.
     """
+    from .model.paths import get_value
+    from .model.validate import validate_model
     from .report import _definition
 
+    field_units: dict = {}
+    validate_model(model, units=field_units)
+    named: dict = {}   # parameter -> {path: unit} of the fields that name it
+    for path, unit in field_units.items():
+        try:
+            value = get_value(model, path)
+        except ModelError:
+            continue
+        if isinstance(value, str) and value.strip() in model.parameters:
+            named.setdefault(value.strip(), {})[path] = unit
     modal = eom.beam_constant_symbols()
     defined = eom.chain.symbols.definitions
-    params = eom.model.parameters
     units, notes = [], []
     for s in eom.constants:
         if s in modal:
@@ -49,18 +63,25 @@ def constant_descriptions(eom) -> tuple[list[str], list[str]]:
             definition, unit = _definition(consts.used[s])
             units.append(unit)
             notes.append(f"beam {beam}: {definition}" if definition else f"beam {beam}")
-        elif s.name in params:
-            given = params[s.name]
-            units.append("")
-            notes.append("parameter" + ("" if isinstance(given, (int, float)) else f" = {given}"))
+        elif s.name in model.parameters:
+            given = model.parameters[s.name]
+            uses = named.get(s.name, {})
+            kinds = set(uses.values())
+            units.append(kinds.pop() if len(kinds) == 1 else "")
+            notes.append("parameter" + ("" if isinstance(given, (int, float)) else f" = {given}")
+                         + (f", the value of {_listed(sorted(uses))}" if uses else ""))
         elif s in defined:
             path, given = defined[s]
-            units.append("")
+            units.append(field_units.get(path, ""))
             notes.append(f"{path} = {given}")
         else:
             units.append("")
             notes.append("constant")
     return units, notes
+
+
+def _listed(paths: list, limit: int = 3) -> str:
+    return ", ".join(paths[:limit]) + (f" and {len(paths) - limit} more" if len(paths) > limit else "")
 
 
 def export_c(model, directory, *, prefix: str | None = None, force: bool = False, cache_dir=None,
@@ -116,7 +137,7 @@ def export_c(model, directory, *, prefix: str | None = None, force: bool = False
     eom = derivation.eom
     manifest = derivation.manifest
     numbers = derivation.numbers(model, ("p", "y0"))
-    units, notes = constant_descriptions(eom)
+    units, notes = constant_descriptions(eom, model)
     unit_of = manifest["units"]
     outputs = getattr(eom, "compact", eom).outputs
     info = CModelInfo(model_name=model.name, constant_units=units, constant_notes=notes,
