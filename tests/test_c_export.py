@@ -164,17 +164,39 @@ def test_solve_reports_a_singular_mass_matrix(exported):
     _close(full @ b, np.ones(nu))
 
 
+_PROGRAM = r"""#include <stdio.h>
+#include "four_bar.h"
+
+int main(void)
+{
+    double dy[FOUR_BAR_NY], out[FOUR_BAR_NOUT];
+    int k, status = four_bar_rhs(0.25, four_bar_default_y0, four_bar_default_p, dy);
+    for (k = 0; k < FOUR_BAR_NY; ++k) printf("%s' %.17g\n", four_bar_state_names[k], dy[k]);
+    status |= four_bar_outputs(0.25, four_bar_default_y0, four_bar_default_p, out);
+    for (k = 0; k < FOUR_BAR_NOUT; ++k) printf("%s %.17g\n", four_bar_output_names[k], out[k]);
+    return status;
+}
+"""
+
+
 @needs_cc
-def test_default_arrays_are_the_models_numbers(exported):
-    model, compiled, lib, prefix, _ = exported("four-bar")
-    numbers = compiled.derivation.numbers(model, ("p", "y0"))
-    manifest = compiled.derivation.manifest
+def test_a_program_without_python_runs_on_the_default_arrays(exported):
+    """A C program calls the exported functions with the model's constants and initial state."""
+    model, numba, lib, prefix, directory = exported("four-bar")
+    numbers = numba.derivation.numbers(model, ("p", "y0"))
     p = np.ctypeslib.as_array((ctypes.c_double * len(numbers["p"])).in_dll(lib, f"{prefix}_default_p"))
-    y0 = np.ctypeslib.as_array((ctypes.c_double * len(numbers["y0"])).in_dll(lib, f"{prefix}_default_y0"))
     np.testing.assert_array_equal(p, numbers["p"])
-    np.testing.assert_array_equal(y0, numbers["y0"])
-    names = (ctypes.c_char_p * len(manifest["constant_names"])).in_dll(lib, f"{prefix}_constant_names")
-    assert [n.decode() for n in names] == manifest["constant_names"]
+    (directory / "main.c").write_text(_PROGRAM)
+    program = directory / "four_bar_program"
+    subprocess.run([CC, "-std=c99", "-O2", "-Wall", "-Werror", str(directory / "main.c"), str(directory / "four_bar.c"),
+                    "-o", str(program), "-lm"], check=True, capture_output=True)
+    printed = subprocess.run([str(program)], check=True, capture_output=True, text=True).stdout.split()
+    values = dict(zip(printed[::2], map(float, printed[1::2])))
+    dy = numba.rhs(0.25, np.array(numbers["y0"]), np.array(numbers["p"]))
+    _close([values[f"{n}'"] for n in numba.derivation.manifest["state_names"]], dy)
+    outputs = evaluate_outputs(numba.module, np.array([0.25]), np.array([numbers["y0"]]), np.array(numbers["p"]))
+    for key, column in outputs.items():
+        _close(values[key], column[0])
 
 
 def _documented(header: str, array: str) -> list[tuple[int, str, str]]:
