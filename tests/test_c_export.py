@@ -238,7 +238,8 @@ def test_names_are_sanitized_and_never_collide(tmp_path):
     for old, new in (("m1", "pow"), ("m2", "double"), ("m3", "bar_rhs"), ("I1", "NAN"), ("d", "dy")):
         text = re.sub(rf"\b{old}\b", new, text)
     text = text.replace('name = "four-bar"', 'name = "4 bar */ \\"x\\""')
-    text = text.replace('dependent = ["u_coupler", "u_rocker"]', 'dependent = ["u_coupler", "u_rocker"]\nstabilization = 20.0')
+    text = text.replace('dependent = ["u_coupler", "u_rocker"]',
+                        'dependent = ["u_coupler", "u_rocker"]\nstabilization = 20.0')
     model = flexkane.loads_model(text)
     files = export_c(model, tmp_path, prefix="bar")
     header, source = (f.read_text() for f in files)

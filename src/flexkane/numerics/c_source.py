@@ -437,7 +437,7 @@ def c_sources(eom, prefix: str, info: CModelInfo) -> tuple[str, str]:
         f"#define {P}_NP {len(constants)}",
         f"#define {P}_NOUT {len(output_names)}",
         "",
-        f"/* The model's constants (order above) and initial state y(0) = [q, u] (loops closed). */",
+        "/* The model's constants (order above) and initial state y(0) = [q, u] (loops closed). */",
         f"extern const double {prefix}_default_p[{_dim(len(constants))}];",
         f"extern const double {prefix}_default_y0[{_dim(ny)}];",
         "/* Names and units of the state entries, the constants and the outputs, in their order. */",
