@@ -274,8 +274,9 @@ def test_command_line_export(tmp_path, capsys):
     assert "four_bar.h" in capsys.readouterr().out
     assert main(["export", "four-bar", "--c", str(out)]) == 2          # not empty, no --force
     assert "--c" in capsys.readouterr().err
-    assert main(["export", "four-bar", "--c", str(out), "--force", "--prefix", "fb"]) == 0
+    assert main(["export", "four-bar", "--c", str(out), "--force", "--prefix", "fb", "--set", "m1=0.7"]) == 0
     assert (out / "fb.h").is_file()
+    assert "    0.7  /* m1 */," in (out / "fb.c").read_text()       # --set gives the default constants
     assert main(["export", "four-bar", "--c", str(out / "x"), "--prefix", "no good"]) == 2
     assert "--prefix" in capsys.readouterr().err
     assert not (out / "x").exists()
