@@ -31,12 +31,13 @@ _PUBLIC = {
     "linearize": ".linearize", "modal_analysis": ".linearize",
     "FlexkaneError": ".errors", "ModelError": ".errors", "SolverFailure": ".errors",
     "MissingExtraError": ".extras",
+    "export_c": ".c_export",
 }
 
 __all__ = ["__version__", "Model", "load_model", "loads_model", "dumps_model", "save_model",
            "builtin_model", "builtin_names", "derive", "EquationsOfMotion", "compile_model", "simulate",
            "Results", "load_results", "linearize", "modal_analysis",
-           "FlexkaneError", "ModelError", "SolverFailure", "MissingExtraError"]
+           "FlexkaneError", "ModelError", "SolverFailure", "MissingExtraError", "export_c"]
 
 
 def __getattr__(name: str):

@@ -15,7 +15,8 @@ import sys
 from .errors import FlexkaneError, ModelError, SolverFailure
 
 #: Subcommand modules, in the order ``flexkane --help`` lists them.
-COMMAND_MODULES = ("run", "derive", "check", "modes", "vibrate", "animate", "sweep", "linearize", "campbell", "converge")
+COMMAND_MODULES = ("run", "derive", "check", "modes", "vibrate", "animate", "sweep", "linearize", "campbell", "converge",
+                   "export")
 
 EXIT_OK = 0
 EXIT_USAGE = 2

@@ -82,6 +82,9 @@ class _Values(FieldValues):
     """Evaluates constant fields and time laws of one model, for range checks (the model's one
     evaluator, :class:`~flexkane.model.field_values.FieldValues`, with the messages of validation)."""
 
+    #: Where to record the unit of every numeric field checked, by key path (None: nowhere).
+    units: dict | None = None
+
     def evaluate(self, path: str, value, extra: dict) -> float:
         """The value of an expression of the parameters and ``extra`` names (``t``, ``x``) [their units].
 
@@ -93,6 +96,8 @@ class _Values(FieldValues):
     def number(self, path: str, value, what: str, unit: str, *, time: bool = False) -> float:
         """The value of a field (at t = 0 for a time law); checks its type and that it is finite."""
         kind = f"{what} [{unit}]" + (", a number or an expression of t" if time else "")
+        if self.units is not None:
+            self.units[path] = unit
         if not _is_value(value):
             raise ModelError(path, f"a number or an expression string ({kind})", value)
         return self.value(value, path, what=kind, **({"t": 0.0} if time else {}))
@@ -215,7 +220,7 @@ class _Problems:
         raise ModelErrors(everything)
 
 
-def validate_model(model: Model) -> None:
+def validate_model(model: Model, *, units: dict | None = None) -> None:
     """Check a model; raise :class:`~flexkane.errors.ModelError` naming every problem found.
 
     Checks whose parts are independent (each body, beam, joint, load, spring, constraint, the
@@ -227,6 +232,9 @@ def validate_model(model: Model) -> None:
     ----------
     model : Model
         The model, from a file or built in Python.
+    units : dict, optional
+        Filled with the unit of every numeric field checked, by key path (``"bodies.crank.mass"``:
+        ``"kg"``).
     """
     if not isinstance(model, Model):
         raise ModelError("model", "a flexkane Model", type(model).__name__)
@@ -242,6 +250,7 @@ def validate_model(model: Model) -> None:
     values = None
     with problems.part():
         values = _Values(model)
+        values.units = units
     tables = {}
     for kind, cls in (("bodies", RigidBody), ("beams", Beam), ("joints", Joint), ("loads", Load),
                       ("distributed_loads", DistributedLoad),

@@ -141,12 +141,13 @@ def _safe_names(symbols: Sequence[sympy.Basic], taken: set[str]) -> list[str]:
     return names
 
 
-def _symbol_table(eom, time_name: str, intermediates: Sequence = ()):
+def _symbol_table(eom, time_name: str, intermediates: Sequence = (), reserved: frozenset = frozenset()):
     """Map the model's symbols to safe local names; return ``(subs, q, u, c, time)`` names.
 
-    ``intermediates`` (symbols of named intermediate quantities) get safe local names too.
+    ``intermediates`` (symbols of named intermediate quantities) get safe local names too;
+    no name is in ``reserved`` (names of another target language, e.g. C's keywords).
     """
-    taken: set[str] = set()
+    taken: set[str] = set(reserved)
     q_names = _safe_names(list(eom.q), taken)
     u_names = _safe_names(list(eom.u), taken)
     c_names = _safe_names(list(eom.constants), taken)

@@ -1,0 +1,155 @@
+"""Export a model's equations as standalone C: ``flexkane export MODEL --c DIR``.
+
+Writes ``<prefix>.h`` and ``<prefix>.c`` (C99, nothing beyond ``math.h``) to a directory: the
+right-hand side ``<prefix>_rhs(t, y, p, dy)`` of the first-order system, the mass matrix, the
+forcing, the kinematic equations, the outputs and the ``L D L^T`` solve of ``M u' = f``, with the
+order of the state, of the constants (name, unit, what each is) and of the outputs documented in
+the header, and the model's constants and initial state as default arrays, so that a controller or
+another integrator can call them without Python. The code is generated from the same compact
+equations as the Numba module (:mod:`flexkane.numerics.c_source`); drivers and closed loops are
+part of those equations.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ._version import __version__
+from .errors import ModelError
+from .model import Model
+
+__all__ = ["export_c", "constant_descriptions"]
+
+
+def constant_descriptions(eom, model: Model) -> tuple[list[str], list[str]]:
+    """Unit and description of every constant of ``eom``, in the order of ``eom.constants``.
+
+    Parameters
+    ----------
+    eom : EquationsOfMotion
+    model : Model
+        A model of the structure of ``eom`` (the units of its fields are those validation checks).
+
+    Returns
+    -------
+    units : list of str
+        The unit of a beam's modal constant (as the report gives it), of a field of the model (as
+        validation checks it), of a parameter that fields of one unit name; ``""`` where the model
+        does not say (a parameter used only in expressions of t).
+    notes : list of str
+        What the constant is: ``beam B: <definition>``, ``parameter`` (with its expression when it
+        has one, and the fields that name it) or the key path of the field it stands for.
+    """
+    from .model.paths import get_value
+    from .model.validate import validate_model
+    from .report import _definition
+
+    field_units: dict = {}
+    validate_model(model, units=field_units)
+    named: dict = {}   # parameter -> {path: unit} of the fields that name it
+    for path, unit in field_units.items():
+        try:
+            value = get_value(model, path)
+        except ModelError:
+            continue
+        if isinstance(value, str) and value.strip() in model.parameters:
+            named.setdefault(value.strip(), {})[path] = unit
+    modal = eom.beam_constant_symbols()
+    defined = eom.chain.symbols.definitions
+    units, notes = [], []
+    for s in eom.constants:
+        if s in modal:
+            beam, consts = modal[s]
+            definition, unit = _definition(consts.used[s])
+            units.append(unit)
+            notes.append(f"beam {beam}: {definition}" if definition else f"beam {beam}")
+        elif s.name in model.parameters:
+            given = model.parameters[s.name]
+            uses = named.get(s.name, {})
+            kinds = set(uses.values())
+            units.append(kinds.pop() if len(kinds) == 1 else "")
+            notes.append("parameter" + ("" if isinstance(given, (int, float)) else f" = {given}")
+                         + (f", the value of {_listed(sorted(uses))}" if uses else ""))
+        elif s in defined:
+            path, given = defined[s]
+            units.append(field_units.get(path, ""))
+            notes.append(f"{path} = {given}")
+        else:
+            units.append("")
+            notes.append("constant")
+    return units, notes
+
+
+def _listed(paths: list, limit: int = 3) -> str:
+    return ", ".join(paths[:limit]) + (f" and {len(paths) - limit} more" if len(paths) > limit else "")
+
+
+def export_c(model, directory, *, prefix: str | None = None, force: bool = False, cache_dir=None,
+             flag: str = "directory") -> list[Path]:
+    """Write the model's equations as C99: ``<prefix>.h`` and ``<prefix>.c`` in ``directory``.
+
+    Parameters
+    ----------
+    model : Model
+        A validated model (:func:`flexkane.load_model`, :func:`flexkane.builtin_model`); its
+        parameters give the default constants and initial state of the files.
+    directory : path-like
+        The folder to write to (created if missing); nothing is written outside it.
+    prefix : str, optional
+        Prefix of every global name and of the file names; default: the model's name made a C
+        identifier (``falling-beam`` -> ``falling_beam``).
+    force : bool
+        Write into a directory that holds files already (files of the same name are replaced,
+        others kept); without it such a directory is refused.
+    cache_dir : path-like, optional
+        Root of the cache of derived equations.
+    flag : str
+        How messages name the directory (the command line says ``--c``).
+
+    Returns
+    -------
+    list of pathlib.Path
+        The header and the source file written.
+
+    Raises
+    ------
+    ModelError
+        For a model that is not a Model, a prefix that is not a C identifier, a directory that
+        holds files (without ``force``) or cannot be created, or equations C cannot express.
+    """
+    from .atomic import atomic_write_text, prepare_output_dir
+    from .derivation_cache import Derivation
+    from .numerics.c_source import C_RESERVED, CModelInfo, c_identifier, c_sources, check_prefix
+
+    if not isinstance(model, Model):
+        raise ModelError("model", "a flexkane Model (flexkane.load_model, flexkane.builtin_model)",
+                         type(model).__name__)
+    if prefix is None:
+        prefix = c_identifier(model.name)
+        prefix = prefix if prefix not in C_RESERVED else f"{prefix}_model"
+    else:
+        try:
+            check_prefix(prefix)
+        except ValueError as exc:
+            raise ModelError("prefix", str(exc), prefix) from None
+    model.validate()
+    derivation = Derivation(model, cache_dir)
+    eom = derivation.eom
+    manifest = derivation.manifest
+    numbers = derivation.numbers(model, ("p", "y0"))
+    units, notes = constant_descriptions(eom, model)
+    unit_of = manifest["units"]
+    outputs = getattr(eom, "compact", eom).outputs
+    info = CModelInfo(model_name=model.name, constant_units=units, constant_notes=notes,
+                      p=list(numbers["p"]), y0=list(numbers["y0"]),
+                      state_units=[unit_of.get(n, "") for n in manifest["state_names"]],
+                      output_units=[unit_of.get(n, "") for n in outputs], version=__version__)
+    try:
+        header, source = c_sources(eom, prefix, info)
+    except ValueError as exc:
+        raise ModelError("model", "equations that C99 with math.h can express", model.name, str(exc)) from None
+    try:
+        out = prepare_output_dir(directory, force=force)
+    except ModelError as exc:
+        raise ModelError(flag, exc.expected, exc.given, exc.hint) from None
+    return [atomic_write_text(out / f"{prefix}.h", header), atomic_write_text(out / f"{prefix}.c", source)]

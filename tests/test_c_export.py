@@ -1,0 +1,284 @@
+"""The exported C (flexkane export MODEL --c DIR) computes what the Numba module computes.
+
+Where a C compiler exists, the two exported files are compiled into a shared library (-O2, warnings
+as errors) and called through ctypes: the right-hand side and the outputs equal those of the Numba
+module at random states to 1e-12 (relative to the largest entry), the mass matrix equals the
+symbolic one and satisfies ``M u' = f`` with the forcing. Models: the chapter's example, the
+closed-loop four-bar (also with a stabilized loop), the slider-crank (a crank driven at a
+prescribed speed closing a loop over a flexible rod) and, marked slow, spin-up (a prescribed hub
+speed, geometric stiffening). The header's orders are checked against the run manifest.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import re
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import flexkane
+from flexkane.c_export import export_c
+from flexkane.derivation_cache import Derivation
+from flexkane.errors import ModelError
+from flexkane._version import __version__
+from flexkane.numerics import build_module, evaluate_outputs, structure_key
+from flexkane.numerics.constant_block import prepared_parameters
+from flexkane.numerics.c_source import c_identifier
+
+CC = shutil.which("cc")
+needs_cc = pytest.mark.skipif(CC is None, reason="no C compiler (cc) on this machine")
+_DOUBLES = ctypes.POINTER(ctypes.c_double)
+
+
+def _compile(directory, prefix: str):
+    """Compile the exported files into a shared library; return it loaded with ctypes."""
+    library = directory / f"lib{prefix}.so"
+    result = subprocess.run([CC, "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror", "-pedantic", "-shared",
+                             "-fPIC", str(directory / f"{prefix}.c"), "-o", str(library), "-lm"],
+                            capture_output=True, text=True, check=False)
+    assert result.returncode == 0, result.stderr
+    lib = ctypes.CDLL(str(library))
+    for name in ("rhs", "mass_matrix", "forcing", "kinematics", "outputs"):
+        function = getattr(lib, f"{prefix}_{name}")
+        function.argtypes = [ctypes.c_double, _DOUBLES, _DOUBLES, _DOUBLES]
+        function.restype = ctypes.c_int
+    lib[f"{prefix}_solve"].argtypes = [_DOUBLES, _DOUBLES]
+    lib[f"{prefix}_solve"].restype = ctypes.c_int
+    return lib
+
+
+def _call(function, t: float, y: np.ndarray, p: np.ndarray, n: int) -> tuple[int, np.ndarray]:
+    out = np.full(n, -1.0)
+    y, p = np.ascontiguousarray(y, dtype=float), np.ascontiguousarray(p, dtype=float)
+    status = function(t, y.ctypes.data_as(_DOUBLES), p.ctypes.data_as(_DOUBLES), out.ctypes.data_as(_DOUBLES))
+    return status, out
+
+
+def _close(a, b, rtol=1e-12):
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    scale = max(np.max(np.abs(b)), 1e-300)
+    assert np.max(np.abs(a - b)) <= rtol * scale, (np.max(np.abs(a - b)) / scale, a, b)
+
+
+class _Numba:
+    """The generated Numba module of a model (its rhs and outputs; the integrators are not needed)."""
+
+    def __init__(self, model):
+        self.derivation = Derivation(model)
+        self.eom = self.derivation.eom
+        source = self.derivation.source()
+        self.module = build_module(source, structure_key(__version__, source))
+
+    def rhs(self, t, y, p):
+        dy = np.empty(len(y))
+        status = self.module.rhs(float(t), np.asarray(y, dtype=float), prepared_parameters(self.module, p), dy)
+        assert status == 0
+        return dy
+
+
+@pytest.fixture(scope="module")
+def exported(tmp_path_factory):
+    """Model name -> (model, its Numba module, the loaded C library, prefix, directory)."""
+    cache = {}
+
+    def get(name):
+        if name not in cache:
+            model = flexkane.builtin_model(name)
+            directory = tmp_path_factory.mktemp(c_identifier(name))
+            files = export_c(model, directory, force=True)
+            prefix = c_identifier(model.name)
+            assert [f.name for f in files] == [f"{prefix}.h", f"{prefix}.c"]
+            cache[name] = (model, _Numba(model), _compile(directory, prefix), prefix, directory)
+        return cache[name]
+    return get
+
+
+def _compare_at_random_states(model, numba, lib, prefix: str, count: int = 5) -> None:
+    """rhs, M, f and the outputs of the C library against the Numba module at ``count`` random states."""
+    eom = numba.eom
+    numbers = numba.derivation.numbers(model, ("p", "y0"))
+    p, y0 = np.array(numbers["p"]), np.array(numbers["y0"])
+    nq, nu = len(eom.q), len(eom.u)
+    ny = nq + nu
+    outputs = list(eom.compact.outputs)
+    rng = np.random.default_rng(18)
+    rhs, mass, forcing = (getattr(lib, f"{prefix}_{k}") for k in ("rhs", "mass_matrix", "forcing"))
+    for _ in range(count):
+        t = float(rng.uniform(0.0, 0.5))
+        y = y0 + np.concatenate([0.05 * rng.standard_normal(nq), rng.standard_normal(nu)])
+        status, dy = _call(rhs, t, y, p, ny)
+        assert status == 0
+        _close(dy, numba.rhs(t, y, p))
+        status, M = _call(mass, t, y, p, nu * nu)
+        assert status == 0
+        M = M.reshape(nu, nu)
+        np.testing.assert_array_equal(M, M.T)
+        status, f = _call(forcing, t, y, p, nu)
+        assert status == 0
+        _close(M @ dy[nq:], f, rtol=1e-11)    # M u' = f with u' of the C right-hand side
+        status, qdot = _call(getattr(lib, f"{prefix}_kinematics"), t, y, p, nq)
+        assert status == 0
+        np.testing.assert_array_equal(qdot, dy[:nq])
+        status, out = _call(getattr(lib, f"{prefix}_outputs"), t, y, p, len(outputs))
+        assert status == 0
+        numba_out = evaluate_outputs(numba.module, np.array([t]), y[None, :], p)
+        for k, key in enumerate(outputs):
+            _close(out[k], numba_out[key][0])
+    # the mass matrix against the symbolic one (intermediates written out), at the last state
+    values = dict(zip(eom.constants, p)) | dict(zip([*eom.q, *eom.u], y)) | {eom.t: t}
+    symbolic = np.array(eom.mass_matrix.xreplace({s: sp.Float(v) for s, v in values.items()}).evalf(),
+                        dtype=float)
+    _close(M, symbolic)
+
+
+@needs_cc
+@pytest.mark.parametrize("name", ["falling-beam", "four-bar", "slider-crank",
+                                  pytest.param("spin-up", marks=pytest.mark.slow)])
+def test_c_matches_numba_at_random_states(exported, name):
+    model, numba, lib, prefix, _ = exported(name)
+    _compare_at_random_states(model, numba, lib, prefix)
+
+
+@needs_cc
+def test_solve_reports_a_singular_mass_matrix(exported):
+    _, compiled, lib, prefix, _ = exported("falling-beam")
+    nu = len(compiled.eom.u)
+    M = np.eye(nu)
+    M[1, 1] = 0.0
+    b = np.ones(nu)
+    assert lib[f"{prefix}_solve"](M.ctypes.data_as(_DOUBLES), b.ctypes.data_as(_DOUBLES)) == 4
+    assert np.isnan(b).all()
+    M = np.eye(nu)
+    M[0, 0] = np.nan
+    assert lib[f"{prefix}_solve"](M.ctypes.data_as(_DOUBLES), b.ctypes.data_as(_DOUBLES)) == 2
+    M = np.diag(np.arange(1.0, nu + 1))
+    M[0, 1] = 0.5             # only the upper triangle is read
+    b = np.ones(nu)
+    assert lib[f"{prefix}_solve"](M.ctypes.data_as(_DOUBLES), b.ctypes.data_as(_DOUBLES)) == 0
+    full = np.diag(np.arange(1.0, nu + 1))
+    full[0, 1] = full[1, 0] = 0.5
+    _close(full @ b, np.ones(nu))
+
+
+_PROGRAM = r"""#include <stdio.h>
+#include "four_bar.h"
+
+int main(void)
+{
+    double dy[FOUR_BAR_NY], out[FOUR_BAR_NOUT];
+    int k, status = four_bar_rhs(0.25, four_bar_default_y0, four_bar_default_p, dy);
+    for (k = 0; k < FOUR_BAR_NY; ++k) printf("%s' %.17g\n", four_bar_state_names[k], dy[k]);
+    status |= four_bar_outputs(0.25, four_bar_default_y0, four_bar_default_p, out);
+    for (k = 0; k < FOUR_BAR_NOUT; ++k) printf("%s %.17g\n", four_bar_output_names[k], out[k]);
+    return status;
+}
+"""
+
+
+@needs_cc
+def test_a_program_without_python_runs_on_the_default_arrays(exported):
+    """A C program calls the exported functions with the model's constants and initial state."""
+    model, numba, lib, prefix, directory = exported("four-bar")
+    numbers = numba.derivation.numbers(model, ("p", "y0"))
+    p = np.ctypeslib.as_array((ctypes.c_double * len(numbers["p"])).in_dll(lib, f"{prefix}_default_p"))
+    np.testing.assert_array_equal(p, numbers["p"])
+    (directory / "main.c").write_text(_PROGRAM)
+    program = directory / "four_bar_program"
+    subprocess.run([CC, "-std=c99", "-O2", "-Wall", "-Werror", str(directory / "main.c"), str(directory / "four_bar.c"),
+                    "-o", str(program), "-lm"], check=True, capture_output=True)
+    printed = subprocess.run([str(program)], check=True, capture_output=True, text=True).stdout.split()
+    values = dict(zip(printed[::2], map(float, printed[1::2])))
+    dy = numba.rhs(0.25, np.array(numbers["y0"]), np.array(numbers["p"]))
+    _close([values[f"{n}'"] for n in numba.derivation.manifest["state_names"]], dy)
+    outputs = evaluate_outputs(numba.module, np.array([0.25]), np.array([numbers["y0"]]), np.array(numbers["p"]))
+    for key, column in outputs.items():
+        _close(values[key], column[0])
+
+
+def _documented(header: str, array: str) -> list[tuple[int, str, str]]:
+    """``(index, name, unit)`` of the lines ``array[k] = name [unit]`` of a header."""
+    return [(int(k), name, unit) for k, name, unit in
+            re.findall(rf"^ \*   {array}\[(\d+)\] = (\S+) \[([^\]]*)\]", header, flags=re.M)]
+
+
+def test_header_documents_the_orders_of_the_run_manifest(tmp_path):
+    model = flexkane.builtin_model("slider-crank")
+    header_path, source_path = export_c(model, tmp_path / "c")
+    header = header_path.read_text()
+    manifest = Derivation(model).manifest
+    states = _documented(header, "y")
+    assert [k for k, _, _ in states] == list(range(len(manifest["state_names"])))
+    assert [n for _, n, _ in states] == manifest["state_names"]
+    assert [u for _, _, u in states] == [manifest["units"][n] for n in manifest["state_names"]]
+    constants = _documented(header, "p")
+    assert [n for _, n, _ in constants] == manifest["constant_names"]
+    unit = {n: u for _, n, u in constants}
+    # a modal constant (as the report), a parameter a field names, a field's own constant
+    assert (unit["H_11"], unit["m1"], unit["L2"], unit["x_crank_pin"], unit["Omega"]) == ("N/m", "kg", "m", "m", "?")
+    assert f"#define SLIDER_CRANK_NY {len(manifest['state_names'])}" in header
+    assert f"#define SLIDER_CRANK_NP {len(manifest['constant_names'])}" in header
+    outputs = [n for _, n, _ in _documented(header, "out")]
+    assert outputs[:3] == ["x_crank", "y_crank", "theta_crank"] and "constraint_piston_1" in outputs
+    source = source_path.read_text()
+    assert re.findall(r"#include\s*[<\"]([^>\"]+)", source) == ["math.h", "slider_crank.h"]
+    assert re.findall(r"#include\s*[<\"]([^>\"]+)", header) == []
+
+
+def test_names_are_sanitized_and_never_collide(tmp_path):
+    """Parameters named like C keywords, math.h functions and macros, the generated functions and the
+    functions' arguments stay apart; the model's label cannot end a comment. The loop of this four-bar
+    is stabilized (Phi' = -20 Phi), which the C right-hand side does as the Numba one."""
+    from flexkane.builtin import builtin_text
+
+    text = builtin_text("four-bar")
+    for old, new in (("m1", "pow"), ("m2", "double"), ("m3", "bar_rhs"), ("I1", "NAN"), ("d", "dy")):
+        text = re.sub(rf"\b{old}\b", new, text)
+    text = text.replace('name = "four-bar"', 'name = "4 bar */ \\"x\\""')
+    text = text.replace('dependent = ["u_coupler", "u_rocker"]',
+                        'dependent = ["u_coupler", "u_rocker"]\nstabilization = 20.0')
+    model = flexkane.loads_model(text)
+    files = export_c(model, tmp_path, prefix="bar")
+    header, source = (f.read_text() for f in files)
+    for name in ("pow", "double", "bar_rhs", "NAN", "dy"):
+        assert f"const double {name} = " not in source
+    assert '"4 bar * / "x""' in header   # (compiling the header below shows its comments are closed)
+    assert "20.0*" in source             # the stabilization rate, in q' of the coordinates
+    if CC is not None:   # the same numbers, the loop's stabilization included (states off the loop)
+        _compare_at_random_states(model, _Numba(model), _compile(tmp_path, "bar"), "bar")
+
+
+def test_refuses_a_bad_prefix_and_a_directory_with_files(tmp_path):
+    model = flexkane.builtin_model("falling-beam")
+    for prefix in ("1abc", "a-b", "int", "sqrt", "_x", ""):
+        with pytest.raises(ModelError, match="prefix"):
+            export_c(model, tmp_path / "a", prefix=prefix)
+    (tmp_path / "b").mkdir()
+    (tmp_path / "b" / "notes.txt").write_text("mine")
+    with pytest.raises(ModelError, match="directory"):
+        export_c(model, tmp_path / "b")
+    assert sorted(p.name for p in (tmp_path / "b").iterdir()) == ["notes.txt"]
+    export_c(model, tmp_path / "b", force=True)
+    assert sorted(p.name for p in (tmp_path / "b").iterdir()) == ["falling_beam.c", "falling_beam.h", "notes.txt"]
+
+
+def test_command_line_export(tmp_path, capsys):
+    from flexkane.cli import main
+
+    out = tmp_path / "c"
+    assert main(["export", "four-bar", "--c", str(out)]) == 0
+    assert sorted(p.name for p in out.iterdir()) == ["four_bar.c", "four_bar.h"]
+    assert "four_bar.h" in capsys.readouterr().out
+    assert main(["export", "four-bar", "--c", str(out)]) == 2          # not empty, no --force
+    assert "--c" in capsys.readouterr().err
+    assert main(["export", "four-bar", "--c", str(out), "--force", "--prefix", "fb", "--set", "m1=0.7"]) == 0
+    assert (out / "fb.h").is_file()
+    assert "    0.7  /* m1 */," in (out / "fb.c").read_text()       # --set gives the default constants
+    assert main(["export", "four-bar", "--c", str(out / "x"), "--prefix", "no good"]) == 2
+    assert "--prefix" in capsys.readouterr().err
+    assert not (out / "x").exists()
+    assert main(["export", "four-bar"]) == 2
+    assert "--c" in capsys.readouterr().err
