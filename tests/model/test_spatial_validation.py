@@ -207,3 +207,37 @@ def test_python_built_models_get_the_same_checks():
     model.joints["u"].axes = [(1, 0, 0), (1, 0, 0)]
     with pytest.raises(ModelError, match=r"joints\.u\.axes: expected two perpendicular axes"):
         model.validate()
+
+
+def test_mutated_spatial_models_give_a_model_error_or_a_valid_model():
+    """Extreme numbers, wrong types, hostile expressions, deleted and misspelled keys in spatial model
+    files (the mutations of the planar fuzz tests): a ModelError or a valid model, never another
+    exception nor a numeric warning (huge components are scaled before norms and eigenvalues)."""
+    import pathlib
+    import random
+    import sys
+    import tomllib
+    import warnings
+
+    sys.path.insert(0, str(pathlib.Path(__file__).parents[1] / "validation"))
+    import model_mutations
+
+    bases = [tomli_w.dumps(BASE), (pathlib.Path(__file__).parent / "spatial_models" / "two-body-arm.toml").read_text()]
+    outcomes = {"valid": 0, "refused": 0}
+    for seed in range(400):
+        rng = random.Random(seed)
+        data = tomllib.loads(rng.choice(bases))
+        for _ in range(rng.randint(1, 3)):
+            model_mutations._change_data(rng, data)
+        try:
+            text = tomli_w.dumps(data)
+        except (TypeError, ValueError):
+            continue
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", RuntimeWarning)
+            try:
+                initial_values(loads_model(text))
+                outcomes["valid"] += 1
+            except ModelError:
+                outcomes["refused"] += 1
+    assert outcomes["refused"] > 200 and outcomes["valid"] > 10
