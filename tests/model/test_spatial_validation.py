@@ -241,3 +241,13 @@ def test_mutated_spatial_models_give_a_model_error_or_a_valid_model():
             except ModelError:
                 outcomes["refused"] += 1
     assert outcomes["refused"] > 200 and outcomes["valid"] > 10
+
+
+def test_set_on_the_command_line_names_the_orientation_key_and_refuses_unknown_names(tmp_path, capsys):
+    path = _write(tmp_path, {})
+    assert main(["check", path, "--set", "q_s={sequence = 'zx', angles = [0.1, 0.2]}", "--set", "u_s_wz=3"]) == 0
+    capsys.readouterr()
+    assert main(["check", path, "--set", "nosuch=1"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("flexkane: error: --set nosuch: expected a parameter") and "u_s_wx" in err
+    assert "u_u_2, q_s), got 'nosuch'" in err     # the orientation table's key is listed last
