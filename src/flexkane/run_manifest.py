@@ -100,15 +100,17 @@ def numbers_of(eom, model, fields, spins) -> dict:
     return out
 
 
+_UNITS = {"x": "m", "y": "m", "angle": "rad", "slide": "m", "mode": "m", "axial": "m"}
+_RATE = {"m": "m/s", "rad": "rad/s"}
+
+
 def units(eom) -> dict[str, str]:
     """Unit of every state variable and output, by name."""
-    from .model.coordinates import coordinate_unit, speed_unit
-
     out = {}
     for c in eom.chain.coordinates:
-        out[c.q.name] = coordinate_unit(c.role)
-        if c.u is not None:   # the Euler parameter e0 of a spatial joint has no speed of its own
-            out[c.u.name] = speed_unit(c.role)
+        unit = _UNITS[c.role]
+        out[c.q.name] = unit
+        out[c.u.name] = _RATE[unit]
     for name in eom.output_names:
         if name.startswith(("x_", "y_", "tip_")):
             out[name] = "m"
