@@ -162,3 +162,24 @@ def test_flexkane_animate_takes_a_view(tmp_path, capsys):
     assert Image.open(run / "animation.gif").n_frames == 4
     assert main(["animate", str(run), "--view", "90", "--no-mp4", "--quiet"]) == 2
     assert "--view: expected two numbers" in capsys.readouterr().err
+
+
+def test_euler_parameter_outputs_place_a_body_as_its_3_2_1_angles_do():
+    """Where a run has e0_<b> .. e3_<b>, the drawing uses them: the same placement as yaw/pitch/roll."""
+    from flexkane.model.orientation import matrix_quaternion
+
+    results = _spatial_results()
+    model = load_model(ARM)
+    by_angles = SpatialScene(results, model).polylines()
+    for body in model.bodies:
+        e = np.array([matrix_quaternion(sequence_matrix("zyx", [results[f"{a}_{body}"][k]
+                                                                for a in ("yaw", "pitch", "roll")]))
+                      for k in range(len(results.t))])
+        for j in range(4):
+            results.outputs[f"e{j}_{body}"] = e[:, j]
+        for a in ("yaw", "pitch", "roll"):
+            results.outputs[f"{a}_{body}"] = np.full(len(results.t), np.nan)   # not read any more
+    by_parameters = SpatialScene(results, model).polylines()
+    for one, two in zip(by_angles, by_parameters):
+        assert one.name == two.name
+        assert np.allclose(one.points, two.points, rtol=0, atol=1e-14)

@@ -1,8 +1,9 @@
 """Geometry of a finished run of a spatial model, frame by frame, as polylines in the ground frame.
 
-From the run's outputs (``x_<b>, y_<b>, z_<b>``: a body's mass centre in N [m]; ``yaw_<b>, pitch_<b>,
-roll_<b>``: the 3-2-1 body-fixed angles of its frame [rad], ``C = Cz(yaw) Cy(pitch) Cx(roll)``) and
-the model file text stored with them, every body becomes
+From the run's outputs (``x_<b>, y_<b>, z_<b>``: a body's mass centre in N [m]; ``e0_<b> .. e3_<b>``:
+the Euler parameters of its frame in N, or else ``yaw_<b>, pitch_<b>, roll_<b>``: its 3-2-1 body-fixed
+angles [rad], ``C = Cz(yaw) Cy(pitch) Cx(roll)``) and the model file text stored with them, every body
+becomes
 
 * its outline (``outline``, a closed polyline in the body frame), if it has one;
 * else a centre line from each of its named points to its mass centre (a link between its joints);
@@ -68,12 +69,18 @@ class SpatialScene:
                 self.shapes[name] = None
 
     def pose(self, body: str) -> tuple[np.ndarray, np.ndarray]:
-        """Mass centre in N [m], shape (N, 3), and direction cosines of the body frame, shape (N, 3, 3)."""
+        """Mass centre in N [m], shape (N, 3), and direction cosines of the body frame, shape (N, 3, 3):
+        from the Euler parameters where the run has them (no singularity), else the 3-2-1 angles."""
+        outputs = self.results.outputs
+        if all(f"e{k}_{body}" in outputs for k in range(4)) and all(f"{c}_{body}" in outputs for c in "xyz"):
+            r = np.column_stack([np.asarray(outputs[f"{c}_{body}"], dtype=float) for c in "xyz"])
+            e = np.column_stack([np.asarray(outputs[f"e{k}_{body}"], dtype=float) for k in range(4)])
+            return r, _quaternion_matrices(e)
         try:
             x, y, z, yaw, pitch, roll = (np.asarray(self.results[f"{c}_{body}"], dtype=float) for c in _POSE)
         except KeyError:
-            raise ModelError("results.npz", f"outputs {', '.join(f'{c}_{body}' for c in _POSE)}",
-                             "a run without them") from None
+            raise ModelError("results.npz", f"outputs {', '.join(f'{c}_{body}' for c in _POSE)} (or "
+                             f"e0_{body} .. e3_{body} for the orientation)", "a run without them") from None
         cy, sy, cp, sp_, cr, sr = np.cos(yaw), np.sin(yaw), np.cos(pitch), np.sin(pitch), np.cos(roll), np.sin(roll)
         C = np.empty((len(x), 3, 3))
         C[:, 0, 0], C[:, 0, 1], C[:, 0, 2] = cy * cp, cy * sp_ * sr - sy * cr, cy * sp_ * cr + sy * sr
@@ -117,3 +124,13 @@ class SpatialScene:
     def trace_label(self, point: str) -> str:
         """Readable name of a traced point."""
         return "centre of mass of the system" if point == "cm" else f"mass centre of {point}"
+
+
+def _quaternion_matrices(e: np.ndarray) -> np.ndarray:
+    """Direction cosines of Euler parameters row by row, shape (N, 3, 3) from (N, 4); each row is
+    normalized first (:func:`flexkane.model.orientation.quaternion_matrix` of a unit quaternion)."""
+    from ..model.orientation import quaternion_matrix
+
+    norms = np.linalg.norm(e, axis=1)
+    safe = np.where(norms > 0, norms, 1.0)[:, None]
+    return np.array([quaternion_matrix(row) for row in e / safe]) if len(e) else np.zeros((0, 3, 3))
