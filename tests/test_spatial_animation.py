@@ -183,3 +183,19 @@ def test_euler_parameter_outputs_place_a_body_as_its_3_2_1_angles_do():
     for one, two in zip(by_angles, by_parameters):
         assert one.name == two.name
         assert np.allclose(one.points, two.points, rtol=0, atol=1e-14)
+
+
+def test_a_body_without_outline_is_drawn_between_its_points_and_its_mass_centre():
+    model = load_model(ARM)
+    model.bodies["arm2"].points = {"top": (0, 0, 0.3)}
+    results = _spatial_results()
+    results.model_text = dumps_model(model)
+    lines = {line.name: line for line in SpatialScene(results, model).polylines()}
+    r = np.column_stack([results[f"{c}_arm2"] for c in "xyz"])
+    assert lines["arm2"].kind == "link" and lines["arm2"].points.shape == (10, 2, 3)
+    assert np.allclose(lines["arm2"].points[:, 1], r, rtol=0, atol=1e-15)
+    assert np.allclose(np.linalg.norm(lines["arm2"].points[:, 0] - r, axis=1), 0.3, rtol=1e-14)
+    model.bodies["arm2"].points = {"a": (0, 0, 0.3), "b": (0, 0, -0.3), "c": (0.1, 0, 0)}
+    lines = {line.name: line for line in SpatialScene(results, model).polylines()}
+    assert lines["arm2"].points.shape == (10, 5, 3)      # a, centre, b, centre, c
+    assert np.allclose(lines["arm2"].points[:, 3], r, rtol=0, atol=1e-15)

@@ -6,7 +6,8 @@ angles [rad], ``C = Cz(yaw) Cy(pitch) Cx(roll)``) and the model file text stored
 becomes
 
 * its outline (``outline``, a closed polyline in the body frame), if it has one;
-* else a centre line from each of its named points to its mass centre (a link between its joints);
+* else a centre line from each of its named points to its mass centre (a link between its joints;
+  from its one point to its mass centre if it has one);
 * a marker at its mass centre.
 
 A vertex ``p`` given in the body frame (from the mass centre) is drawn at ``r + C p``.
@@ -62,8 +63,8 @@ class SpatialScene:
                 self.shapes[name] = ("outline", vertices(body.outline, f"bodies.{name}.outline"))
             elif body.points:
                 local = vertices(list(body.points.values()), f"bodies.{name}.points")
-                stick = np.zeros((2 * len(local) - 1, 3))
-                stick[0::2] = local                 # point, centre, point, centre, ...
+                stick = np.zeros((max(2 * len(local) - 1, 2), 3))
+                stick[0::2] = local                 # point, centre, point, ..., point (one point: to the centre)
                 self.shapes[name] = ("link", stick)
             else:
                 self.shapes[name] = None
