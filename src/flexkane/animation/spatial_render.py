@@ -158,7 +158,7 @@ class SpatialDrawing:
         if self.trace is not None:
             (self.trace_line,) = ax.plot([], [], [], color=_TRACE, lw=1.2, alpha=0.9, animated=True,
                                          label=f"trace: {trace_label}")
-            ax.legend(loc="lower right", fontsize=8, framealpha=0.8)
+            ax.legend(loc="upper right", fontsize=8, framealpha=0.8)
         self.time_text = self.figure.text(0.02, 0.97, "", va="top", ha="left", fontsize=10, family="monospace",
                                           animated=True)
         self.figure.text(0.98, 0.02, f"view: elevation {self.view[0]:g} deg, azimuth {self.view[1]:g} deg",
