@@ -25,9 +25,9 @@ import numpy as np
 from ..errors import ModelError
 from .parts import SEQUENCE_AXES, Orientation
 
-__all__ = ["unit_vector", "axis_angle_matrix", "sequence_matrix", "quaternion_matrix", "matrix_quaternion", "normalized",
-           "orientation_from_table", "orientation_matrix", "orientation_quaternion", "vector3", "ORIENTATION_KEYS",
-           "ORIENTATION_FORMS"]
+__all__ = ["unit_vector", "axis_angle_matrix", "sequence_matrix", "quaternion_matrix", "matrix_quaternion",
+           "normalized", "orientation_from_table", "orientation_matrix", "orientation_quaternion", "vector3",
+           "ORIENTATION_KEYS", "ORIENTATION_FORMS"]
 
 #: Keys of an orientation table.
 ORIENTATION_KEYS = ("axis", "angle", "sequence", "angles")

@@ -30,12 +30,12 @@ import numbers
 import re
 
 from ..errors import ModelError, ModelErrors
-from .field_values import FieldValues
 from . import validate_spatial as spatial
+from .field_values import FieldValues
 from .model import NAMING_STYLES, Model
-from .parts import (DIMENSIONS, DISTRIBUTED_FRAMES, ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS,
-                    JOINT_TYPES, JOINT_TYPES_BY_DIMENSION, METHODS, SPATIAL_JOINT_TYPES, Beam, DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody,
-                    ShapeSpec, Simulation)
+from .parts import (DIMENSIONS, DISTRIBUTED_FRAMES, ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES,
+                    JOINT_TYPES_BY_DIMENSION, METHODS, SPATIAL_JOINT_TYPES, Beam, DistributedLoad, Driver, Gravity,
+                    Joint, Load, LoopConstraint, PointSpring, RigidBody, ShapeSpec, Simulation)
 
 __all__ = ["validate_model", "validate_run_arguments", "check_output_grid", "RUN_SETTINGS", "MAX_MODES",
            "MAX_ELASTIC_COORDINATES", "MAX_STIFFENED_MODES", "MAX_OUTPUT_ROWS", "METHODS", "is_name"]
