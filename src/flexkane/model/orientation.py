@@ -23,18 +23,12 @@ import numbers
 import numpy as np
 
 from ..errors import ModelError
-from .parts import SEQUENCE_AXES, Orientation
+from .parts import SEQUENCE_AXES
+from .toml_io import ORIENTATION_FORMS, orientation_from_table
 
 __all__ = ["unit_vector", "axis_angle_matrix", "sequence_matrix", "sequence_matrices", "quaternion_matrix",
            "quaternion_matrices", "matrix_quaternion",
-           "normalized", "orientation_from_table", "orientation_matrix", "orientation_quaternion", "vector3",
-           "ORIENTATION_KEYS", "ORIENTATION_FORMS"]
-
-#: Keys of an orientation table.
-ORIENTATION_KEYS = ("axis", "angle", "sequence", "angles")
-#: What an orientation table looks like, for messages.
-ORIENTATION_FORMS = ("a table { axis = [ax, ay, az], angle = a } or { sequence = \"zyx\", angles = [a1, a2, a3] }"
-                     " (sequence: 1 to 3 letters among x, y, z; angles [rad])")
+           "normalized", "orientation_matrix", "orientation_quaternion", "vector3"]
 
 _UNIT = {"x": 0, "y": 1, "z": 2}
 
@@ -206,38 +200,6 @@ def normalized(e) -> tuple[np.ndarray, float]:
         raise ValueError("four zero Euler parameters")
     norm = largest * float(np.linalg.norm(e / largest))
     return e / norm if math.isfinite(norm) else (e / largest) / np.linalg.norm(e / largest), norm
-
-
-def orientation_from_table(table, path: str) -> Orientation:
-    """An :class:`~flexkane.model.parts.Orientation` from a model file's table (keys checked; values
-    kept as given for the validation).
-
-    Parameters
-    ----------
-    table : dict or Orientation
-        ``{ axis = [...], angle = ... }`` or ``{ sequence = "...", angles = [...] }``.
-    path : str
-        Key path of the table, for messages.
-
-    Raises
-    ------
-    ModelError
-        For a value that is not a table, an unknown key, or keys of both forms.
-    """
-    if isinstance(table, Orientation):
-        return table
-    if not isinstance(table, dict):
-        raise ModelError(path, ORIENTATION_FORMS, table)
-    for key in table:
-        if key not in ORIENTATION_KEYS:
-            import difflib
-
-            close = difflib.get_close_matches(str(key), ORIENTATION_KEYS, n=1, cutoff=0.5)
-            raise ModelError(f"{path}.{key}", "a known key of an orientation (axis, angle or sequence, angles)",
-                             key, f"did you mean {close[0]!r}?" if close else None)
-    axis, angles = table.get("axis"), table.get("angles")
-    return Orientation(axis=tuple(axis) if isinstance(axis, list) else axis, angle=table.get("angle"),
-                       sequence=table.get("sequence"), angles=list(angles) if isinstance(angles, tuple) else angles)
 
 
 def _is_value(value) -> bool:
