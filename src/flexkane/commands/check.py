@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import sys
+
 from ._common import add_model_arguments, model_from_args
 
 __all__ = ["register"]
@@ -24,14 +26,22 @@ def _handle(args) -> int:
     model = model_from_args(args)   # validates fields, references, shape families and the chain
     sweep = _check_sweep_table(args.model, model)
     coordinates = coordinate_names(model)
+    if model.dimensions == 3:
+        from ..model.initial import initial_values
+
+        for warning in initial_values(model).warnings:   # Euler parameters normalized
+            print(f"flexkane: warning: {warning}", file=sys.stderr)
     free = [c for c in coordinates if c.driver is None]
     modes = ", ".join(f"{b.name}: {b.n_modes} {b.shape.family}" + (f" + {b.n_axial} axial" if b.n_axial else "")
                       + (", Rayleigh" if b.rayleigh else "") for b in model.beams.values())
-    print(f"{args.model}: valid ({len(model.bodies)} bodies, {len(model.beams)} beams"
+    speeds = sum(c.u is not None for c in coordinates)
+    print(f"{args.model}: valid ({'spatial, ' if model.dimensions == 3 else ''}{len(model.bodies)} bodies, "
+          f"{len(model.beams)} beams"
           + (f" [{modes}]" if modes else "") + f", {len(model.joints)} joints"
           + (f", {len(model.constraints)} loop constraints" if model.constraints else "")
           + f"; {len(coordinates)} generalized coordinates: "
           f"{', '.join(c.q for c in coordinates)}"
+          + (f"; {speeds} generalized speeds" if speeds != len(coordinates) else "")
           + (f"; {len(coordinates) - len(free)} prescribed by drivers" if len(free) < len(coordinates)
              else "") + ")" + (f"; [sweep] of {sweep} variant(s)" if sweep else ""))
     return 0
