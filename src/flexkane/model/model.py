@@ -48,6 +48,10 @@ class Model:
         Default run settings.
     description : str
         Free text.
+    control_inputs : bool
+        Derive the control inputs (actuator efforts and load components, :mod:`flexkane.kane.inputs`)
+        as symbols of the equations; set by ``simulate(..., controller=f)`` and ``linearize`` on
+        their copies, not a model-file key.
     """
 
     name: str = "model"
@@ -64,6 +68,7 @@ class Model:
     naming: str = "joint"
     simulation: Simulation = field(default_factory=Simulation)
     description: str = ""
+    control_inputs: bool = False
 
     # ------------------------------------------------------------------ queries
     def link_names(self) -> list[str]:
