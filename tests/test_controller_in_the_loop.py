@@ -105,3 +105,11 @@ def test_a_model_without_inputs_refuses_a_controller():
     compiled = flexkane.compile_model(flexkane.derive(flexkane.builtin_model("spin-up-linear").with_modes(1)))
     with pytest.raises(ModelError, match="control inputs"):
         flexkane.simulate(compiled, controller=lambda t, y: [], t_end=0.01)
+
+
+def test_controlled_results_write_and_load_with_their_input_columns(free_hub, tmp_path):
+    results = flexkane.simulate(free_hub, controller=p_law_compiled, t_end=0.05, dt_out=0.01)
+    results.write(tmp_path)
+    loaded = flexkane.load_results(tmp_path / "results.npz")
+    np.testing.assert_array_equal(loaded["input_effort_hub"], results["input_effort_hub"])
+    np.testing.assert_array_equal(loaded.state, results.state)

@@ -100,3 +100,48 @@ def test_missing_python_control_names_the_extra(free_hub, monkeypatch):
     monkeypatch.setitem(sys.modules, "control", None)
     with pytest.raises(MissingExtraError, match=r"flexkane\[control\]"):
         free_hub.to_control()
+
+
+def test_output_with_accelerations_gets_its_direct_feedthrough_d():
+    """The effort of a driven turntable depends on the accelerations a hinge actuator causes: C and D of
+    that output agree with central differences of the compiled outputs in the state and the input."""
+    from flexkane import Model
+    from flexkane.kane.inputs import with_control_inputs
+    from flexkane.model.parts import Beam, Driver, Joint, RigidBody
+
+    model = Model(name="turntable", parameters={"J": 0.2, "m": 1.0, "L": 0.7, "EI": 5.0, "rho": 0.4})
+    model.bodies["table"] = RigidBody(name="table", mass="m", inertia="J", points={"hinge": (0.1, 0.05)})
+    model.beams["arm"] = Beam(name="arm", L="L", EI="EI", rho="rho", n_modes=2)
+    model.joints["table"] = Joint(name="table", type="revolute", parent="ground", child="table",
+                                  driver=Driver(speed="0"))
+    model.joints["elbow"] = Joint(name="elbow", type="revolute", parent="table", parent_point="hinge",
+                                  child="arm", stiffness=3.0, rest=0.4)
+    model.validate()
+    linear = linearize(model)
+    assert linear.input_names == ["effort_elbow"] and "effort_table" in linear.output_names
+    C, D = linear.output_matrices()
+    row = linear.output_names.index("effort_table")
+    assert abs(D[row, 0]) > 1e-3
+    compiled = flexkane.compile_model(flexkane.derive(with_control_inputs(model)))
+    module = compiled.module
+    p0 = compiled.derivation.numbers(compiled.derivation.model, ("p",))["p"]
+    names = list(module.STATE_NAMES)
+    x0 = np.zeros(len(names))
+    for name, value in zip(linear.coordinates, linear.q0):
+        x0[names.index(name)] = value
+    k_in = list(module.CONSTANT_NAMES).index("effort_elbow")
+    k_out = list(module.OUTPUT_NAMES).index("effort_table")
+
+    def effort(x, r):
+        p = np.array(p0, dtype=float)
+        p[k_in] = r
+        return module.outputs(np.zeros(1), x[None, :], p)[0, k_out]
+
+    h = 1e-6
+    D_fd = (effort(x0, h) - effort(x0, -h)) / (2 * h)
+    assert D[row, 0] == pytest.approx(D_fd, rel=1e-6)
+    for j, name in enumerate(linear.state_names):
+        e = np.zeros(len(names))
+        e[names.index(name)] = h
+        C_fd = (effort(x0 + e, 0.0) - effort(x0 - e, 0.0)) / (2 * h)
+        assert C[row, j] == pytest.approx(C_fd, rel=1e-5, abs=1e-6 * np.abs(C[row]).max())
