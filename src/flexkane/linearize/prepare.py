@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 
 from ..errors import ModelError
 from ..model import Model
-from ..kane.inputs import InputChannel, input_channels, with_control_inputs
+from ..kane.inputs import InputChannel, input_channels
 from ..model.parts import Driver
 
 __all__ = ["ABOUT", "InputChannel", "PreparedModel", "prepare_model", "spin_hub"]
@@ -167,8 +167,7 @@ def prepare_model(model: Model, *, about: str, spin: float | None = None, hub: s
         prepared.hub = name
         prepared.spin_parameter = parameter
         prepared.notes.append(f"joint {name} spins at the constant rate {parameter} = {spin:g} rad/s")
-    new = with_control_inputs(new)
-    prepared.model = new
+    new.control_inputs = True           # derived with its input channels (flexkane.kane.inputs)
     for channel in input_channels(new):
         field_value = _field(new, channel.path)
         prepared.inputs.append(channel)
