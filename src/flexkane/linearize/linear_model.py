@@ -39,15 +39,17 @@ __all__ = ["LinearModel", "linear_outputs", "load_control"]
 _SAFE_NAME = re.compile(r"[^0-9A-Za-z_]")
 
 #: Outputs of the equations that are not outputs of a linear model: energies and power are
-#: quadratic (their first-order change at an equilibrium says nothing), loop constraints are zero.
+#: quadratic (their first-order change at an equilibrium says nothing), momenta are integrals of the
+#: motion rather than measurements (and their Jacobians cost as much as the rest of a large model's).
 NONLINEAR_OUTPUTS = ("kinetic", "potential_gravity", "strain", "potential_springs", "energy",
-                     "power_nonconservative")
+                     "power_nonconservative", "p_x", "p_y", "h_o", "h_cm")
 
 
 def linear_outputs(eom) -> list[str]:
-    """Names of the outputs of the linear model of ``eom``: its outputs in their order, but the
-    energies and power (:data:`NONLINEAR_OUTPUTS`), the loop constraints (``constraint_*``) and the
-    dependent speeds of closed loops (which are states of the equations' outputs only)."""
+    """Names of the outputs of the linear model of ``eom``: its outputs in their order (positions,
+    angles, tip deflections, drivers' efforts ...), but the energies, power and momenta
+    (:data:`NONLINEAR_OUTPUTS`), the loop constraints (``constraint_*``) and the dependent speeds of
+    closed loops."""
     dependent = {u.name for u in getattr(eom, "dependent_speeds", {})}
     return [k for k in eom.output_names
             if k not in NONLINEAR_OUTPUTS and not k.startswith("constraint_") and k not in dependent]

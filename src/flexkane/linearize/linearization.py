@@ -147,11 +147,10 @@ class Linearization:
 
         self._units = units(eom)
         self.ud = [eom.chain.ud[u] for u in self.u]
-        # f and its Jacobian with respect to (q_all, u, r), in factored form for the numbers; the
-        # outputs' with respect to (q_all, u, u', r)
+        # f and its Jacobian with respect to (q_all, u, r), in factored form for the numbers (the
+        # outputs' with respect to (q_all, u, u', r) on first use, :meth:`_output_numbers`)
         self._forward = forward_jacobian(list(eom.forcing), [*self.q_all, *self.u, *self.r])
-        self._forward_outputs = forward_jacobian([eom.outputs[k] for k in self.output_names],
-                                                 [*self.q_all, *self.u, *self.ud, *self.r], prefix="_fy")
+        self._f_outputs = None
         self._symbolic = None
 
     def symbolic_matrices(self) -> dict:
@@ -245,8 +244,7 @@ class Linearization:
         self._f_mass = sp.lambdify(args, self.M, modules="numpy", cse=True)
         kinematic = [self.qdot0, self.W, self.V, self.phi, self.phi_q]
         self._f_kinematic = sp.lambdify(args, kinematic, modules="numpy", cse=True)
-        fy = self._forward_outputs
-        self._f_outputs = sp.lambdify([*args, *self.ud], [fy.values, fy.jacobian], modules="numpy", cse=fy.cse)
+        self._args_symbols = args
         self._cache = (None, None)
 
     def _dropped_value(self, q, initial: float) -> float:
@@ -285,6 +283,11 @@ class Linearization:
     def _output_numbers(self, q_all: np.ndarray, p: np.ndarray) -> dict:
         """The outputs and their Jacobians at ``(q_all, u = 0, u' = 0, t0)`` for constants p."""
         n, n_all, m, k = len(self.u), len(self.q_all), len(self.r), len(self.output_names)
+        if self._f_outputs is None:   # formed once, on first use (campbell diagrams need no outputs)
+            fy = forward_jacobian([self.eom.outputs[name] for name in self.output_names],
+                                  [*self.q_all, *self.u, *self.ud, *self.r], prefix="_fy")
+            self._f_outputs = sp.lambdify([*self._args_symbols, *self.ud], [fy.values, fy.jacobian],
+                                          modules="numpy", cse=fy.cse)
         with np.errstate(all="ignore"):
             values, jacobian = self._f_outputs(*self._args(q_all, p), *np.zeros(n))
         J = np.array(jacobian, dtype=float).reshape(k, n_all + 2 * n + m)
@@ -404,7 +407,7 @@ class Linearization:
                 "(--set on the initial coordinates)")
         return check
 
-    def at(self, spin: float | None = None, q_start=None) -> LinearModel:
+    def at(self, spin: float | None = None, q_start=None, *, outputs: bool = True) -> LinearModel:
         """The numeric linear model at the operating point.
 
         Parameters
@@ -414,6 +417,9 @@ class Linearization:
         q_start : array_like, optional
             Starting configuration of the equilibrium search, shape (n_all,) or (n,)
             (:meth:`operating_point`).
+        outputs : bool
+            Form the output matrices (``False``: a model without outputs, for frequencies only; the
+            outputs' Jacobians of a large model take as long as the rest).
 
         Returns
         -------
@@ -422,8 +428,11 @@ class Linearization:
         check = self.operating_point(spin, q_start)
         p = self.parameter_values(spin)
         x = self._numbers(check.q, p)
-        y = self._output_numbers(check.q, p)
         n = len(self.u)
+        names = list(self.output_names) if outputs else []
+        y = self._output_numbers(check.q, p) if outputs else \
+            {"y": np.zeros(0), "Y_q": np.zeros((0, len(self.q_all))), "Y_u": np.zeros((0, n)),
+             "Y_ud": np.zeros((0, n)), "Y_r": np.zeros((0, len(self.r)))}
         independent = [k for k, q in enumerate(self.q_all) if q not in self.dependent]
         dependent = [k for k, q in enumerate(self.q_all) if q in self.dependent]
         T = closure_map(x["phi_q"], independent, dependent)
@@ -439,14 +448,14 @@ class Linearization:
         return LinearModel(
             name=self.model.name, about=self.about, spin=spin_value, hub=self.prepared.hub, t0=self.t0,
             coordinates=[q.name for q in self.q], speeds=[u.name for u in self.u],
-            inputs=list(self.inputs), output_names=list(self.output_names),
+            inputs=list(self.inputs), output_names=names,
             q0=check.q[independent].copy(), r0=np.array(self.prepared.nominal, dtype=float),
             M=x["M"], C=-x["F_u"], K=-x["F_q"] @ T, B=x["F_r"].reshape(n, len(self.r)),
             W=x["W"][independent], V=(x["V"] @ T)[independent],
             C_out=np.hstack([y["Y_q"] @ T, y["Y_u"]]), C_acc=y["Y_ud"], D_out=y["Y_r"], y0=y["y"],
             dropped=dropped, fixed=fixed,
             dependent_map=T[dependent], notes=list(self.notes), residual=check.residual, linearization=self,
-            output_units={k: self._units.get(k, "") for k in self.output_names})
+            output_units={k: self._units.get(k, "") for k in names})
 
     def to_control(self, spin: float | None = None, q_start=None):
         """The linear model at the operating point (:meth:`at`) as a python-control ``StateSpace``
