@@ -2,7 +2,8 @@
 
 The base install carries what every run needs. Sweeps need Dask and pyarrow (``flexkane[sweep]``),
 MP4 movies need the ffmpeg of imageio-ffmpeg (``flexkane[video]``), ``Results.to_dataframe`` needs
-pandas (``flexkane[dataframe]``); ``flexkane[all]`` installs them all.
+pandas (``flexkane[dataframe]``), python-control state-space models need python-control
+(``flexkane[control]``); ``flexkane[all]`` installs them all.
 """
 
 from __future__ import annotations
@@ -17,7 +18,8 @@ __all__ = ["MissingExtraError", "require", "EXTRAS"]
 #: Extra of each optional top-level module, and what it is for.
 EXTRAS = {"dask": ("sweep", "parameter sweeps"), "distributed": ("sweep", "parameter sweeps"),
           "pyarrow": ("sweep", "sweep tables (sweep.parquet)"),
-          "imageio_ffmpeg": ("video", "MP4 movies"), "pandas": ("dataframe", "Results.to_dataframe")}
+          "imageio_ffmpeg": ("video", "MP4 movies"), "pandas": ("dataframe", "Results.to_dataframe"),
+          "control": ("control", "python-control state-space models (LinearModel.to_control)")}
 
 
 class MissingExtraError(FlexkaneError, ImportError):

@@ -274,10 +274,36 @@ def compile_model(eom, cache_dir=None, *, announce=None) -> CompiledModel:
     return CompiledModel(derivation, module, key, time.perf_counter() - start)
 
 
+def _with_inputs(compiled: CompiledModel) -> CompiledModel:
+    """The compiled model of the same structure derived with its control inputs (:mod:`flexkane.kane.inputs`),
+    derived and compiled on first use (cached on disk by structure, and on ``compiled``)."""
+    from .derivation_cache import Derivation
+    from .kane.inputs import with_control_inputs
+
+    model = compiled.derivation.model
+    if getattr(model, "control_inputs", False) is True:
+        return compiled
+    cached = compiled.__dict__.get("_with_inputs")
+    if cached is None:
+        derivation = Derivation(with_control_inputs(model), compiled.derivation._cache_dir,
+                                cache=compiled.derivation._cache)
+        cached = compiled.__dict__["_with_inputs"] = compile_model(derivation)
+    return cached
+
+
+def _in_the_loop(compiled: CompiledModel, controller, model: Model, constant_names, t0: float, y0):
+    """The :class:`~flexkane.numerics.controller.ControlLoop` of a run."""
+    from .kane.inputs import input_channels
+    from .numerics.controller import ControlLoop
+
+    channels = [channel.name for channel in input_channels(model)]
+    return ControlLoop(compiled.module, controller, channels, constant_names, t0, y0)
+
+
 def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: float | None = None,
              rtol: float = 1e-8, atol: float = 1e-10, method: str = "auto", model: Model | None = None,
              progress=None, max_steps: int | None = None, t_span=None, t_eval=None, y0=None,
-             remember: bool = False) -> Results:
+             remember: bool = False, controller=None) -> Results:
     """Integrate a compiled model from its initial state.
 
     The times are given either as ``t_end`` and ``dt_out`` (rows at 0, dt_out, ..., t_end) or, as
@@ -315,6 +341,16 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
     remember : bool
         Store the model's numbers (constants, initial state) in the cache of its equations, so
         that a run of the same model again needs no SymPy (the command line's runs do).
+    controller : callable, optional
+        A control law ``f(t, y) -> efforts`` in the loop (:mod:`flexkane.numerics.controller`):
+        y is the state ``[q, u]`` in the order of ``Results.state_names``; the efforts [N m or N]
+        are an array in the order of the model's input channels (:mod:`flexkane.kane.inputs`:
+        ``effort_<joint>`` of every revolute or prismatic joint not driven, in the order of the
+        model, then ``load_<name>_fx``, ``_fy``, ``_torque`` of its loads) or a dict by channel name
+        (others 0), added to the model's own torques and loads. Evaluated at every evaluation of
+        the right-hand side; an ``@njit`` function (returning a float64 array) runs in compiled
+        code. The equations with the inputs are derived and compiled on first use (cached like any
+        structure). The efforts at the output times are the outputs ``input_<channel>``.
 
     Returns
     -------
@@ -327,7 +363,8 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
     ------
     ModelError
         For invalid or conflicting arguments (``t_end`` with ``t_span``, ``dt_out`` with ``t_eval``,
-        output times outside ``t_span``, a ``y0`` of the wrong size ...), before any integration.
+        output times outside ``t_span``, a ``y0`` of the wrong size ...), before any integration;
+        for a controller whose output is not one finite effort per input channel.
     """
     from .model.coordinates import coordinate_names
     from .model.validate import validate_run_arguments
@@ -335,6 +372,11 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
 
     if not isinstance(compiled, CompiledModel):
         raise ModelError("compiled", "a CompiledModel from flexkane.compile_model", type(compiled).__name__)
+    if controller is not None:
+        from .kane.inputs import with_control_inputs
+
+        compiled = _with_inputs(compiled)
+        model = with_control_inputs(model) if isinstance(model, Model) else model
     derivation = compiled.derivation
     sim = (model if isinstance(model, Model) else derivation.model).simulation
     grid, keep = output_times(t_end=t_end, dt_out=dt_out, t_span=t_span, t_eval=t_eval, simulation=sim)
@@ -362,7 +404,15 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
     kwargs = {"rtol": rtol, "atol": atol, "method": method, "progress": progress}
     if max_steps is not None:
         kwargs["max_steps"] = max_steps
-    result = integrate(compiled.module, y0, grid, p, **kwargs)
+    control = None
+    if controller is not None:
+        control = _in_the_loop(compiled, controller, model, manifest["constant_names"], float(grid[0]), y0)
+        kwargs["system"] = control.system
+        with control.active():
+            result = integrate(compiled.module, y0, grid, p, **kwargs)
+        control.check(result)
+    else:
+        result = integrate(compiled.module, y0, grid, p, **kwargs)
     quadratures = dict(zip(getattr(compiled.module, "QUADRATURE_NAMES", ()),
                            np.asarray(result.quadratures).T))
     n_valid = result.n_valid
@@ -374,7 +424,8 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
         n_valid = len(t)
     # the compiled outputs (u' of the outputs that need it from the compiled rhs, row by row)
     with np.errstate(all="ignore"):
-        outputs = {k: np.array(v, dtype=float) for k, v in evaluate_outputs(compiled.module, t, state, p).items()}
+        outputs = {k: np.array(v, dtype=float) for k, v in evaluate_outputs(compiled.module, t, state, p).items()} \
+            if control is None else control.outputs(t, state, p)
         spins = evaluate_outputs(compiled.module, t, state, p, name="spin_rates") \
             if hasattr(compiled.module, "spin_rates") else {}
     if "energy" in outputs:

@@ -67,11 +67,13 @@ def test_the_extras_are_declared_and_the_base_install_is_light():
     assert any(d.startswith("dask[distributed]") for d in extras["sweep"])
     assert any(d.startswith("pyarrow") for d in extras["sweep"])
     assert any(d.startswith("imageio-ffmpeg") for d in extras["video"])
-    assert "flexkane[sweep,video,dataframe]" in extras["all"] and "flexkane[sweep,video,dataframe]" in extras["test"]
+    assert "flexkane[sweep,video,dataframe,control]" in extras["all"]
+    assert "flexkane[sweep,video,dataframe,control]" in extras["test"]
+    assert any(d.startswith("control>=") for d in extras["control"])
     assert {"nbclient", "ipykernel"} <= {d.split(">")[0] for d in extras["notebook"]}
 
 
-@pytest.mark.parametrize("module", ["distributed", "imageio_ffmpeg", "pandas"])
+@pytest.mark.parametrize("module", ["distributed", "imageio_ffmpeg", "pandas", "control"])
 def test_each_optional_module_has_an_extra_named_in_its_message(module, monkeypatch):
     from flexkane.extras import EXTRAS, MissingExtraError, require
 

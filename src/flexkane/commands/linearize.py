@@ -9,8 +9,12 @@ Example::
 prints the operating point and the table of modes (natural frequency [rad/s] and [Hz], damping
 ratio, eigenvalue; rigid-body modes first) and writes to DIR: ``linear_model.npz`` and
 ``linear_model.mat`` (M, C, K, B, W, V and the state-space A, B_ss, C_ss, D_ss with the names of
-states, inputs and outputs), ``modes.csv`` (the table with the mode shapes) and
-``mode_shapes.png``. A model without equilibrium (free fall) exits with code 2 and says so.
+states, inputs and outputs; in the .mat also the struct ``statespace`` with A, B, C, D, StateName,
+InputName, OutputName), ``modes.csv`` (the table with the mode shapes) and ``mode_shapes.png``.
+``--export control`` also writes ``statespace.npz``: the state space as python-control builds it
+(A, B, C, D, the names of states, inputs and outputs, dt = 0; no pickles), read back by
+``flexkane.linearize.load_control`` as a ``control.StateSpace``. A model without equilibrium (free
+fall) exits with code 2 and says so.
 """
 
 from __future__ import annotations
@@ -19,7 +23,10 @@ from pathlib import Path
 
 from ._common import add_model_arguments, add_out_arguments, model_from_args
 
-__all__ = ["register", "add_operating_point_arguments"]
+__all__ = ["register", "add_operating_point_arguments", "EXPORTS"]
+
+#: Formats of ``--export``, with the file each writes.
+EXPORTS = {"control": "statespace.npz"}
 
 
 def add_operating_point_arguments(parser, *, spin: bool = True) -> None:
@@ -56,6 +63,9 @@ def register(subparsers) -> None:
     p.add_argument("--t0", type=float, default=0.0, metavar="T",
                    help="time of the operating point [s]: loads and drivers are taken there [default: 0]")
     p.add_argument("--plot-modes", type=int, default=4, metavar="K", help="number of mode shapes drawn [default: 4]")
+    p.add_argument("--export", action="append", default=[], metavar="FORMAT",
+                   help="also write the state space for another tool (repeatable): control = statespace.npz "
+                        "for python-control (flexkane.linearize.load_control reads it)")
     add_out_arguments(p, "out/MODEL_NAME-linearized")
     p.add_argument("--quiet", action="store_true", help="print nothing but errors")
     p.set_defaults(handler=_handle)
@@ -86,6 +96,9 @@ def _handle(args) -> int:
     about, spin = operating_point(args)
     if args.plot_modes < 1:
         raise ModelError("--plot-modes", "a positive number of modes", args.plot_modes)
+    for export in args.export:
+        if export not in EXPORTS:
+            raise ModelError("--export", "one of " + ", ".join(EXPORTS), export)
     out = prepare_out(Path(args.out) if args.out else default_out(model.name, "-linearized"), force=args.force)
     linear = Linearization(model, about=about, spin=spin, hub=args.hub, t0=args.t0).at()
     modal = modal_analysis(linear)
@@ -93,6 +106,9 @@ def _handle(args) -> int:
     linear.save_mat(out / "linear_model.mat")
     atomic_write_text(out / "modes.csv", modal.csv_text())
     plot_mode_shapes(modal, out / "mode_shapes.png", count=args.plot_modes)
+    exports = sorted(set(args.export))
+    if "control" in exports:
+        linear.save_control(out / EXPORTS["control"])
     if not args.quiet:
         for line in describe(linear):
             print(line)
@@ -102,5 +118,5 @@ def _handle(args) -> int:
         if not modal.stable:
             print("the operating point is unstable (a mode grows)")
         print(modal.table())
-        print(f"wrote 4 files to {out}")
+        print(f"wrote {4 + len(exports)} files to {out}")
     return 0

@@ -9,7 +9,8 @@
 * ``damping``: modal damping of the beams, ``-2 zeta_i sqrt(H_ii G_ii) u_i``.
 * ``joints``: springs and dampers on joint coordinates.
 * ``loads``: applied forces and torques, constant or functions of t, actuator torques of joints, and
-  distributed loads on beams (``int v_P,r . f dx``, :mod:`flexkane.kane.distributed_loads`).
+  distributed loads on beams (``int v_P,r . f dx``, :mod:`flexkane.kane.distributed_loads`), and
+  the control inputs of a model derived with them (:mod:`flexkane.kane.inputs`).
 * ``springs``: linear springs and dampers between points.
 
 Each source is a list of n expressions (one per speed).
@@ -20,6 +21,7 @@ from __future__ import annotations
 import sympy as sp
 
 from .distributed_loads import distributed_load_forces
+from .inputs import input_forces
 from .kinematics import Kinematics, rot
 from .modal_field import ONE, X, phi
 
@@ -195,6 +197,11 @@ def generalized_active_forces(kin: Kinematics) -> dict[str, list]:
         fb = (-tension * e[0], -tension * e[1])            # on b, in N
         add("springs", vb, fb)
         add("springs", va, (-fb[0], -fb[1]))
+
+    # ---------------------------------------------------------------- control inputs (kane/inputs.py)
+    for r, term in enumerate(input_forces(kin)):
+        if term != 0:
+            parts["loads"][r] += term
     return parts
 
 

@@ -27,6 +27,7 @@ from ..model.field_values import FieldValues
 from ..model.paths import get_value
 from ..modes.from_spec import shape_family
 from .distributed_loads import load_profile
+from .inputs import input_symbols
 
 __all__ = ["constant_values", "parameter_vector", "initial_guess", "initial_state", "project_coordinates"]
 
@@ -58,6 +59,7 @@ def constant_values(eom, model=None) -> dict:
     values: dict = {psyms[k]: float(v) for k, v in params.items() if k in psyms}
     for symbol, (path, _) in eom.chain.symbols.definitions.items():
         values[symbol] = fields.value(get_value(model, path), path)
+    values.update({symbol: 0.0 for symbol in input_symbols(eom.chain).values()})   # control inputs
     for name, consts in eom.kinematics.constants.items():
         if not consts.used:
             continue

@@ -173,7 +173,7 @@ def campbell_diagram(model: Model, spins, *, hub: str | None = None, t0: float =
     rows, growth = [], []
     q = None
     for spin in spins:
-        linear = lin.at(spin=float(spin), q_start=q)
+        linear = lin.at(spin=float(spin), q_start=q, outputs=False)
         q = lin.full_operating_point(linear)
         modal = modal_analysis(linear)
         frequencies = [m.damped_frequency for m in modal.modes if m.kind == "oscillatory"]

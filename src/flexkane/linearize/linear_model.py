@@ -1,13 +1,19 @@
-"""The numeric linear model, its state-space form and its export (.npz, MATLAB .mat).
+"""The numeric linear model, its state-space form and its export (.npz, MATLAB .mat, python-control).
 
 Second-order form (velocity coordinates), about the operating point ``(q0, u0 = 0, r0)``::
 
     M du' + C du + K dq = B dr,        dq' = W du + V dq.
 
-State-space form, with the state ``x = (dq, du)`` of length 2n and the outputs ``y = C_ss x``
-(the tip deflection of every beam, ``tip_<beam>`` [m], measured from its value ``y0``)::
+State-space form, with the state ``x = (dq, du)`` of length 2n (named after the coordinates and
+speeds), the inputs ``dr`` (the control inputs of :mod:`flexkane.kane.inputs`: ``effort_<joint>``,
+``load_<name>_fx`` ...) and the outputs ``dy = y - y0`` (the model's outputs, named as in the
+results files, :func:`linear_outputs`)::
 
-    x' = A x + B_ss dr,     A = [[V, W], [-M^-1 K, -M^-1 C]],     B_ss = [[0], [M^-1 B]].
+    x' = A x + B_ss dr,     A = [[V, W], [-M^-1 K, -M^-1 C]],     B_ss = [[0], [M^-1 B]],
+    dy = C_ss x + D_ss dr,  C_ss = C_out + C_acc [-M^-1 K, -M^-1 C],  D_ss = D_out + C_acc M^-1 B,
+
+where ``C_out`` and ``D_out`` are the outputs' derivatives with respect to (dq, du) and dr and
+``C_acc`` with respect to du' (outputs with accelerations, such as a driver's effort).
 
 When ``W`` is invertible and ``V = 0`` (every operating point of a chain at rest), ``du = W^-1 dq'``
 and premultiplying by ``W^-T`` (which turns generalized forces along the speeds into forces along the
@@ -21,12 +27,32 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import re
+
 import numpy as np
 import scipy.linalg
 
-from .prepare import InputChannel
+from ..kane.inputs import InputChannel
 
-__all__ = ["LinearModel"]
+__all__ = ["LinearModel", "linear_outputs", "load_control"]
+
+_SAFE_NAME = re.compile(r"[^0-9A-Za-z_]")
+
+#: Outputs of the equations that are not outputs of a linear model: energies and power are
+#: quadratic (their first-order change at an equilibrium says nothing), momenta are integrals of the
+#: motion rather than measurements (and their Jacobians cost as much as the rest of a large model's).
+NONLINEAR_OUTPUTS = ("kinetic", "potential_gravity", "strain", "potential_springs", "energy",
+                     "power_nonconservative", "p_x", "p_y", "h_o", "h_cm")
+
+
+def linear_outputs(eom) -> list[str]:
+    """Names of the outputs of the linear model of ``eom``: its outputs in their order (positions,
+    angles, tip deflections, drivers' efforts ...), but the energies, power and momenta
+    (:data:`NONLINEAR_OUTPUTS`), the loop constraints (``constraint_*``) and the dependent speeds of
+    closed loops."""
+    dependent = {u.name for u in getattr(eom, "dependent_speeds", {})}
+    return [k for k in eom.output_names
+            if k not in NONLINEAR_OUTPUTS and not k.startswith("constraint_") and k not in dependent]
 
 
 @dataclass
@@ -62,7 +88,7 @@ class LinearModel:
     W, V : numpy.ndarray
         Linearized kinematic equations ``dq' = W du + V dq``, shape (n, n).
     C_out : numpy.ndarray
-        Output matrix on the state x, shape (k, 2n).
+        Derivatives of the outputs with respect to the state x = (dq, du), shape (k, 2n).
     y0 : numpy.ndarray
         Outputs at the operating point, shape (k,).
     dropped : dict of str to str
@@ -77,6 +103,13 @@ class LinearModel:
         Assumptions and changes, in words.
     residual : float
         Largest generalized acceleration left at the operating point [m/s^2 or rad/s^2].
+    C_acc : numpy.ndarray
+        Derivatives of the outputs with respect to du', shape (k, n) (zero unless an output has
+        accelerations).
+    D_out : numpy.ndarray
+        Derivatives of the outputs with respect to dr, shape (k, m).
+    output_units : dict of str to str
+        Unit of each output (``m``, ``rad``, ``N m`` ...).
     """
 
     name: str
@@ -104,6 +137,10 @@ class LinearModel:
     notes: list = field(default_factory=list)
     residual: float = 0.0
     linearization: object = field(default=None, repr=False, compare=False)
+    C_acc: np.ndarray | None = None
+    D_out: np.ndarray | None = None
+
+    output_units: dict = field(default_factory=dict)
 
     # ------------------------------------------------------------------ sizes and names
     @property
@@ -133,8 +170,37 @@ class LinearModel:
         return A, Bss
 
     def output_matrices(self) -> tuple[np.ndarray, np.ndarray]:
-        """``(C_ss, D_ss)`` of ``y - y0 = C_ss x + D_ss dr``, shapes (k, 2n) and (k, m)."""
-        return self.C_out.copy(), np.zeros((len(self.output_names), self.B.shape[1]))
+        """``(C_ss, D_ss)`` of ``y - y0 = C_ss x + D_ss dr``, shapes (k, 2n) and (k, m) (module docstring)."""
+        k, n, m = len(self.output_names), self.n, self.B.shape[1]
+        C = self.C_out.copy()
+        D = np.zeros((k, m)) if self.D_out is None else np.array(self.D_out, dtype=float).reshape(k, m)
+        if self.C_acc is not None and n and np.any(self.C_acc != 0):
+            A, Bss = self.state_space()
+            C = C + self.C_acc @ A[n:]
+            D = D + self.C_acc @ Bss[n:]
+        return C, D
+
+    def to_control(self):
+        """The state-space model as a python-control ``StateSpace`` with named states, inputs and outputs.
+
+        Returns
+        -------
+        control.StateSpace
+            ``(A, B_ss, C_ss, D_ss)`` (continuous time) with ``states=state_names``,
+            ``inputs=input_names`` and ``outputs=output_names``; ``name`` is the model's name.
+
+        Raises
+        ------
+        flexkane.extras.MissingExtraError
+            If python-control is not installed (``pip install 'flexkane[control]'``).
+        """
+        from ..extras import require
+
+        control = require("control")
+        A, B = self.state_space()
+        C, D = self.output_matrices()
+        return control.ss(A, B, C, D, states=self.state_names, inputs=self.input_names,
+                          outputs=list(self.output_names), name=_SAFE_NAME.sub("_", self.name) or "model")
 
     def second_order(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """``(M_q, C_q, K_q, B_q)`` of ``M_q dq'' + C_q dq' + K_q dq = B_q dr`` (module docstring).
@@ -162,7 +228,8 @@ class LinearModel:
 
         Keys: ``M, C, K, B, W, V`` (second-order form), ``A, B_ss, C_ss, D_ss`` (state space),
         ``q0, r0, y0``, ``spin`` (NaN unless about a spin), ``t0``, and the names ``state_names``,
-        ``coordinates``, ``speeds``, ``input_names``, ``input_units``, ``output_names``, ``about``.
+        ``coordinates``, ``speeds``, ``input_names``, ``input_units``, ``output_names``,
+        ``output_units``, ``about``, ``name``.
         """
         A, Bss = self.state_space()
         Css, Dss = self.output_matrices()
@@ -174,7 +241,8 @@ class LinearModel:
             "state_names": self.state_names, "coordinates": list(self.coordinates),
             "speeds": list(self.speeds), "input_names": self.input_names,
             "input_units": [ch.unit for ch in self.inputs], "output_names": list(self.output_names),
-            "about": self.about,
+            "output_units": [self.output_units.get(k, "") for k in self.output_names],
+            "about": self.about, "name": self.name,
         }
 
     def save_npz(self, path) -> None:
@@ -202,5 +270,61 @@ class LinearModel:
                 data[k] = v
             else:
                 data[k] = np.asarray(v, dtype=float)
+        A, B, C, D = data["A"], data["B_ss"], data["C_ss"], data["D_ss"]
+        # the state space as one struct: sys = ss(s.statespace.A, s.statespace.B, ..., 'StateName', ...)
+        data["statespace"] = {"A": A, "B": B, "C": C, "D": D, "StateName": data["state_names"],
+                              "InputName": data["input_names"], "OutputName": data["output_names"]}
         with atomic_writer(path, "path") as temporary:
             scipy.io.savemat(temporary, data, oned_as="column")
+
+    def save_control(self, path) -> None:
+        """Write the state space as python-control builds it, to a NumPy ``.npz`` file without pickles.
+
+        Keys: ``A, B, C, D`` (:meth:`state_space`, :meth:`output_matrices`), ``states``, ``inputs``,
+        ``outputs`` (names, Unicode arrays), ``name``, ``dt`` (0: continuous time), and ``x0``
+        (the operating point's state), ``r0``, ``y0`` (nominal inputs and outputs), ``input_units``,
+        ``output_units``. :func:`load_control` reads it back as a ``control.StateSpace``; without
+        flexkane: ``control.ss(d["A"], d["B"], d["C"], d["D"], states=list(d["states"]),
+        inputs=list(d["inputs"]), outputs=list(d["outputs"]))`` with ``d = numpy.load(path)``.
+        """
+        from ..atomic import atomic_writer
+
+        A, B = self.state_space()
+        C, D = self.output_matrices()
+        names = lambda v: np.array(list(v), dtype=str).reshape(len(v))  # noqa: E731
+        data = {"A": A, "B": B, "C": C, "D": D, "states": names(self.state_names),
+                "inputs": names(self.input_names), "outputs": names(self.output_names),
+                "name": np.array(self.name), "dt": np.array(0.0),
+                "x0": np.concatenate([self.q0, np.zeros(self.n)]), "r0": np.asarray(self.r0, dtype=float),
+                "y0": np.asarray(self.y0, dtype=float), "input_units": names([ch.unit for ch in self.inputs]),
+                "output_units": names([self.output_units.get(k, "") for k in self.output_names])}
+        with atomic_writer(path, "path") as temporary:
+            np.savez(temporary, **data)
+
+
+def load_control(path):
+    """Read a file of :meth:`LinearModel.save_control` as a python-control ``StateSpace``.
+
+    Parameters
+    ----------
+    path : path-like
+        The ``.npz`` file (``flexkane linearize MODEL --export control`` writes ``statespace.npz``).
+
+    Returns
+    -------
+    control.StateSpace
+        With the names of its states, inputs and outputs.
+    """
+    from ..errors import ModelError
+    from ..extras import require
+
+    control = require("control")
+    try:
+        with np.load(path, allow_pickle=False) as d:
+            parts = {k: d[k] for k in ("A", "B", "C", "D", "states", "inputs", "outputs", "name", "dt")}
+    except (OSError, ValueError, KeyError) as exc:
+        raise ModelError(str(path), "a state-space file written by flexkane linearize --export control",
+                         f"{type(exc).__name__}: {exc}") from None
+    return control.ss(parts["A"], parts["B"], parts["C"], parts["D"], float(parts["dt"]),
+                      states=[str(s) for s in parts["states"]], inputs=[str(s) for s in parts["inputs"]],
+                      outputs=[str(s) for s in parts["outputs"]], name=str(parts["name"]) or None)

@@ -41,10 +41,11 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ModelError
+from ..kane.inputs import input_symbols
 from ..model import Model
 from .equilibrium import EquilibriumCheck, NoEquilibriumError, check_equilibrium, find_equilibrium
 from .jacobian import forward_jacobian
-from .linear_model import LinearModel
+from .linear_model import LinearModel, linear_outputs
 from .prepare import ABOUT, prepare_model
 from .reduction import closure_map
 
@@ -83,12 +84,13 @@ class Linearization:
     dropped : list of sympy.Symbol
         Coordinates prescribed by drivers, not in the linear model.
     r : list of sympy.Symbol
-        Inputs (actuator torques and load components), m of them.
+        Inputs (actuator efforts and load components, :mod:`flexkane.kane.inputs`), m of them.
     M, W, V : sympy.Matrix
         Mass matrix M(q) (n, n) and kinematic Jacobians ``dqdot/du`` (n_all, n), ``dqdot/dq``
         (n_all, n_all) at u = 0; the Jacobians of the forcing are in :meth:`symbolic_matrices`.
     output_names : list of str
-        Outputs of the linear model: the tip deflection of every beam, ``tip_<beam>`` [m].
+        Outputs of the linear model: the model's outputs but its energies and loop constraints
+        (:func:`~flexkane.linearize.linear_model.linear_outputs`).
     parameters : list of sympy.Symbol
         Order of the constants vector p of the numeric functions.
     notes : list of str
@@ -118,9 +120,9 @@ class Linearization:
         if len(self.q) != len(self.u):  # pragma: no cover - the chain gives one speed per coordinate
             raise ModelError("model", "as many independent speeds as coordinates",
                              f"{len(self.q)} and {len(self.u)}")
-        params = eom.chain.symbols.parameters
+        symbols = input_symbols(eom.chain)
         self.inputs = list(self.prepared.inputs)
-        self.r = [params[ch.name] for ch in self.inputs]
+        self.r = [symbols[ch.name] for ch in self.inputs]
         self._form_matrices()
         self._check_dropped()
         self._check_drivers()
@@ -140,14 +142,15 @@ class Linearization:
         names = eom.constraint_set.names if self.dependent else []
         self.phi = sp.Matrix([eom.outputs[f"constraint_{name}"] for name in names])
         self.phi_q = self.phi.jacobian(self.q_all) if names else sp.zeros(0, n_all)
-        self.output_names = [k for k in eom.outputs if k.startswith("tip_")]
-        y = sp.Matrix([eom.outputs[k] for k in self.output_names])
-        self.y0 = y.xreplace(at_rest)
-        k = len(self.output_names)
-        self.Cq = self.y0.jacobian(self.q_all) if n_all and k else sp.zeros(k, n_all)
-        self.Cu = y.jacobian(self.u).xreplace(at_rest) if self.u and k else sp.zeros(k, len(self.u))
-        # f and its Jacobian with respect to (q_all, u, r), in factored form for the numbers
+        self.output_names = linear_outputs(eom)
+        from ..run_manifest import units
+
+        self._units = units(eom)
+        self.ud = [eom.chain.ud[u] for u in self.u]
+        # f and its Jacobian with respect to (q_all, u, r), in factored form for the numbers (the
+        # outputs' with respect to (q_all, u, u', r) on first use, :meth:`_output_numbers`)
         self._forward = forward_jacobian(list(eom.forcing), [*self.q_all, *self.u, *self.r])
+        self._f_outputs = None
         self._symbolic = None
 
     def symbolic_matrices(self) -> dict:
@@ -203,7 +206,7 @@ class Linearization:
                               + " follow the independent coordinates (dq = T dq_i)")
         exprs = list(self.M) + list(self.eom.forcing) + list(self.qdot0) + list(self.phi)
         if any(self.t in e.free_symbols for e in exprs):
-            self.notes.append(f"the equations depend explicitly on time (drivers): frozen at t0 = {self.t0:g} s")
+            self.notes.append(f"the equations depend explicitly on time (drivers, loads): frozen at t0 = {self.t0:g} s")
 
     def _check_drivers(self) -> None:
         """A driver other than the steady spin must be at rest at t0 for an equilibrium."""
@@ -239,8 +242,9 @@ class Linearization:
         fj = self._forward
         self._f_forcing = sp.lambdify(args, [fj.values, fj.jacobian], modules="numpy", cse=fj.cse)
         self._f_mass = sp.lambdify(args, self.M, modules="numpy", cse=True)
-        kinematic = [self.qdot0, self.W, self.V, self.phi, self.phi_q, self.y0, self.Cq, self.Cu]
+        kinematic = [self.qdot0, self.W, self.V, self.phi, self.phi_q]
         self._f_kinematic = sp.lambdify(args, kinematic, modules="numpy", cse=True)
+        self._args_symbols = args
         self._cache = (None, None)
 
     def _dropped_value(self, q, initial: float) -> float:
@@ -261,7 +265,7 @@ class Linearization:
         key = (np.asarray(q_all, dtype=float).tobytes(), np.asarray(p, dtype=float).tobytes())
         if self._cache[0] != key:
             n, n_all, m = len(self.u), len(self.q_all), len(self.r)
-            k, c = len(self.output_names), self.phi.shape[0]
+            c = self.phi.shape[0]
             args = self._args(q_all, p)
             as_array = lambda v, shape: np.array(v, dtype=float).reshape(shape)  # noqa: E731
             with np.errstate(all="ignore"):
@@ -272,11 +276,23 @@ class Linearization:
             out = {"f": as_array(values, (n,)), "F_q": J[:, :n_all], "F_u": J[:, n_all:n_all + n],
                    "F_r": J[:, n_all + n:], "M": as_array(M, (n, n)), "qdot": as_array(kin[0], (n_all,)),
                    "W": as_array(kin[1], (n_all, n)), "V": as_array(kin[2], (n_all, n_all)),
-                   "phi": as_array(kin[3], (c,)), "phi_q": as_array(kin[4], (c, n_all)),
-                   "y": as_array(kin[5], (k,)), "Y_q": as_array(kin[6], (k, n_all)),
-                   "Y_u": as_array(kin[7], (k, n))}
+                   "phi": as_array(kin[3], (c,)), "phi_q": as_array(kin[4], (c, n_all))}
             self._cache = (key, out)
         return self._cache[1]
+
+    def _output_numbers(self, q_all: np.ndarray, p: np.ndarray) -> dict:
+        """The outputs and their Jacobians at ``(q_all, u = 0, u' = 0, t0)`` for constants p."""
+        n, n_all, m, k = len(self.u), len(self.q_all), len(self.r), len(self.output_names)
+        if self._f_outputs is None:   # formed once, on first use (campbell diagrams need no outputs)
+            fy = forward_jacobian([self.eom.outputs[name] for name in self.output_names],
+                                  [*self.q_all, *self.u, *self.ud, *self.r], prefix="_fy")
+            self._f_outputs = sp.lambdify([*self._args_symbols, *self.ud], [fy.values, fy.jacobian],
+                                          modules="numpy", cse=fy.cse)
+        with np.errstate(all="ignore"):
+            values, jacobian = self._f_outputs(*self._args(q_all, p), *np.zeros(n))
+        J = np.array(jacobian, dtype=float).reshape(k, n_all + 2 * n + m)
+        return {"y": np.array(values, dtype=float).reshape(k), "Y_q": J[:, :n_all], "Y_u": J[:, n_all:n_all + n],
+                "Y_ud": J[:, n_all + n:n_all + 2 * n], "Y_r": J[:, n_all + 2 * n:]}
 
     def parameter_values(self, spin: float | None = None) -> np.ndarray:
         """The constants vector p, with the spin rate ``spin`` [rad/s] if given, shape (len(parameters),)."""
@@ -300,7 +316,7 @@ class Linearization:
             size = float(sp.sqrt(gravity[0] ** 2 + gravity[1] ** 2).xreplace(values))
         if self.r:
             x = self._numbers(q_all, p)
-            r0 = np.array([ch.value for ch in self.inputs])
+            r0 = np.array(self.prepared.nominal, dtype=float)
             try:
                 size = max(size, float(np.max(np.abs(np.linalg.solve(x["M"], x["F_r"] @ r0)))))
             except np.linalg.LinAlgError:
@@ -391,7 +407,7 @@ class Linearization:
                 "(--set on the initial coordinates)")
         return check
 
-    def at(self, spin: float | None = None, q_start=None) -> LinearModel:
+    def at(self, spin: float | None = None, q_start=None, *, outputs: bool = True) -> LinearModel:
         """The numeric linear model at the operating point.
 
         Parameters
@@ -401,6 +417,9 @@ class Linearization:
         q_start : array_like, optional
             Starting configuration of the equilibrium search, shape (n_all,) or (n,)
             (:meth:`operating_point`).
+        outputs : bool
+            Form the output matrices (``False``: a model without outputs, for frequencies only; the
+            outputs' Jacobians of a large model take as long as the rest).
 
         Returns
         -------
@@ -410,6 +429,10 @@ class Linearization:
         p = self.parameter_values(spin)
         x = self._numbers(check.q, p)
         n = len(self.u)
+        names = list(self.output_names) if outputs else []
+        y = self._output_numbers(check.q, p) if outputs else \
+            {"y": np.zeros(0), "Y_q": np.zeros((0, len(self.q_all))), "Y_u": np.zeros((0, n)),
+             "Y_ud": np.zeros((0, n)), "Y_r": np.zeros((0, len(self.r)))}
         independent = [k for k, q in enumerate(self.q_all) if q not in self.dependent]
         dependent = [k for k, q in enumerate(self.q_all) if q in self.dependent]
         T = closure_map(x["phi_q"], independent, dependent)
@@ -425,12 +448,19 @@ class Linearization:
         return LinearModel(
             name=self.model.name, about=self.about, spin=spin_value, hub=self.prepared.hub, t0=self.t0,
             coordinates=[q.name for q in self.q], speeds=[u.name for u in self.u],
-            inputs=list(self.inputs), output_names=list(self.output_names),
-            q0=check.q[independent].copy(), r0=np.array([ch.value for ch in self.inputs], dtype=float),
+            inputs=list(self.inputs), output_names=names,
+            q0=check.q[independent].copy(), r0=np.array(self.prepared.nominal, dtype=float),
             M=x["M"], C=-x["F_u"], K=-x["F_q"] @ T, B=x["F_r"].reshape(n, len(self.r)),
             W=x["W"][independent], V=(x["V"] @ T)[independent],
-            C_out=np.hstack([x["Y_q"] @ T, x["Y_u"]]), y0=x["y"], dropped=dropped, fixed=fixed,
-            dependent_map=T[dependent], notes=list(self.notes), residual=check.residual, linearization=self)
+            C_out=np.hstack([y["Y_q"] @ T, y["Y_u"]]), C_acc=y["Y_ud"], D_out=y["Y_r"], y0=y["y"],
+            dropped=dropped, fixed=fixed,
+            dependent_map=T[dependent], notes=list(self.notes), residual=check.residual, linearization=self,
+            output_units={k: self._units.get(k, "") for k in names})
+
+    def to_control(self, spin: float | None = None, q_start=None):
+        """The linear model at the operating point (:meth:`at`) as a python-control ``StateSpace``
+        with named states, inputs and outputs (:meth:`LinearModel.to_control`)."""
+        return self.at(spin, q_start).to_control()
 
     # ------------------------------------------------------------------ configurations
     def configuration(self, linear: LinearModel, q: np.ndarray) -> dict:

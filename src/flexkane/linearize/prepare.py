@@ -1,17 +1,20 @@
-"""The model a linearization is derived from: inputs as parameters, a hub spun at a constant rate.
+"""The model a linearization is derived from: control inputs as symbols, a hub spun at a constant rate.
 
 Two changes turn a model into one whose Kane's equations give the linear model directly:
 
-* **Inputs.** Every actuator torque of a joint (``joints.<j>.torque``) and every component of an
-  applied load (``loads.<l>.force``, ``loads.<l>.torque``) is replaced by a new parameter, so that
-  the input matrix ``B`` is a Jacobian of the forcing with respect to parameters. The parameter's
-  value is the load's value at the time ``t0`` of the operating point (the nominal input ``r0``).
-  The inputs ``r`` are therefore *all* the actuator torques and load components of the model, in
-  the order: joints by name, then loads by name (force x, force y, torque); a model with none has
-  no inputs (``B`` with zero columns).
+* **Inputs.** The copy is derived with its control inputs (:mod:`flexkane.kane.inputs`): one symbol
+  per actuator effort (``effort_<joint>`` of every revolute or prismatic joint not driven) and per
+  load component (``load_<name>_fx``, ``load_<name>_fy``, ``load_<name>_torque``), added to the
+  generalized active forces, so that the input matrix ``B`` is the Jacobian of the forcing with
+  respect to them. The inputs r are these channels, in their order (joints in the order of the
+  model, then loads); a model with none has no inputs (``B`` with zero columns). The nominal input
+  r0 of a channel is the value of the model's own field at the time ``t0`` of the operating point
+  (the joint's torque, the load's component; 0 when the field is not given), which the linear
+  model's equations contain already: ``dr`` is what is added to it.
 * **Steady spin.** For ``about = "spin"`` the hub joint (a revolute joint) is given the driver
   ``speed = Omega``, a new parameter whose value is the spin rate [rad/s]; its actuator torque, if
-  any, is removed (the driver supplies the effort), and so are initial values of its speed.
+  any, is removed (the driver supplies the effort, the joint has no input), and so are initial
+  values of its speed.
 """
 
 from __future__ import annotations
@@ -21,6 +24,7 @@ from dataclasses import dataclass, field
 
 from ..errors import ModelError
 from ..model import Model
+from ..kane.inputs import InputChannel, input_channels
 from ..model.parts import Driver
 
 __all__ = ["ABOUT", "InputChannel", "PreparedModel", "prepare_model", "spin_hub"]
@@ -28,29 +32,6 @@ __all__ = ["ABOUT", "InputChannel", "PreparedModel", "prepare_model", "spin_hub"
 #: Operating points a linearization can be taken about.
 ABOUT = ("equilibrium", "rest", "spin")
 _SAFE = re.compile(r"[^0-9A-Za-z_]")
-
-
-@dataclass(frozen=True)
-class InputChannel:
-    """One input r_k of the linear model.
-
-    Attributes
-    ----------
-    name : str
-        Name of the parameter that stands for it in the derived equations (``tau_shoulder``,
-        ``Fx_push``, ...).
-    path : str
-        Key path of the model field it replaces (``joints.shoulder.torque``).
-    unit : str
-        ``N m`` or ``N``.
-    value : float
-        Nominal value r0, the field at the time ``t0`` of the operating point [N m or N].
-    """
-
-    name: str
-    path: str
-    unit: str
-    value: float
 
 
 @dataclass
@@ -62,6 +43,8 @@ class PreparedModel:
     model : Model
         The rewritten copy.
     inputs : list of InputChannel
+    nominal : list of float
+        Nominal value r0 of each input at t0 [N m or N].
     about : str
         One of :data:`ABOUT`.
     hub : str or None
@@ -74,6 +57,7 @@ class PreparedModel:
 
     model: Model
     inputs: list[InputChannel] = field(default_factory=list)
+    nominal: list[float] = field(default_factory=list)
     about: str = "equilibrium"
     hub: str | None = None
     spin_parameter: str | None = None
@@ -95,6 +79,16 @@ def _value_at(model: Model, text, t0: float, path: str) -> float:
     from ..model.field_values import FieldValues
 
     return FieldValues(model).value(text, path, t=float(t0))
+
+
+def _field(model: Model, path: str):
+    """The text or number of the field a channel adds to, or None when the model does not give it."""
+    from ..model.paths import get_value
+
+    owner = path.split(".")[1]
+    if path.startswith("joints.") and model.joints[owner].torque is None:
+        return None
+    return get_value(model, path)
 
 
 def spin_hub(model: Model, hub: str | None) -> str:
@@ -173,34 +167,10 @@ def prepare_model(model: Model, *, about: str, spin: float | None = None, hub: s
         prepared.hub = name
         prepared.spin_parameter = parameter
         prepared.notes.append(f"joint {name} spins at the constant rate {parameter} = {spin:g} rad/s")
-    for jname in sorted(new.joints):
-        joint = new.joints[jname]
-        if joint.torque is None:
-            continue
-        path = f"joints.{jname}.torque"
-        value = _value_at(model, joint.torque, t0, path)
-        pname = _fresh(new, f"tau_{jname}", taken)
-        new.parameters[pname] = value
-        joint.torque = pname
-        unit = "N m" if joint.type == "revolute" else "N"
-        prepared.inputs.append(InputChannel(pname, path, unit, value))
-    for lname in sorted(new.loads):
-        load = new.loads[lname]
-        path = f"loads.{lname}"
-        if load.force is not None:
-            components = []
-            for k, axis in enumerate("xy"):
-                value = _value_at(model, load.force[k], t0, f"{path}.force[{k}]")
-                pname = _fresh(new, f"F{axis}_{lname}", taken)
-                new.parameters[pname] = value
-                components.append(pname)
-                prepared.inputs.append(InputChannel(pname, f"{path}.force[{k}]", "N", value))
-            load.force = (components[0], components[1])
-        if load.torque is not None:
-            value = _value_at(model, load.torque, t0, f"{path}.torque")
-            pname = _fresh(new, f"T_{lname}", taken)
-            new.parameters[pname] = value
-            load.torque = pname
-            prepared.inputs.append(InputChannel(pname, f"{path}.torque", "N m", value))
+    new.control_inputs = True           # derived with its input channels (flexkane.kane.inputs)
+    for channel in input_channels(new):
+        field_value = _field(new, channel.path)
+        prepared.inputs.append(channel)
+        prepared.nominal.append(0.0 if field_value is None else _value_at(model, field_value, t0, channel.path))
     new.validate()
     return prepared

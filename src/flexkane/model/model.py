@@ -53,6 +53,10 @@ class Model:
         2 for a planar chain (two-component vectors, scalar inertias and angles), 3 for a spatial
         one (three-component vectors, inertia tensors, joint axes and orientations); one of
         :data:`~flexkane.model.parts.DIMENSIONS`.
+    control_inputs : bool
+        Derive the control inputs (actuator efforts and load components, :mod:`flexkane.kane.inputs`)
+        as symbols of the equations; set by ``simulate(..., controller=f)`` and ``linearize`` on
+        their copies, not a model-file key.
     """
 
     name: str = "model"
@@ -70,6 +74,7 @@ class Model:
     simulation: Simulation = field(default_factory=Simulation)
     description: str = ""
     dimensions: int = 2
+    control_inputs: bool = False
 
     # ------------------------------------------------------------------ queries
     def link_names(self) -> list[str]:

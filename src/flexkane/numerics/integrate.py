@@ -59,6 +59,7 @@ class Status(enum.IntEnum):
     MAX_STEPS = 3
     SINGULAR_MASS_MATRIX = 4
     INTERRUPTED = 5
+    CONTROLLER_FAILED = 6   # a controller in the loop failed (flexkane.numerics.controller)
 
 
 _MESSAGES = {
@@ -79,6 +80,8 @@ _MESSAGES = {
         "negative mass or inertia, a beam of zero density, or coordinates that do not move "
         "anything); check the parameters"),
     Status.INTERRUPTED: "interrupted by the user at t = {t:.6g} s",
+    Status.CONTROLLER_FAILED: "the controller failed at t = {t:.6g} s (it raised, or returned efforts "
+                              "that are not finite or not one per input channel)",
 }
 
 
@@ -165,7 +168,7 @@ class StiffnessEstimate:
 
 
 def estimate_stiffness(module, t0: float, y0: np.ndarray, p: np.ndarray, span: float,
-                       rtol: float) -> StiffnessEstimate:
+                       rtol: float, system=None) -> StiffnessEstimate:
     """Estimate the cost of explicit and implicit integration from the Jacobian at ``t0``.
 
     Parameters
@@ -182,6 +185,9 @@ def estimate_stiffness(module, t0: float, y0: np.ndarray, p: np.ndarray, span: f
         Length of the time span [s].
     rtol : float
         Relative tolerance.
+    system : SystemFunction, optional
+        The right-hand side to estimate (a controlled one, :mod:`flexkane.numerics.controller`);
+        the module's ``system_rhs`` by default.
 
     Returns
     -------
@@ -202,10 +208,11 @@ def estimate_stiffness(module, t0: float, y0: np.ndarray, p: np.ndarray, span: f
     y0 = _with_quadratures(module, y0)
     n = y0.shape[0]
     f0 = np.empty(n)
-    code = _system(module)(t0, y0, p, f0)
+    system = system_function(module) if system is None else system
+    code = system.dispatcher(t0, y0, p, f0)
     J = np.zeros((n, n))
     if code == 0 and np.all(np.isfinite(f0)):
-        fd_jacobian(system_function(module), t0, y0, f0, p, J, np.empty(n), np.empty(n))
+        fd_jacobian(system, t0, y0, f0, p, J, np.empty(n), np.empty(n))
     J[~np.isfinite(J)] = 0.0
     lam = np.linalg.eigvals(J) if n else np.zeros(0)
     rho = float(np.max(np.abs(lam))) if n else 0.0
@@ -217,9 +224,9 @@ def estimate_stiffness(module, t0: float, y0: np.ndarray, p: np.ndarray, span: f
 
 
 def choose_method(module, t0: float, y0: np.ndarray, p: np.ndarray, span: float,
-                  rtol: float) -> str:
+                  rtol: float, system=None) -> str:
     """Return ``"radau"`` if :func:`estimate_stiffness` finds the model stiff, else ``"dop853"``."""
-    return "radau" if estimate_stiffness(module, t0, y0, p, span, rtol).stiff else "dop853"
+    return "radau" if estimate_stiffness(module, t0, y0, p, span, rtol, system).stiff else "dop853"
 
 
 def _as_vector(value, name: str, size: int | None, expected: str) -> np.ndarray:
@@ -258,7 +265,7 @@ def _chunk_budget(name: str, n: int, rhs_operations: int) -> int:
 
 def integrate(module, y0, t_out, p, *, rtol: float, atol, method: str = "auto",
               progress: Callable[[float, float], None] | None = None,
-              max_steps: int = 1_000_000) -> IntegrationResult:
+              max_steps: int = 1_000_000, system=None) -> IntegrationResult:
     """Integrate the generated model from ``t_out[0]`` over the output grid ``t_out``.
 
     Parameters
@@ -285,6 +292,10 @@ def integrate(module, y0, t_out, p, *, rtol: float, atol, method: str = "auto",
         ``progress(t_reached, t_end)`` called before the first chunk and between chunks.
     max_steps : int
         Maximum number of attempted steps.
+    system : SystemFunction, optional
+        The right-hand side to integrate, of the module's state: the module's ``system_rhs`` by
+        default, a controlled one (:func:`flexkane.numerics.controller.controlled_system`) for a
+        controller in the loop.
 
     Returns
     -------
@@ -322,13 +333,13 @@ def integrate(module, y0, t_out, p, *, rtol: float, atol, method: str = "auto",
     t0, t_end = float(t_out[0]), float(t_out[-1])
     switch = None
     if method == "auto":
-        switch = MethodSwitch(choose_method(module, t0, y0, p, max(t_end - t0, 1e-300), rtol),
+        switch = MethodSwitch(choose_method(module, t0, y0, p, max(t_end - t0, 1e-300), rtol, system),
                               t0, t_end - t0)
         method = switch.current
     if method not in METHODS:
         raise ModelError("method", f"one of 'auto', {', '.join(map(repr, METHODS))}", method)
     operations = int(getattr(module, "RHS_OPERATIONS", 100))
-    system = system_function(module)
+    system = system_function(module) if system is None else system
     Y = np.full((t_out.shape[0], n), np.nan)
     t, y = t0, y0.copy()
     h_of = {name: 0.0 for name in METHODS}  # step size to try next, by method (0: automatic)

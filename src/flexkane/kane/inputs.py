@@ -1,0 +1,170 @@
+"""Control inputs: named actuator efforts that enter F_r additively through the partial velocities.
+
+A model derived with ``control_inputs = True`` (:func:`with_control_inputs`) has one input symbol per
+*input channel*, added to the generalized active forces (eq. 8.35) of the loads:
+
+* ``effort_<joint>`` for every revolute joint (a torque [N m] about the joint axis, between parent
+  and child) and every prismatic joint (a force [N] along the slide) whose coordinate is not
+  prescribed by a driver (a driven joint's effort is the driver's, an output ``effort_<joint>``):
+  ``F_r += (d u_joint / d u_r) effort``, which is ``effort`` on the joint's own speed;
+* ``load_<name>_fx``, ``load_<name>_fy`` [N] for every load that declares a force, in the load's
+  frame (``ground`` or ``local``, as its ``frame`` says), ``F_r += v_P,r . (fx, fy)``;
+* ``load_<name>_torque`` [N m] for every load that declares a torque, ``F_r += w_r . torque``.
+
+The order of the channels is: joints in the order of the model, then loads in the order of the model
+(fx, fy, torque). Each input adds to what the model's own field gives (a joint's ``torque``, a
+load's ``force`` and ``torque``), so with every input zero the equations are the model's. An input
+symbol is a constant of the equations (an entry of the constants vector p, value 0 by default):
+``flexkane.simulate(..., controller=f)`` sets it at every evaluation of the right-hand side, and
+:mod:`flexkane.linearize` differentiates with respect to it for the input matrix B.
+
+A model derived without ``control_inputs`` (every model file, every run without a controller) has
+none, and its equations and printed report are unchanged.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..errors import ModelError
+
+__all__ = ["InputChannel", "input_channels", "input_forces", "input_symbols", "with_control_inputs"]
+
+
+@dataclass(frozen=True)
+class InputChannel:
+    """One control input of a model.
+
+    Attributes
+    ----------
+    name : str
+        ``effort_<joint>``, ``load_<name>_fx``, ``load_<name>_fy`` or ``load_<name>_torque``.
+    path : str
+        Key path of the model field it adds to (``joints.shoulder.torque``, ``loads.push.force[0]``).
+    unit : str
+        ``N m`` or ``N``.
+    """
+
+    name: str
+    path: str
+    unit: str
+
+
+def with_control_inputs(model):
+    """A copy of ``model`` whose derivation has the input channels as symbols (module docstring).
+
+    Parameters
+    ----------
+    model : Model
+
+    Returns
+    -------
+    Model
+        ``model`` itself when it has them already.
+    """
+    if getattr(model, "control_inputs", False) is True:
+        return model
+    new = model.copy()
+    new.control_inputs = True
+    return new
+
+
+def input_channels(model) -> list[InputChannel]:
+    """The input channels of a model, in their order (module docstring), whether or not it derives them.
+
+    Parameters
+    ----------
+    model : Model
+        A valid model.
+
+    Returns
+    -------
+    list of InputChannel
+
+    Raises
+    ------
+    ModelError
+        If a parameter has the name of an input channel.
+    """
+    channels = []
+    for name, joint in model.joints.items():
+        if joint.type in ("revolute", "prismatic") and joint.driver is None:
+            channels.append(InputChannel(f"effort_{name}", f"joints.{name}.torque",
+                                         "N m" if joint.type == "revolute" else "N"))
+    for name, load in model.loads.items():
+        if load.force is not None:
+            channels += [InputChannel(f"load_{name}_f{axis}", f"loads.{name}.force[{k}]", "N")
+                         for k, axis in enumerate("xy")]
+        if load.torque is not None:
+            channels.append(InputChannel(f"load_{name}_torque", f"loads.{name}.torque", "N m"))
+    for channel in channels:
+        if channel.name in model.parameters:
+            raise ModelError(f"parameters.{channel.name}", "a parameter name other than those of the input "
+                             "channels", channel.name, f"{channel.name!r} is the input of {channel.path}; "
+                             "rename the parameter")
+    return channels
+
+
+def input_symbols(chain) -> dict:
+    """The input symbols of a chain derived with ``control_inputs``, by channel name (else empty).
+
+    Parameters
+    ----------
+    chain : Chain
+
+    Returns
+    -------
+    dict of str to sympy.Symbol
+        In the order of :func:`input_channels`; the same symbols on every call.
+    """
+    symbols = getattr(chain, "_input_symbols", None)   # kept with the chain (and its pickle)
+    if symbols is None:
+        if getattr(chain.model, "control_inputs", False) is not True:
+            return {}
+        from ..model.values import GeneratedSymbol
+
+        symbols = {ch.name: GeneratedSymbol(ch.name, real=True) for ch in input_channels(chain.model)}
+        chain._input_symbols = symbols
+    return symbols
+
+
+def input_forces(kin) -> list:
+    """Generalized active forces of the inputs, one expression per speed of the chain.
+
+    Parameters
+    ----------
+    kin : Kinematics
+
+    Returns
+    -------
+    list of sympy.Expr
+        ``sum_k (partial velocity of channel k along u_r) . input_k`` for every speed u_r; all zero
+        for a model derived without ``control_inputs``.
+    """
+    import sympy as sp
+
+    from .kinematics import rot
+
+    chain = kin.chain
+    speeds = chain.u
+    forces = [sp.Integer(0)] * len(speeds)
+    symbols = input_symbols(chain)
+    if not symbols:
+        return forces
+    for name, joint in chain.model.joints.items():
+        symbol = symbols.get(f"effort_{name}")
+        if symbol is not None:
+            coord = chain.of(name)[0]
+            forces[speeds.index(coord.u)] += symbol
+    for name, load in chain.model.loads.items():
+        frame = kin.load_frame(load)
+        if load.force is not None:
+            fx, fy = symbols[f"load_{name}_fx"], symbols[f"load_{name}_fy"]
+            force = (fx, fy) if load.frame == "local" else rot(-frame.theta, (fx, fy))
+            for r, u in enumerate(speeds):
+                forces[r] += chain.partial(frame.v[0], u) * force[0] + chain.partial(frame.v[1], u) * force[1]
+        if load.torque is not None:
+            torque = symbols[f"load_{name}_torque"]
+            for r, u in enumerate(speeds):
+                forces[r] += chain.partial(frame.omega, u) * torque
+    return forces
