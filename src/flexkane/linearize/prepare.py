@@ -8,7 +8,9 @@ Two changes turn a model into one whose Kane's equations give the linear model d
   value is the load's value at the time ``t0`` of the operating point (the nominal input ``r0``).
   The inputs ``r`` are therefore *all* the actuator torques and load components of the model, in
   the order: joints by name, then loads by name (force x, force y, torque); a model with none has
-  no inputs (``B`` with zero columns).
+  no inputs (``B`` with zero columns). An effort that uses the state (feedback: coordinates,
+  speeds, sensors, controllers) stays in the equations, and its input is a parameter added to it,
+  of nominal value 0: ``B`` is then the input matrix of the closed loop.
 * **Steady spin.** For ``about = "spin"`` the hub joint (a revolute joint) is given the driver
   ``speed = Omega``, a new parameter whose value is the spin rate [rad/s]; its actuator torque, if
   any, is removed (the driver supplies the effort), and so are initial values of its speed.
@@ -97,6 +99,18 @@ def _value_at(model: Model, text, t0: float, path: str) -> float:
     return FieldValues(model).value(text, path, t=float(t0))
 
 
+def _feedback(model: Model, text, t0: float, path: str) -> bool:
+    """Whether an effort uses the state (coordinates, speeds, sensors, controllers): it then stays in
+    the equations, and its input is an additive parameter of nominal value 0."""
+    try:
+        _value_at(model, text, t0, path)
+        return False
+    except ModelError as exc:
+        if isinstance(text, str) and "unknown name" in f"{exc.expected} {exc.hint}":
+            return True     # the model is valid: the name is a signal (flexkane.model.signals)
+        raise
+
+
 def spin_hub(model: Model, hub: str | None) -> str:
     """The revolute joint to spin: ``hub`` if given, else the only driven revolute joint, else the
     only revolute joint on the ground.
@@ -178,10 +192,13 @@ def prepare_model(model: Model, *, about: str, spin: float | None = None, hub: s
         if joint.torque is None:
             continue
         path = f"joints.{jname}.torque"
-        value = _value_at(model, joint.torque, t0, path)
         pname = _fresh(new, f"tau_{jname}", taken)
+        if _feedback(model, joint.torque, t0, path):
+            value, joint.torque = 0.0, f"({joint.torque}) + {pname}"
+        else:
+            value = _value_at(model, joint.torque, t0, path)
+            joint.torque = pname
         new.parameters[pname] = value
-        joint.torque = pname
         unit = "N m" if joint.type == "revolute" else "N"
         prepared.inputs.append(InputChannel(pname, path, unit, value))
     for lname in sorted(new.loads):
@@ -190,17 +207,24 @@ def prepare_model(model: Model, *, about: str, spin: float | None = None, hub: s
         if load.force is not None:
             components = []
             for k, axis in enumerate("xy"):
-                value = _value_at(model, load.force[k], t0, f"{path}.force[{k}]")
                 pname = _fresh(new, f"F{axis}_{lname}", taken)
+                if _feedback(model, load.force[k], t0, f"{path}.force[{k}]"):
+                    value = 0.0
+                    components.append(f"({load.force[k]}) + {pname}")
+                else:
+                    value = _value_at(model, load.force[k], t0, f"{path}.force[{k}]")
+                    components.append(pname)
                 new.parameters[pname] = value
-                components.append(pname)
                 prepared.inputs.append(InputChannel(pname, f"{path}.force[{k}]", "N", value))
             load.force = (components[0], components[1])
         if load.torque is not None:
-            value = _value_at(model, load.torque, t0, f"{path}.torque")
             pname = _fresh(new, f"T_{lname}", taken)
+            if _feedback(model, load.torque, t0, f"{path}.torque"):
+                value, load.torque = 0.0, f"({load.torque}) + {pname}"
+            else:
+                value = _value_at(model, load.torque, t0, f"{path}.torque")
+                load.torque = pname
             new.parameters[pname] = value
-            load.torque = pname
             prepared.inputs.append(InputChannel(pname, f"{path}.torque", "N m", value))
     new.validate()
     return prepared
