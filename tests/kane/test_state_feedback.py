@@ -314,3 +314,23 @@ def test_model_file_round_trip_keeps_sensors_and_controllers():
     model = flexkane.loads_model(PID_ARM)
     again = flexkane.loads_model(flexkane.dumps_model(model))
     assert again.sensors == model.sensors and again.controllers == model.controllers
+
+
+def test_a_moving_rest_position_makes_the_spring_an_actuator_counted_in_the_work():
+    text = ROTOR.replace('torque = "Kp*(ref - angle) - Kd*rate"',
+                         'stiffness = "Kp"\ndamping = "Kd"\nrest = "ref*sin(2*t) + 0.1*rate"')
+    run = _run(text, t_end=2.0, dt_out=0.01)
+    q, w = run["q_axle"], run["u_axle"]
+    spring = -10.0 * (q - (0.3 * np.sin(2 * run.t) + 0.1 * w))
+    assert np.all(run["potential_springs"] == 0)
+    assert np.allclose(run["power_nonconservative"], (spring - 0.8 * w) * w, rtol=0, atol=1e-12)
+    assert np.max(np.abs(run["energy_balance"])) < 1e-9 * np.max(run["energy"])
+
+
+def test_set_values_of_controllers():
+    model = flexkane.loads_model(PID_ARM).with_values({"controllers.pid.max": 0.5,
+                                                       "controllers.pid.initial.integral": 0.2})
+    assert model.controllers["pid"].max == 0.5 and model.controllers["pid"].initial == {"integral": 0.2}
+    with pytest.raises(ModelError) as info:
+        model.with_values({"controllers.pid.initial.other": 1.0})
+    assert info.value.path == "controllers.pid.initial.other" and "integral" in str(info.value)

@@ -184,7 +184,7 @@ class Signals:
 
         def visit(name: str, trail: list[str]) -> None:
             state[name] = 1
-            for other in sorted(uses.get(name, ()) & outputs):
+            for other in sorted(set(uses.get(name, ())) & outputs):
                 if state.get(other) == 1:
                     cycle = trail[trail.index(other):] + [other] if other in trail else [name, other]
                     raise ModelError(f"controllers.{name}.output", "controller outputs that do not use each "
@@ -267,7 +267,7 @@ def check_sensor(model, sensor, values, lengths: dict) -> None:
                 raise ModelError(f"{path}.station", f"a point (not a station) on body {sensor.body!r}",
                                  sensor.station)
             points = model.bodies[sensor.body].points
-            if sensor.point is not None and sensor.point not in points:
+            if sensor.point is not None and (not isinstance(sensor.point, str) or sensor.point not in points):
                 raise ModelError(f"{path}.point", f"a point of body {sensor.body!r} "
                                  f"({', '.join(points) or 'it has none'})", sensor.point)
         else:
