@@ -109,16 +109,24 @@ def _signal_symbols(eom) -> set:
     return {e for e in getattr(chain.symbols, "signals", {}).values() if isinstance(e, Intermediate)}
 
 
-def _signal_rows(eom, names) -> list[str]:
-    """Aligned LaTeX rows: each sensor and controller output that efforts use, and the rate of each
-    controller state, in terms of q, u, z, t and the constants."""
+def _signal_definitions(eom) -> list:
+    """``(symbol, expression, is_rate)``: each sensor and controller output that efforts use, then the
+    rate of each controller state, in terms of q, u, z, t and the constants."""
     chain = eom.chain
     definitions = dict(chain.intermediates.definitions)
+    order = {sym: k for k, sym in enumerate(definitions)}
+    out = [(sym, chain.intermediates.expand(definitions[sym]), False)
+           for sym in sorted(_signal_symbols(eom), key=order.__getitem__)]
+    out += [(z, rate, True) for z, rate in zip(getattr(eom, "z", ()), getattr(eom, "zdot", ()))]
+    return out
+
+
+def _signal_rows(eom, names) -> list[str]:
+    """Aligned LaTeX rows of :func:`_signal_definitions`."""
     rows = []
-    for sym in sorted(_signal_symbols(eom), key=lambda s: list(definitions).index(s)):
-        rows += _aligned(_latex(sym, names), _latex_lines(eom, chain.intermediates.expand(definitions[sym]), names))
-    for z, rate in zip(getattr(eom, "z", ()), getattr(eom, "zdot", ())):
-        rows += _aligned(rf"\dot{{{_latex(z, names)}}}", _latex_lines(eom, rate, names))
+    for sym, expr, is_rate in _signal_definitions(eom):
+        label = rf"\dot{{{_latex(sym, names)}}}" if is_rate else _latex(sym, names)
+        rows += _aligned(label, _latex_lines(eom, expr, names))
     return rows
 
 
@@ -354,6 +362,10 @@ def format_equations(eom, latex: bool = False) -> str:
     ud = list(eom.chain.ud.values())
     lines = []
     intermediates, forces = _forces(eom)
+    if latex:
+        lines += _signal_rows(eom, names)
+    else:
+        lines += [f"{sym}{chr(39) if is_rate else ''} = {_str(expr, ud)}" for sym, expr, is_rate in _signal_definitions(eom)]
     for sym, expr in intermediates:
         if latex:
             lines += _aligned(_latex(sym, names), _latex_lines(eom, expr, names))

@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 import scipy.integrate
+import sympy as sp
 
 import flexkane
 from flexkane import linearize
@@ -368,3 +369,30 @@ def test_closed_loop_frequencies_converge_to_the_hub_beam_frequency_equation():
         errors.append(np.abs(frequencies - exact) / exact)
     assert np.all(errors[1] < errors[0]) and np.all(errors[2] < errors[1])
     assert np.max(errors[2]) < 1e-7     # measured 9.3e-9
+
+
+def test_feedback_is_printed_by_name_in_the_equations():
+    from flexkane.report import format_equations
+
+    eom = flexkane.derive(flexkane.builtin_model("flexible-arm-pid"))
+    lines = format_equations(eom).splitlines()
+    assert "F[u_shoulder]_loads = motor - tau_d" in lines          # F_r of the hub: the controller by name
+    assert "motor = Max(min_motor, Min(tau_max, -Kd*u_shoulder + Ki*error_integral + Kp*(-q_shoulder + "\
+        "theta_f)))" in lines
+    assert "error_integral' = -q_shoulder + theta_f" in lines
+    assert eom.state_names[-1] == "error_integral" and list(eom.zdot) == [sp.Symbol("theta_f", real=True)
+                                                                            - eom.q[0]]
+
+
+@pytest.mark.parametrize("change, path, words", [
+    ({"sensors.tip.beam": "hub"}, "sensors.tip.beam", "the name of a beam"),
+    ({"sensors.tip.station": 0.5}, "sensors.tip.station", "only beam"),
+    ({"sensors.tip.type": "tip"}, "sensors.tip.type", "tip_deflection"),
+    ({"controllers.motor.max": "-2*tau_max"}, "controllers.motor.max", "above the minimum"),
+    ({"controllers.motor.states.error_integral": "error + hub_rate"}, "controllers.motor.states.error_integral",
+     "unknown name 'hub_rate'"),
+])
+def test_sensor_and_controller_fields_are_checked(change, path, words):
+    with pytest.raises(ModelError) as info:
+        flexkane.builtin_model("flexible-arm-pid").with_values(change)
+    assert info.value.path == path and words in str(info.value)

@@ -227,6 +227,8 @@ def _is_function(name: str) -> bool:
 
 def check_sensor(model, sensor, values, lengths: dict) -> None:
     """Check one sensor's fields and references (see :class:`~flexkane.model.parts.Sensor`)."""
+    from .validate import _station
+
     path = f"sensors.{sensor.name}"
     if not isinstance(sensor.type, str) or sensor.type not in SENSOR_TYPES:
         raise ModelError(f"{path}.type", "one of " + ", ".join(repr(t) for t in SENSOR_TYPES), sensor.type)
@@ -241,11 +243,12 @@ def check_sensor(model, sensor, values, lengths: dict) -> None:
     else:
         needed = {"joint"}
     optional = {"point", "station"} if kind in POINT_SENSORS else set()
-    for key in sorted(given - needed - optional):
-        raise ModelError(f"{path}.{key}", f"only {', '.join(sorted(needed | optional))} on a {kind!r} sensor",
-                         getattr(sensor, key))
-    for key in sorted(needed - given):
-        raise ModelError(f"{path}.{key}", f"the {key} of a {kind!r} sensor", None, show_given=False)
+    extra, missing = sorted(given - needed - optional), sorted(needed - given)
+    if extra:
+        raise ModelError(f"{path}.{extra[0]}", f"only {', '.join(sorted(needed | optional))} on a {kind!r} sensor",
+                         getattr(sensor, extra[0]))
+    if missing:
+        raise ModelError(f"{path}.{missing[0]}", f"the {missing[0]} of a {kind!r} sensor", None, show_given=False)
     if kind not in POINT_SENSORS and sensor.frame != "ground":
         raise ModelError(f"{path}.frame", f"no frame on a {kind!r} sensor (only point sensors have one)",
                          sensor.frame)
@@ -287,12 +290,6 @@ def check_sensor(model, sensor, values, lengths: dict) -> None:
         if not isinstance(sensor.joint, str) or sensor.joint not in joints:
             raise ModelError(f"{path}.joint", f"the name of a revolute or prismatic joint "
                              f"({', '.join(joints) or 'the model has none'})", sensor.joint)
-
-
-def _station(path, value, beam, lengths, values) -> None:
-    x = values.number(path, value, f"station on beam {beam!r}", "m")
-    if not 0 <= x <= lengths[beam] * (1 + 1e-12):
-        raise ModelError(path, f"a station 0 <= x <= L = {lengths[beam]:g} [m] on beam {beam!r}", value)
 
 
 def check_controller(ctrl, signals: Signals, values) -> set[str]:
