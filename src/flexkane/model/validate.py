@@ -84,7 +84,7 @@ class _Values(FieldValues):
 
     def __init__(self, model):
         super().__init__(model)
-        #: (path, value, error) of laws that name something other than t and the parameters
+        #: (path, value) of laws that name something other than t and the parameters
         self.deferred: list = []
 
     def evaluate(self, path: str, value, extra: dict) -> float:
@@ -106,13 +106,16 @@ class _Values(FieldValues):
         """:meth:`number` of an effort (at t = 0), or None when it names a signal (coordinates,
         speeds, sensors, controllers), which :mod:`flexkane.model.signals` checks once the chain's
         coordinates are known."""
+        from ..expression_syntax import NeedsSymbolic, expression_names
+
         try:
-            return self.number(path, value, what, unit, time=True)
-        except ModelError as exc:
-            if isinstance(value, str) and "unknown name" in f"{exc.expected} {exc.hint}":
-                self.deferred.append((path, value, exc))
-                return None
-            raise
+            beyond = expression_names(value) - {*self.parameters, "t"}
+        except NeedsSymbolic:
+            beyond = set()      # not in the language: the evaluation below says why
+        if beyond:
+            self.deferred.append((path, value))
+            return None
+        return self.number(path, value, what, unit, time=True)
 
     @staticmethod
     def shown(value, number: float):
@@ -856,14 +859,13 @@ def _check_signals(model: Model, values: _Values, lengths: dict, coordinates) ->
             uses[ctrl.name] = check_controller(ctrl, signals, values)
     with problems.part():
         signals.check_outputs_acyclic(uses)
-    deferred = {path: exc for path, _, exc in values.deferred}
+    deferred = dict(values.deferred)
     for path, value in effort_fields(model):
         deferred.pop(path, None)
         with problems.part():
             signals.used(path, value, "an effort [N, N m, or m, rad for a rest position]")
-    for path, exc in deferred.items():   # drivers' laws
+    for path, value in deferred.items():   # drivers' laws: of t and the parameters only
         with problems.part():
-            value = next(v for p, v, _ in values.deferred if p == path)
             signals.refuse_in_driver(path, value)
-            raise exc
+            values.number(path, value, "prescribed motion", "m, rad or their rates", time=True)
     problems.raise_found(final=True)
