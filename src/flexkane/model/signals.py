@@ -68,8 +68,8 @@ class Signals:
         A model whose parts, references and coordinates are valid.
     coordinates : list of CoordinateName
         Its coordinates (:func:`flexkane.model.coordinates.coordinate_names`).
-    parameters : dict of str to float
-        The parameters' values by name.
+    fields : FieldValues
+        The model's evaluator of field values (:class:`~flexkane.model.field_values.FieldValues`).
 
     Attributes
     ----------
@@ -78,10 +78,10 @@ class Signals:
         or ``controller output``, in this order.
     """
 
-    def __init__(self, model, coordinates, parameters):
+    def __init__(self, model, coordinates, fields):
         self.model = model
-        self.parameters = list(parameters)
-        self.values = dict(parameters) if isinstance(parameters, dict) else dict.fromkeys(parameters, 1.0)
+        self.fields = fields
+        self.parameters = list(fields.parameters)
         kinds: dict[str, str] = {}
         for c in coordinates:
             kinds[c.q] = "coordinate"
@@ -144,7 +144,7 @@ class Signals:
         what : str
             What the field is, with its unit (``"actuator torque [N m]"``).
         """
-        from ..expression_syntax import NeedsSymbolic, expression_names, simple_value
+        from ..expression_syntax import NeedsSymbolic, expression_names, field_value
 
         if isinstance(value, bool) or not isinstance(value, (int, float, str)):
             raise ModelError(path, f"a number or an expression ({what})", value)
@@ -159,14 +159,15 @@ class Signals:
             raise ModelError(path, f"{what}: an expression of {self.describe()}", value,
                              f"unknown name '{unknown[0]}'" + (f"; did you mean '{close[0]}'?" if close else ""))
         typical = {name: 0.31 + 0.0713 * k for k, name in enumerate(self.kinds)}   # distinct: no cancellation
-        try:   # in the language: evaluated without SymPy where it can be (signals at typical values)
-            simple_value(value, {**self.values, "t": 0.0, **typical})
-        except NeedsSymbolic:
+        try:   # in the language: evaluated (without SymPy where it can be) with the signals at typical values
+            field_value(value, {**self.fields.parameters, "t": 0.0, **typical}, path=path)
+        except ModelError:   # not in the language, or singular at these values: the conversion decides
             import sympy as sp
 
             from ..expressions import free_names, parse_expression
 
             found = free_names(parse_expression(value, {n: sp.Symbol(n, real=True) for n in known}, path=path))
+        found = found or set()
         accelerations = sorted(n for n in found if self.kinds.get(n) == "acceleration sensor")
         if accelerations:
             raise ModelError(path, f"{what} without acceleration sensors: an effort or controller using one "

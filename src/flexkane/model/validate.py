@@ -848,7 +848,7 @@ def _check_signals(model: Model, values: _Values, lengths: dict, coordinates) ->
     problems = _Problems()
     signals = None
     with problems.part():
-        signals = Signals(model, coordinates, values.parameters)
+        signals = Signals(model, coordinates, values)
     problems.raise_found()
     for sensor in model.sensors.values():
         with problems.part():
