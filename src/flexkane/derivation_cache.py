@@ -71,10 +71,13 @@ VALUE_FIELDS = tuple(re.compile(pattern) for pattern in (
     r"springs\.[^.]+\.position_[ab]\[[01]\]",
     r"constraints\.[^.]+\.(axis|angle)",
     r"constraints\.[^.]+\.position_[ab]\[[01]\]",
+    r"sensors\.[^.]+\.(station|distance)",
+    r"controllers\.[^.]+\.(min|max)",
 ))
 # Fields that never enter the equations, and fields that give them numbers only.
 _IGNORED = (re.compile(r"name|description|simulation|sweep"), re.compile(r"bodies\.[^.]+\.outline"))
-_NUMBERS = (re.compile(r"parameters|initial"), re.compile(r"beams\.[^.]+\.(shape|axial_shape)\.roots"),
+_NUMBERS = (re.compile(r"parameters|initial"), re.compile(r"controllers\.[^.]+\.initial"),
+            re.compile(r"beams\.[^.]+\.(shape|axial_shape)\.roots"),
             re.compile(r"beams\.[^.]+\.(shape|axial_shape)\.options\.(mass_ratio|inertia_ratio)"))
 # A beam length is a value field, but its text names the constants at the tip (``Phi_1(L)``).
 _BEAM_LENGTH = re.compile(r"beams\.[^.]+\.L")
@@ -94,7 +97,17 @@ def _value_class(value, parameters) -> list:
         return ["zero"]
     if isinstance(value, str) and value.strip() in parameters:
         return ["parameter", value.strip()]
+    if isinstance(value, str) and _names_beyond(value, parameters):
+        return ["law", value.strip()]    # of t or the state (a moving rest position): structure
     return ["symbol"]
+
+
+def _names_beyond(text: str, parameters) -> bool:
+    """Whether an expression names something other than the parameters, pi and the functions."""
+    from .expression_syntax import RESERVED_NAMES
+
+    return any(name not in parameters and name not in RESERVED_NAMES
+               for name in re.findall(r"(?<![\w.])[A-Za-z_]\w*", text))
 
 
 def _canonical(value, path: str, parameters, keep_numbers: bool):

@@ -34,7 +34,7 @@ from .errors import ModelError
 
 __all__ = ["FUNCTIONS", "MAX_DEPTH", "MAX_EXPONENT", "MAX_INTEGER", "MAX_LENGTH", "MAX_NODES",
            "NeedsSymbolic", "RESERVED_NAMES", "check_parameter_name", "dependency_order",
-           "field_value", "simple_names", "simple_value"]
+           "expression_names", "field_value", "simple_names", "simple_value"]
 
 MAX_LENGTH = 2000  #: Maximum number of characters of an expression.
 MAX_NODES = 500  #: Maximum number of syntax elements (numbers, names, operations, calls).
@@ -484,6 +484,29 @@ def _simple_tree(text, names) -> tuple[ast.AST, set[str]]:
     scan = _Scan(names)
     scan.value(tree.body, {}, 1.0)
     return tree.body, scan.used
+
+
+def expression_names(text) -> set[str]:
+    """The names an expression uses (functions and ``pi`` excepted), from its syntax alone.
+
+    Raises :class:`NeedsSymbolic` when the text is not within the language's syntax and limits (the
+    SymPy conversion, :func:`flexkane.expressions.parse_expression`, then says why).
+    """
+    if isinstance(text, numbers.Real) and not isinstance(text, bool):
+        return set()
+    if not isinstance(text, str) or len(text) > MAX_LENGTH:
+        raise NeedsSymbolic
+    source = _Source(text)
+    if not source.body.strip():
+        raise NeedsSymbolic
+    try:
+        tree = _syntax_tree(text, source, "")
+    except ModelError:
+        raise NeedsSymbolic from None
+    _check_size(tree, _give_up)
+    called = {id(node.func) for node in ast.walk(tree) if isinstance(node, ast.Call)}
+    return {node.id for node in ast.walk(tree)
+            if isinstance(node, ast.Name) and id(node) not in called and node.id != "pi"}
 
 
 def simple_names(text, names) -> set[str]:

@@ -80,6 +80,9 @@ def _forces(eom):
             for r in range(len(eom.all_speeds))]
     flat = [e for star, active in rows for e in (star, *active.values())]
     named = eom.chain.intermediates.used_by(flat)
+    signals = _signal_symbols(eom)
+    if signals:   # sensors and controller outputs stay by name (their definitions: _signal_rows)
+        named = [(sym, d) for sym, d in named if sym not in signals]
     if named:
         from .kane.intermediates import written_out
 
@@ -96,6 +99,35 @@ def _forces(eom):
     common, reduced = sp.cse(flat, symbols=sp.numbered_symbols("x_", real=True), order="none")
     it = iter(reduced)
     return named + common, [(next(it), {k: next(it) for k in active}) for _, active in rows]
+
+
+def _signal_symbols(eom) -> set:
+    """The named sensors and controller outputs that efforts use (intermediates kept by name)."""
+    from .kane.intermediates import Intermediate
+
+    chain = eom.chain
+    return {e for e in getattr(chain.symbols, "signals", {}).values() if isinstance(e, Intermediate)}
+
+
+def _signal_definitions(eom) -> list:
+    """``(symbol, expression, is_rate)``: each sensor and controller output that efforts use, then the
+    rate of each controller state, in terms of q, u, z, t and the constants."""
+    chain = eom.chain
+    definitions = dict(chain.intermediates.definitions)
+    order = {sym: k for k, sym in enumerate(definitions)}
+    out = [(sym, chain.intermediates.expand(definitions[sym]), False)
+           for sym in sorted(_signal_symbols(eom), key=order.__getitem__)]
+    out += [(z, rate, True) for z, rate in zip(getattr(eom, "z", ()), getattr(eom, "zdot", ()))]
+    return out
+
+
+def _signal_rows(eom, names) -> list[str]:
+    """Aligned LaTeX rows of :func:`_signal_definitions`."""
+    rows = []
+    for sym, expr, is_rate in _signal_definitions(eom):
+        label = rf"\dot{{{_latex(sym, names)}}}" if is_rate else _latex(sym, names)
+        rows += _aligned(label, _latex_lines(eom, expr, names))
+    return rows
 
 
 def _intermediates_note(intermediates) -> str:
@@ -330,6 +362,10 @@ def format_equations(eom, latex: bool = False) -> str:
     ud = list(eom.chain.ud.values())
     lines = []
     intermediates, forces = _forces(eom)
+    if latex:
+        lines += _signal_rows(eom, names)
+    else:
+        lines += [f"{sym}{chr(39) if is_rate else ''} = {_str(expr, ud)}" for sym, expr, is_rate in _signal_definitions(eom)]
     for sym, expr in intermediates:
         if latex:
             lines += _aligned(_latex(sym, names), _latex_lines(eom, expr, names))
@@ -523,6 +559,10 @@ def equations_markdown(eom, values: dict | None = None) -> str:
     out += ["", "## Generalized inertia and active forces (eqs. 8.22, 8.23, 8.28-8.35)", "",
             "Vectors are resolved along the axes of the link they belong to. F*_r is grouped by the "
             "derivatives of the speeds, as eq. 8.23 is.", ""]
+    signal_rows = _signal_rows(eom, names)
+    if signal_rows:
+        out += ["Sensors and controller outputs the efforts use (by name below), and the rates of the "
+                "controller states:", "", "$$", "\\begin{aligned}", *signal_rows, "\\end{aligned}", "$$", ""]
     intermediates, forces = _forces(eom)
     if intermediates:
         out += [_intermediates_note(intermediates), "", "$$", "\\begin{aligned}"]
@@ -593,6 +633,10 @@ def equations_latex(eom, values: dict | None = None) -> str:
         doc += [rf"\item {_md_to_tex(item)}" for item in items] or [r"\item none"]
         doc.append(r"\end{itemize}")
     doc += [r"\subsection*{Generalized inertia and active forces (eqs. 8.22, 8.23, 8.28--8.35)}"]
+    signal_rows = _signal_rows(eom, names)
+    if signal_rows:
+        doc += ["Sensors and controller outputs the efforts use, and the rates of the controller states:",
+                r"\begin{align*}", *signal_rows, r"\end{align*}"]
     intermediates, forces = _forces(eom)
     if intermediates:
         doc += [_md_to_tex(_intermediates_note(intermediates)), r"\begin{align*}"]

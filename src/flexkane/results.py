@@ -23,7 +23,7 @@ from .atomic import atomic_write_bytes, atomic_write_text
 __all__ = ["Results", "load_results", "csv_text"]
 
 #: Output columns written to results.csv after the state, when present.
-CSV_OUTPUTS_PREFIXES = ("tip_", "effort_")
+CSV_OUTPUTS_PREFIXES = ("tip_", "effort_", "load_", "sensor_", "controller_")
 CSV_OUTPUTS = ("kinetic", "potential_gravity", "strain", "potential_springs", "energy", "work",
                "energy_balance")
 #: Entries of ``Results.solver`` that measure time: the only ones that vary between identical runs.

@@ -104,6 +104,16 @@ _UNITS = {"x": "m", "y": "m", "angle": "rad", "slide": "m", "mode": "m", "axial"
 _RATE = {"m": "m/s", "rad": "rad/s"}
 
 
+def _sensor_unit(eom, name: str) -> str:
+    """Unit of a sensor (:data:`flexkane.model.signals.SENSOR_UNITS`; m and m/s on a prismatic joint)."""
+    from .model.signals import SENSOR_UNITS
+
+    sensor = eom.model.sensors[name]
+    if sensor.type in ("joint_angle", "joint_rate") and eom.model.joints[sensor.joint].type == "prismatic":
+        return "m" if sensor.type == "joint_angle" else "m/s"
+    return SENSOR_UNITS[sensor.type]
+
+
 def units(eom) -> dict[str, str]:
     """Unit of every state variable and output, by name."""
     out = {}
@@ -124,5 +134,9 @@ def units(eom) -> dict[str, str]:
             out[name] = "N m" if role == "angle" else "N"
         elif name == "power_nonconservative":
             out[name] = "W"
+        elif name.startswith("load_"):
+            out[name] = "N m" if name.endswith("_torque") else "N"
+        elif name.startswith("sensor_"):
+            out[name] = _sensor_unit(eom, name[len("sensor_"):])
     out["work"] = out["energy_balance"] = "J"
     return out

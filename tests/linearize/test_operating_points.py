@@ -22,6 +22,10 @@ def without_gravity(name):
 @pytest.mark.parametrize("name", flexkane.builtin_names())
 def test_every_builtin_example_linearizes_or_reports_that_it_has_no_equilibrium(name):
     model = flexkane.builtin_model(name)
+    if model.controllers and any(c.states for c in model.controllers.values()):
+        with pytest.raises(ModelError, match="without controller states"):   # not linearized yet
+            linearize(model)
+        return
     if name in EXPECTED_WITHOUT_EQUILIBRIUM:
         with pytest.raises(NoEquilibriumError, match="has no equilibrium"):
             linearize(model)

@@ -15,7 +15,7 @@ extra states (work quadratures) after ``[q, u]``, can be compared with it:
     The model file the values belong to (the test rebuilds the model from this text, so that a later
     change of an example file does not invalidate the comparison of engines).
 ``state_names`` (str, (n,))
-    Names of the state ``[q, u]`` (coordinates, then independent speeds).
+    Names of the state ``[q, u, z]`` (coordinates, independent speeds, controller states).
 ``rhs_t`` (N,), ``rhs_y`` (N, n), ``rhs_dy`` (N, n)
     Times [s], states and the first-order right-hand side ``dy/dt = [q', u']`` at ``N`` seeded
     random states (see :func:`sample_states`).
@@ -158,21 +158,25 @@ class Equations:
     def __init__(self, eom, p: np.ndarray):
         self.eom = eom
         self.p = p
-        args = [eom.t] + list(eom.q) + list(eom.u) + list(eom.constants)
+        z = list(getattr(eom, "z", ()))   # controller states, after the speeds
+        args = [eom.t] + list(eom.q) + list(eom.u) + z + list(eom.constants)
         self._float = sp.lambdify(args, [eom.mass_matrix, eom.forcing], modules="numpy", cse=True)
         self._mp = sp.lambdify(args, [eom.mass_matrix, eom.forcing], modules="mpmath", cse=True)
+        self._mp_z = sp.lambdify(args, list(eom.zdot), modules="mpmath", cse=True) if z else None
 
     def numeric(self, t, y) -> tuple[np.ndarray, np.ndarray]:
         M, f = self._float(t, *y, *self.p)
         return np.array(M, dtype=float), np.array(f, dtype=float).ravel()
 
     def exact_ud(self, t, y) -> np.ndarray:
-        """u' = M^-1 f in 30-digit arithmetic (for the round-off check of the stored values)."""
+        """u' = M^-1 f, then z' of the controller states, in 30-digit arithmetic (for the round-off
+        check of the stored values)."""
         with mpmath.workdps(30):
             args = [mpmath.mpf(float(v)) for v in (t, *y, *self.p)]
             M, f = self._mp(*args)
             ud = mpmath.lu_solve(mpmath.matrix(M), mpmath.matrix(f))
-            return np.array([float(v) for v in ud])
+            zd = self._mp_z(*args) if self._mp_z is not None else []
+            return np.array([float(v) for v in [*ud, *zd]])
 
 
 def scaled_condition(M: np.ndarray) -> float:
@@ -206,7 +210,9 @@ def sample_states(name, eom, compiled, equations, p) -> tuple[np.ndarray, np.nda
         t = float(rng.uniform(0.0, t_end))
         y = y0.copy()
         y[:nq] += q_scale * rng.standard_normal(nq)
-        y[nq:] += u_scale * rng.standard_normal(len(y0) - nq)
+        nu = len(u_scale)
+        y[nq:nq + nu] += u_scale * rng.standard_normal(nu)
+        y[nq + nu:] += 0.1 * rng.standard_normal(len(y0) - nq - nu)    # controller states
         if dependent:
             y[dependent] = y0[dependent]
             try:

@@ -127,8 +127,8 @@ def test_right_hand_side_matches_reference(name, engine):
         if np.all(error <= tol):
             continue
         # which equation differs: residual of the reference M u' = f with the new u'
-        nq = len(names) - ref["rhs_forcing"].shape[1]
-        residual = ref["rhs_mass_matrix"][k] @ dy[nq:] - ref["rhs_forcing"][k]
+        nq, nu = len(eom.q), ref["rhs_forcing"].shape[1]
+        residual = ref["rhs_mass_matrix"][k] @ dy[nq:nq + nu] - ref["rhs_forcing"][k]
         bad = [f"{names[j]}: {dy[j]!r} vs {expected[k, j]!r}" for j in np.flatnonzero(error > tol)]
         pytest.fail(f"{name}, state {k} (t = {t}): right-hand side differs from the reference in "
                     f"{'; '.join(bad)}; residual of the reference M u' = f: {residual}")

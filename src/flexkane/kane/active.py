@@ -8,9 +8,14 @@
   deformed midpoint (eq. 8.19, the notebook).
 * ``damping``: modal damping of the beams, ``-2 zeta_i sqrt(H_ii G_ii) u_i``.
 * ``joints``: springs and dampers on joint coordinates.
-* ``loads``: applied forces and torques, constant or functions of t, actuator torques of joints, and
-  distributed loads on beams (``int v_P,r . f dx``, :mod:`flexkane.kane.distributed_loads`), and
-  the control inputs of a model derived with them (:mod:`flexkane.kane.inputs`).
+* ``loads``: applied forces and torques, actuator torques of joints, joint springs whose rest
+  position moves (an expression of t or of the state: the spring is then an actuator), and
+  distributed loads on beams (``int v_P,r . f dx``, :mod:`flexkane.kane.distributed_loads`).
+  Torques, forces and rest positions are expressions of t, the parameters and the signals of
+  :mod:`flexkane.kane.controllers` (coordinates, speeds, sensors, controller states and outputs,
+  by name): state feedback enters ``F_r = sum v_r . F + w_r T`` with the partial velocities of the
+  point where it acts (``chain.partial``), and stays symbolic (named) in the equations.
+  A model derived with its control inputs (:mod:`flexkane.kane.inputs`) adds them here too.
 * ``springs``: linear springs and dampers between points.
 
 Each source is a list of n expressions (one per speed).
@@ -25,7 +30,7 @@ from .inputs import input_forces
 from .kinematics import Kinematics, rot
 from .modal_field import ONE, X, phi
 
-__all__ = ["generalized_active_forces", "gravity_vector"]
+__all__ = ["generalized_active_forces", "gravity_vector", "moving_rest"]
 
 
 def gravity_vector(kin: Kinematics):
@@ -43,6 +48,15 @@ def gravity_vector(kin: Kinematics):
         dx, dy = (sp.Integer(c) if isinstance(c, int) else sp.nsimplify(c, rational=True) for c in grav.direction)
     norm = sp.sqrt(dx ** 2 + dy ** 2)
     return (g * dx / norm, g * dy / norm)
+
+
+def moving_rest(kin: Kinematics, joint):
+    """The rest position of a joint spring that moves (an expression of t or of the state), else None."""
+    if joint.stiffness is None or not isinstance(joint.rest, str):
+        return None
+    rest = kin.symbols.effort(f"joints.{joint.name}.rest", joint.rest)
+    constant = set(kin.symbols.parameters.values())
+    return rest if rest.free_symbols - constant else None
 
 
 def _local(theta, v):
@@ -148,7 +162,7 @@ def generalized_active_forces(kin: Kinematics) -> dict[str, list]:
     for joint in chain.joints:
         if joint.torque is not None:
             coord = chain.of(joint.name)[0]
-            torque = kin.symbols.time_function(f"joints.{joint.name}.torque", joint.torque)
+            torque = kin.symbols.effort(f"joints.{joint.name}.torque", joint.torque)
             parts["loads"][speeds.index(coord.u)] += torque
         if joint.stiffness is None and joint.damping is None:
             continue
@@ -156,8 +170,12 @@ def generalized_active_forces(kin: Kinematics) -> dict[str, list]:
         r = speeds.index(coord.u)
         if joint.stiffness is not None:
             k = kin.value(f"joints.{joint.name}.stiffness", joint.stiffness, f"k_{joint.name}")
-            rest = kin.value(f"joints.{joint.name}.rest", joint.rest, f"{coord.q.name}_rest")
-            parts["joints"][r] += -k * (coord.q - rest)
+            rest = moving_rest(kin, joint)
+            if rest is not None:   # an actuator: its power is counted in the work W
+                parts["loads"][r] += -k * (coord.q - rest)
+            else:
+                rest = kin.value(f"joints.{joint.name}.rest", joint.rest, f"{coord.q.name}_rest")
+                parts["joints"][r] += -k * (coord.q - rest)
         if joint.damping is not None:
             c = kin.value(f"joints.{joint.name}.damping", joint.damping, f"c_{joint.name}")
             parts["joints"][r] += -c * coord.u
@@ -168,12 +186,12 @@ def generalized_active_forces(kin: Kinematics) -> dict[str, list]:
         frame = kin.load_frame(load)
         force = None
         if load.force is not None:
-            fx = kin.symbols.time_function(f"{path}.force[0]", load.force[0])
-            fy = kin.symbols.time_function(f"{path}.force[1]", load.force[1])
+            fx = kin.symbols.effort(f"{path}.force[0]", load.force[0])
+            fy = kin.symbols.effort(f"{path}.force[1]", load.force[1])
             force = (fx, fy) if load.frame == "local" else _local(frame.theta, (fx, fy))
         torque = None
         if load.torque is not None:
-            torque = kin.symbols.time_function(f"{path}.torque", load.torque)
+            torque = kin.symbols.effort(f"{path}.torque", load.torque)
         add("loads", frame.v, force, frame.omega, torque)
 
     # ---------------------------------------------------------------- distributed loads on beams

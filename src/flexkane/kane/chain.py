@@ -78,6 +78,12 @@ class Chain:
         Symbol standing for the time derivative of each speed.
     intermediates : Intermediates
         Named intermediate quantities of the kinematics, in evaluation order.
+    controller_states : list of sympy.Symbol
+        Controller states z, in state order (:mod:`flexkane.kane.controllers`).
+    controller_rates : dict of Symbol to Expr
+        ``z' = rate`` of each controller state.
+    sensors : dict of str to Expr
+        Every sensor by name (:mod:`flexkane.kane.sensors`).
     """
 
     model: Model
@@ -88,6 +94,9 @@ class Chain:
     ud: dict = field(default_factory=dict)
     t: sp.Symbol = TIME
     intermediates: Intermediates = None
+    controller_states: list = field(default_factory=list)
+    controller_rates: dict = field(default_factory=dict)
+    sensors: dict = field(default_factory=dict)
 
     def __post_init__(self):
         if self.intermediates is None:

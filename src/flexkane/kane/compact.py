@@ -10,7 +10,7 @@ substitution may make an early definition refer to a later one, so the order is 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import sympy as sp
 
@@ -31,6 +31,8 @@ class CompactEquations:
     forcing : sympy.Matrix, shape (nu, 1)
     qdot : sympy.Matrix, shape (nq, 1)
     outputs : dict of str to sympy.Expr
+    zdot : sympy.Matrix, shape (nz, 1)
+        Rates of the controller states (:mod:`flexkane.kane.controllers`).
     """
 
     intermediates: list
@@ -38,6 +40,7 @@ class CompactEquations:
     forcing: sp.Matrix
     qdot: sp.Matrix
     outputs: dict
+    zdot: sp.Matrix = field(default_factory=lambda: sp.zeros(0, 1))
 
     @classmethod
     def collect(cls, eom, registry, sub, dependent: dict) -> "CompactEquations":
@@ -54,19 +57,19 @@ class CompactEquations:
         dependent : dict
             Dependent speed -> its expression in the independent ones (closed loops), or empty.
         """
-        M, f, qdot, outputs = eom.mass_matrix, eom.forcing, eom.qdot, dict(eom.outputs)
+        M, f, qdot, outputs, zdot = eom.mass_matrix, eom.forcing, eom.qdot, dict(eom.outputs), eom.zdot
         # every definition is kept (generated code takes those it needs): other expressions of the
         # kinematics (the spin of a beam's frame for the validity checks) may use any of them
         definitions = {s: sub(d).xreplace(dependent) if dependent else sub(d)
                        for s, d in registry.definitions.items()}
         order = {s: k for k, s in enumerate(registry.definitions)}
-        return cls(_topological(definitions, order), M, f, qdot, outputs)
+        return cls(_topological(definitions, order), M, f, qdot, outputs, zdot)
 
     # ------------------------------------------------------------------ views
     def expressions(self) -> list:
         """Every expression: definitions, q', M (all entries), f, outputs."""
         return [*(e for _, e in self.intermediates), *self.qdot, *self.mass_matrix, *self.forcing,
-                *self.outputs.values()]
+                *self.outputs.values(), *self.zdot]
 
     def expand(self, expr):
         """``expr`` with every intermediate replaced by its full definition."""
@@ -87,7 +90,8 @@ class CompactEquations:
         if not self.intermediates:
             return self
         return CompactEquations([], self.expand(self.mass_matrix), self.expand(self.forcing),
-                                self.expand(self.qdot), {k: self.expand(v) for k, v in self.outputs.items()})
+                                self.expand(self.qdot), {k: self.expand(v) for k, v in self.outputs.items()},
+                                self.expand(self.zdot))
 
     def __getstate__(self):
         state = dict(self.__dict__)

@@ -21,6 +21,7 @@ from .active import generalized_active_forces
 from .budget import DerivationBudget
 from .chain import Chain, build_chain
 from .compact import CompactEquations
+from .controllers import control_signals
 from .inertia import InertiaForces, generalized_inertia_forces
 from .kinematics import Kinematics
 from .outputs import output_expressions
@@ -84,6 +85,10 @@ class EquationsOfMotion:
         The speeds r of ``F_r_star`` and ``F_r``.
     outputs : dict of str to sympy.Expr
         Energy, positions, tip deflections, driver efforts ... (may contain u').
+    z : list of sympy.Symbol
+        Controller states (:mod:`flexkane.kane.controllers`); the state is ``y = [q, u, z]``.
+    zdot : sympy.Matrix, shape (len(z), 1)
+        Their rates, expressions of q, u, z, t and the constants.
     constants : list of sympy.Symbol
         Every symbol of the equations and outputs other than t, q, u, u' and the intermediates; the
         parameter vector p.
@@ -124,6 +129,8 @@ class EquationsOfMotion:
         self.u = [coords[r].u for r in free]
         self.ud = [chain.ud[u] for u in self.u]
         self.qdot = sp.Matrix([sub(chain.qdot[q]) for q in self.q])
+        self.z = list(chain.controller_states)
+        self.zdot = sp.Matrix(len(self.z), 1, [sub(chain.controller_rates[z]) for z in self.z])
         Mfull = inertia.mass_matrix
         F_total = [sp.Add(*[part[r] for part in active.values()]) for r in range(len(coords))]
         ud_driven = [sub(chain.ud[coords[d].u]) for d in driven]
@@ -148,7 +155,7 @@ class EquationsOfMotion:
             dependent_subs = self._reduce_by_constraints(sub)
         self.compact = CompactEquations.collect(self, chain.intermediates, sub, dependent_subs)
         self._expanded = None
-        known = set(self.q) | set(self.u) | set(self.ud) | {self.t}
+        known = set(self.q) | set(self.u) | set(self.ud) | set(self.z) | {self.t}
         symbols = set()
         for expr in self.compact.expressions():
             symbols |= expr.free_symbols
@@ -158,7 +165,7 @@ class EquationsOfMotion:
         self.compact_forces = {"F_r_star": self.F_r_star, "F_r": self.F_r}
         self._forces_expanded = None
         # the public attributes are the expanded equations, formed on first use
-        del self.mass_matrix, self.forcing, self.qdot, self.outputs, self.F_r_star, self.F_r
+        del self.mass_matrix, self.forcing, self.qdot, self.outputs, self.F_r_star, self.F_r, self.zdot
 
     # ------------------------------------------------------------------ compact and expanded forms
     @property
@@ -194,6 +201,7 @@ class EquationsOfMotion:
     forcing = _Expanded("forcing", "sympy.Matrix (len(u), 1): f of ``M u' = f``.")
     qdot = _Expanded("qdot", "sympy.Matrix (len(q), 1): the kinematic equations q'.")
     outputs = _Expanded("outputs", "dict of str to sympy.Expr: output expressions.")
+    zdot = _Expanded("zdot", "sympy.Matrix (len(z), 1): the rates of the controller states.")
 
     def __getstate__(self):
         state = dict(self.__dict__)
@@ -274,6 +282,7 @@ class EquationsOfMotion:
         self.mass_matrix = (PT * M * P).applyfunc(lambda x: x.xreplace(dep_subs))
         self.forcing = (PT * (self.forcing - M * e)).applyfunc(lambda x: x.xreplace(dep_subs))
         self.qdot = self.qdot.applyfunc(lambda x: x.xreplace(dep_subs))
+        self.zdot = self.zdot.applyfunc(lambda x: x.xreplace(dep_subs))
         self.dependent_speeds = dep_subs
         self.u = [u_free[j] for j in ind]
         self.ud = [chain.ud[u] for u in self.u]
@@ -309,8 +318,8 @@ class EquationsOfMotion:
     # ------------------------------------------------------------------ structure
     @property
     def state_names(self) -> list[str]:
-        """Names of the state variables, coordinates then speeds."""
-        return [q.name for q in self.q] + [u.name for u in self.u]
+        """Names of the state variables: coordinates, speeds, then controller states."""
+        return [q.name for q in self.q] + [u.name for u in self.u] + [z.name for z in getattr(self, "z", ())]
 
     def beam_constant_symbols(self) -> dict:
         """symbol -> (beam name, BeamConstants) for every modal constant."""
@@ -358,6 +367,7 @@ def derive(model: Model) -> EquationsOfMotion:
     budget.check_time("the kinematics")
     inertia = generalized_inertia_forces(kin)
     budget.check_size(list(inertia.mass_matrix) + list(inertia.remainder), "the inertia forces")
+    control_signals(kin)   # sensors, controller states and outputs: the names efforts may use
     active = generalized_active_forces(kin)
     budget.check_time("the active forces")
     eom = EquationsOfMotion(chain, kin, inertia, active)

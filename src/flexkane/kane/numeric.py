@@ -124,7 +124,8 @@ def initial_guess(eom, model=None) -> dict:
 
 
 def initial_state(eom, model=None) -> np.ndarray:
-    """Initial state ``[q, u]`` from the model's ``[initial]`` table (others 0), shape (n,).
+    """Initial state ``[q, u, z]`` from the model's ``[initial]`` table (others 0) and the controllers'
+    ``initial`` tables (controller states z, others 0), shape (n,).
 
     With loop constraints the dependent coordinates are solved for (:func:`project_coordinates`)
     and a dependent speed may not be given.
@@ -151,7 +152,16 @@ def initial_state(eom, model=None) -> np.ndarray:
                                  "from the independent ones through the loop constraints)", model.initial[u.name])
         nq = len(eom.q)
         state[:nq] = project_coordinates(eom, state[:nq], constant_values(eom, model))
-    return state
+    return np.concatenate([state, controller_initial(eom, model, fields)])
+
+
+def controller_initial(eom, model, fields) -> np.ndarray:
+    """Initial values of the controller states ``z`` (their controllers' ``initial``, else 0), shape (nz,)."""
+    values = {}
+    for ctrl in model.controllers.values():
+        for state in ctrl.states:
+            values[state] = fields.value_or(ctrl.initial, state, f"controllers.{ctrl.name}.initial")
+    return np.array([values[z.name] for z in getattr(eom, "z", ())], dtype=float)
 
 
 def project_coordinates(eom, q: np.ndarray, p_values: dict, t: float = 0.0) -> np.ndarray:

@@ -17,14 +17,22 @@ Names of the outputs (columns of results files):
 * ``x_cm``, ``y_cm`` [m], ``p_x``, ``p_y`` [kg m/s]: centre of mass of the whole system and its
   linear momentum; ``h_cm`` and ``h_o`` [kg m^2/s]: angular momentum about the centre of mass and
   about the ground origin;
-* ``effort_<joint>`` [N m or N]: generalized force supplied by each driver.
+* ``effort_<joint>`` [N m or N]: generalized force supplied by each driver, and the actuator torque
+  (or force) of each joint that has one;
+* ``load_<name>_fx``, ``load_<name>_fy`` [N], ``load_<name>_torque`` [N m]: the force components (as
+  given, in the load's frame) and the torque of each load;
+* ``sensor_<name>`` [its unit]: each sensor (:mod:`flexkane.kane.sensors`);
+  ``controller_<name>`` [its unit]: each controller output, saturated.
+
+Efforts may depend on the state (feedback): their values are then functions of q, u, the
+controller states and t, evaluated along the trajectory like every output.
 """
 
 from __future__ import annotations
 
 import sympy as sp
 
-from .active import gravity_vector
+from .active import gravity_vector, moving_rest
 from .kinematics import rot
 from .modal_field import ONE
 
@@ -122,7 +130,7 @@ def output_expressions(eom) -> dict:
                 gravity.append(-(gvec[0] * (mB * fr.r[0] + firstN[0]) + gvec[1] * (mB * fr.r[1] + firstN[1])))
     springs = []
     for joint in chain.joints:
-        if joint.stiffness is not None:
+        if joint.stiffness is not None and moving_rest(kin, joint) is None:
             coord = chain.of(joint.name)[0]
             k = kin.value(f"joints.{joint.name}.stiffness", joint.stiffness, f"k_{joint.name}")
             rest = kin.value(f"joints.{joint.name}.rest", joint.rest, f"{coord.q.name}_rest")
@@ -160,4 +168,20 @@ def output_expressions(eom) -> dict:
     out["power_nonconservative"] = sp.Add(*power)
     for owner, effort in eom.driver_efforts.items():
         out[f"effort_{owner}"] = effort
+    symbols = kin.symbols
+    for joint in chain.joints:
+        if joint.torque is not None:
+            out[f"effort_{joint.name}"] = symbols.effort(f"joints.{joint.name}.torque", joint.torque)
+    for load in model.loads.values():
+        path = f"loads.{load.name}"
+        if load.force is not None:
+            for k, axis in enumerate("xy"):
+                out[f"load_{load.name}_f{axis}"] = symbols.effort(f"{path}.force[{k}]", load.force[k])
+        if load.torque is not None:
+            out[f"load_{load.name}_torque"] = symbols.effort(f"{path}.torque", load.torque)
+    for name, value in chain.sensors.items():
+        out[f"sensor_{name}"] = value
+    for ctrl in model.controllers.values():
+        if ctrl.output is not None:
+            out[f"controller_{ctrl.name}"] = symbols.signals[ctrl.name]
     return out

@@ -109,6 +109,10 @@ class Linearization:
         self.model = self.prepared.model
         self.notes = list(self.prepared.notes)
         eom = derive(self.model)
+        if getattr(eom, "z", None):
+            raise ModelError("controllers", "a model without controller states to linearize (the linear model's "
+                             "state is (dq, du); feedback written directly in the efforts, from coordinates, "
+                             "speeds and sensors, is linearized)", ", ".join(z.name for z in eom.z))
         self.eom = eom
         self.t = eom.t
         self._coordinate = {c.q: c for c in eom.chain.coordinates}

@@ -11,6 +11,9 @@ Two changes turn a model into one whose Kane's equations give the linear model d
   r0 of a channel is the value of the model's own field at the time ``t0`` of the operating point
   (the joint's torque, the load's component; 0 when the field is not given), which the linear
   model's equations contain already: ``dr`` is what is added to it.
+  An effort that uses the state (feedback: coordinates, speeds, sensors, controllers,
+  :mod:`flexkane.model.signals`) stays in the equations with its law; its channel adds to it, of
+  nominal value 0, so that ``B`` is then the input matrix of the closed loop.
 * **Steady spin.** For ``about = "spin"`` the hub joint (a revolute joint) is given the driver
   ``speed = Omega``, a new parameter whose value is the spin rate [rad/s]; its actuator torque, if
   any, is removed (the driver supplies the effort, the joint has no input), and so are initial
@@ -89,6 +92,18 @@ def _field(model: Model, path: str):
     if path.startswith("joints.") and model.joints[owner].torque is None:
         return None
     return get_value(model, path)
+
+
+def _feedback(model: Model, text, t0: float, path: str) -> bool:
+    """Whether an effort uses the state (coordinates, speeds, sensors, controllers): it then stays in
+    the equations, and its input is an additive parameter of nominal value 0."""
+    try:
+        _value_at(model, text, t0, path)
+        return False
+    except ModelError as exc:
+        if isinstance(text, str) and "unknown name" in f"{exc.expected} {exc.hint}":
+            return True     # the model is valid: the name is a signal (flexkane.model.signals)
+        raise
 
 
 def spin_hub(model: Model, hub: str | None) -> str:
@@ -171,6 +186,9 @@ def prepare_model(model: Model, *, about: str, spin: float | None = None, hub: s
     for channel in input_channels(new):
         field_value = _field(new, channel.path)
         prepared.inputs.append(channel)
-        prepared.nominal.append(0.0 if field_value is None else _value_at(model, field_value, t0, channel.path))
+        if field_value is None or _feedback(model, field_value, t0, channel.path):
+            prepared.nominal.append(0.0)
+        else:
+            prepared.nominal.append(_value_at(model, field_value, t0, channel.path))
     new.validate()
     return prepared

@@ -7,8 +7,8 @@ import copy
 from dataclasses import dataclass, field
 
 from ..errors import ModelError
-from .parts import (DIMENSIONS, Beam, DistributedLoad, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody,
-                    Simulation, Value)
+from .parts import (DIMENSIONS, Beam, Controller, DistributedLoad, Gravity, Joint, Load, LoopConstraint,
+                    PointSpring, RigidBody, Sensor, Simulation, Value)
 
 __all__ = ["Model", "NAMING_STYLES", "DIMENSIONS"]
 
@@ -43,6 +43,10 @@ class Model:
         Joints that close kinematic loops.
     initial : dict of str to Value
         Initial values of generalized coordinates and speeds, by name; others start at 0.
+    sensors : dict of str to Sensor
+        Named outputs usable in effort expressions.
+    controllers : dict of str to Controller
+        Controller states (extra first-order states) and outputs.
     naming : str
         One of :data:`NAMING_STYLES`.
     simulation : Simulation
@@ -70,6 +74,8 @@ class Model:
     springs: dict[str, PointSpring] = field(default_factory=dict)
     constraints: dict[str, LoopConstraint] = field(default_factory=dict)
     initial: dict[str, Value] = field(default_factory=dict)
+    sensors: dict[str, Sensor] = field(default_factory=dict)
+    controllers: dict[str, Controller] = field(default_factory=dict)
     naming: str = "joint"
     simulation: Simulation = field(default_factory=Simulation)
     description: str = ""

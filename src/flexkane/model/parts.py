@@ -50,6 +50,11 @@ INTEGRATION_METHODS = ("dop853", "radau")
 METHODS = ("auto", *INTEGRATION_METHODS)
 #: Frames in which the components of a distributed load are given.
 DISTRIBUTED_FRAMES = ("beam", "ground")
+#: Kinds of sensors (named outputs usable in effort expressions, :class:`Sensor`).
+SENSOR_TYPES = ("tip_deflection", "tip_slope", "bending_moment", "strain", "position", "velocity",
+                "acceleration", "joint_angle", "joint_rate")
+#: Components of a point sensor, along the axes of its frame.
+COMPONENTS = ("x", "y")
 
 
 @dataclass
@@ -288,10 +293,12 @@ class Joint:
         Linear spring [N m/rad or N/m] and damper [N m s/rad or N s/m] acting on the joint
         coordinate of a revolute or prismatic joint.
     rest : Value
-        Coordinate at which the spring is relaxed [rad or m].
+        Coordinate at which the spring is relaxed [rad or m]; an expression of t, the state, sensors
+        or controllers makes the spring an actuator (its power is counted in the work W).
     torque : Value, optional
         Actuator torque [N m] (revolute) or force [N] (prismatic) acting along the joint coordinate
-        between parent and child, an expression of t.
+        between parent and child, an expression of t, the coordinates and speeds, sensors and
+        controllers (state feedback).
     driver : Driver, optional
         Prescribed motion of the (single) joint coordinate.
     """
@@ -350,10 +357,11 @@ class Load:
     station : Value, optional
         Station x on a beam [m].
     force : tuple of Value, optional
-        Force components [N], expressions of t allowed (3 in a spatial model).
+        Force components [N] (3 in a spatial model): expressions of t, the coordinates and speeds,
+        sensors and controllers.
     torque : Value or (Value, Value, Value), optional
-        Torque about the normal to the plane [N m], expression of t allowed; a spatial model's is a
-        vector of three components.
+        Torque about the normal to the plane [N m], an expression like the force components; a
+        spatial model's is a vector of three components.
     frame : str
         ``ground`` or ``local`` (components along the body or beam-station frame).
     """
@@ -520,3 +528,88 @@ class Simulation:
     max_steps: int | None = None
     deflection_warning: float = 0.1
     spin_warning: float = 0.1
+
+
+@dataclass
+class Sensor:
+    """A named output of the motion, usable in effort expressions (feedback) and written as the
+    output column ``sensor_<name>``.
+
+    Kinds (``type``) and their fields:
+
+    * ``tip_deflection`` [m], ``tip_slope`` [rad]: ``y(L) = sum_i Phi_i(L) q_i`` and ``y'(L)`` of
+      ``beam``, in the beam frame;
+    * ``bending_moment`` [N m]: ``EI y''(x)`` of ``beam`` at ``station`` x;
+      ``strain`` [-]: ``-distance * y''(x)`` there, ``distance`` [m] from the neutral axis along
+      the beam frame's y axis (positive on the side y > 0, which a positive curvature compresses);
+    * ``position`` [m], ``velocity`` [m/s], ``acceleration`` [m/s^2]: ``component`` (``x`` or
+      ``y``) of the point ``point`` of body ``body`` (the mass centre when omitted), or of station
+      ``station`` of beam ``body``, along the ground axes (``frame = "ground"``; the position from
+      the ground origin) or along the axes of the body or beam-station frame (``frame = "local"``,
+      a sensor mounted on the body). Acceleration sensors depend on u': they are outputs only and
+      may not be used in efforts or controllers;
+    * ``joint_angle`` [rad or m], ``joint_rate`` [rad/s or m/s]: the coordinate and speed of a
+      revolute or prismatic ``joint``.
+
+    Parameters
+    ----------
+    name : str
+        Unique name among sensors, controllers, their states, parameters and coordinates.
+    type : str
+        One of :data:`SENSOR_TYPES`.
+    beam, body, point, joint : str, optional
+        What is measured (see above).
+    station : Value, optional
+        Distance x from a beam's root [m].
+    distance : Value, optional
+        Distance from the neutral axis [m] (``strain``).
+    frame : str
+        ``ground`` or ``local`` (point sensors).
+    component : str, optional
+        ``x`` or ``y`` (point sensors).
+    """
+
+    name: str
+    type: str
+    beam: str | None = None
+    body: str | None = None
+    point: str | None = None
+    joint: str | None = None
+    station: Value | None = None
+    distance: Value | None = None
+    frame: str = "ground"
+    component: str | None = None
+
+
+@dataclass
+class Controller:
+    """First-order controller states and a controller output, integrated with the motion.
+
+    Each state z has its rate ``z' = states[z]``, an expression of t, the parameters, the
+    coordinates and speeds, sensors, controller states and controller outputs. The output (optional)
+    is an expression of the same names, available under the controller's name in efforts and other
+    controllers, saturated to ``[min, max]`` when they are given, and written as the output column
+    ``controller_<name>``. The states extend the state vector after the speeds:
+    ``y = [q, u, controller states]`` in the order of the controllers' names, then of each
+    controller's states as listed.
+
+    Parameters
+    ----------
+    name : str
+        Unique name (the name of the output in expressions).
+    states : dict of str to Value
+        State name -> its rate [state unit / s].
+    initial : dict of str to Value
+        State name -> initial value [state unit]; 0 for a state not listed.
+    output : Value, optional
+        The controller's output [unit of the effort it feeds].
+    min, max : Value, optional
+        Saturation of the output (numbers or expressions of the parameters).
+    """
+
+    name: str
+    states: dict[str, Value] = field(default_factory=dict)
+    initial: dict[str, Value] = field(default_factory=dict)
+    output: Value | None = None
+    min: Value | None = None
+    max: Value | None = None

@@ -115,7 +115,8 @@ def set_value(model: Model, path: str, value) -> None:
     A bare name sets a parameter if the model has one of that name, else the model's ``name``,
     ``description`` or ``naming``, else an initial condition (the validation then checks that such a
     coordinate or speed exists). ``parameters.NAME`` and
-    ``initial.NAME`` may add entries; every other path must exist. A path to a whole table (a part,
+    ``initial.NAME`` (and ``controllers.NAME.initial.STATE``) may add entries; every other path must
+    exist. A path to a whole table (a part,
     a list of parts) cannot be replaced by a value.
 
     Parameters
@@ -133,6 +134,10 @@ def set_value(model: Model, path: str, value) -> None:
         return
     if parts[0] in ("parameters", "initial") and len(parts) == 2 and isinstance(parts[1], str):
         getattr(model, parts[0])[parts[1]] = value
+        return
+    if parts[0] == "controllers" and len(parts) == 4 and parts[2] == "initial" and parts[1] in model.controllers \
+            and isinstance(model.controllers[parts[1]].initial, dict):
+        model.controllers[parts[1]].initial[parts[3]] = value   # a controller state's initial value
         return
     chain = [model]
     for key in parts[:-1]:

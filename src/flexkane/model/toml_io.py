@@ -12,6 +12,8 @@ The file has one table per kind of part, keyed by name::
     [distributed_loads.NAME]  # beam, fx, fy (expressions of x, t), frame, quadrature_nodes
     [springs.NAME]          # body_a, point_a | station_a | position_a, body_b, ..., stiffness, damping, rest_length
     [constraints.NAME]      # loop-closure joints: type, body_a, point_a | station_a | position_a, ...
+    [sensors.NAME]          # type, beam | body, point | station, joint, distance, frame, component
+    [controllers.NAME]      # states = { z = "rate" }, initial = { z = value }, output, min, max
     [initial]               # coordinate or speed name = value
     [simulation]            # t_end, dt_out, rtol, atol, method, max_steps, deflection_warning, spin_warning
     [sweep]                 # read by flexkane.sweep, ignored here
@@ -40,8 +42,8 @@ import tomli_w
 
 from ..errors import ModelError
 from .model import Model
-from .parts import (Beam, DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint, Orientation, PointSpring,
-                    RigidBody, ShapeSpec, Simulation)
+from .parts import (SENSOR_TYPES, Beam, Controller, DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint,
+                    Orientation, PointSpring, RigidBody, Sensor, ShapeSpec, Simulation)
 
 __all__ = ["load_model", "loads_model", "dumps_model", "save_model", "model_to_dict", "orientation_from_table",
            "MAX_FILE_BYTES", "ORIENTATION_KEYS", "ORIENTATION_FORMS"]
@@ -50,7 +52,8 @@ __all__ = ["load_model", "loads_model", "dumps_model", "save_model", "model_to_d
 MAX_FILE_BYTES = 1_000_000
 
 _TOP_KEYS = ("name", "dimensions", "description", "naming", "parameters", "bodies", "beams", "joints", "gravity",
-             "loads", "distributed_loads", "springs", "constraints", "initial", "simulation", "sweep")
+             "loads", "distributed_loads", "springs", "constraints", "sensors", "controllers", "initial", "simulation",
+             "sweep")
 _BODY_KEYS = ("mass", "inertia", "points", "outline")
 _BEAM_KEYS = ("L", "EI", "rho", "n_modes", "shape", "damping", "gravity", "elastic_forces",
               "geometric_stiffening", "EA", "n_axial", "axial_shape", "rotary_inertia")
@@ -66,6 +69,8 @@ _SPRING_KEYS = ("body_a", "point_a", "station_a", "position_a", "body_b", "point
                 "stiffness", "damping", "rest_length")
 _CONSTRAINT_KEYS = ("type", "body_a", "point_a", "station_a", "position_a", "body_b", "point_b", "station_b",
                     "position_b", "axis", "angle", "dependent", "stabilization")
+_SENSOR_KEYS = ("type", "beam", "body", "point", "joint", "station", "distance", "frame", "component")
+_CONTROLLER_KEYS = ("states", "initial", "output", "min", "max")
 _SIM_KEYS = ("t_end", "dt_out", "rtol", "atol", "method", "max_steps", "deflection_warning", "spin_warning")
 
 #: Keys of an orientation table.
@@ -276,6 +281,17 @@ def _model_from_dict(data: dict) -> Model:
             position_a=_pair(con, "position_a", path), position_b=_pair(con, "position_b", path),
             axis=con.get("axis", 0), angle=con.get("angle", 0), dependent=con.get("dependent"),
             stabilization=_float(con, "stabilization", 0.0))
+    for name, table in _parts(data, "sensors", _SENSOR_KEYS).items():
+        model.sensors[name] = Sensor(
+            name, _get(table, "type", f"sensors.{name}", "the kind of sensor (" + ", ".join(SENSOR_TYPES) + ")"),
+            **{key: table.get(key) for key in _SENSOR_KEYS if key not in ("type", "frame")},
+            frame=table.get("frame", "ground"))
+    for name, table in _parts(data, "controllers", _CONTROLLER_KEYS).items():
+        path = f"controllers.{name}"
+        model.controllers[name] = Controller(
+            name, states=_table(table, "states", path, "a table of state rates { z = \"expression\" }"),
+            initial=_table(table, "initial", path, "a table of initial values { z = value }"),
+            output=table.get("output"), min=table.get("min"), max=table.get("max"))
     model.initial.update(_table(data, "initial", "", "a table of initial values { q_name = value }"))
     sim = _table(data, "simulation", "", "a table of run settings")
     _check_keys(sim, _SIM_KEYS, "simulation")
@@ -446,6 +462,17 @@ def model_to_dict(model: Model) -> dict:
                 t["stabilization"] = c.stabilization
             cons[c.name] = t
         out["constraints"] = cons
+    if model.sensors:
+        out["sensors"] = {s.name: _drop_none({"type": s.type, "beam": s.beam, "body": s.body, "point": s.point,
+                                              "joint": s.joint, "station": s.station, "distance": s.distance,
+                                              "frame": None if s.frame == "ground" else s.frame,
+                                              "component": s.component})
+                          for s in model.sensors.values()}
+    if model.controllers:
+        out["controllers"] = {c.name: _drop_none({"states": dict(c.states) if c.states else None,
+                                                  "initial": dict(c.initial) if c.initial else None,
+                                                  "output": c.output, "min": c.min, "max": c.max})
+                              for c in model.controllers.values()}
     if model.initial:
         out["initial"] = dict(model.initial)
     sim = _drop_none({"t_end": model.simulation.t_end, "dt_out": model.simulation.dt_out,

@@ -33,8 +33,8 @@ from ..errors import ModelError, ModelErrors
 from .field_values import FieldValues
 from .model import NAMING_STYLES, Model
 from .parts import (DIMENSIONS, DISTRIBUTED_FRAMES, ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES,
-                    JOINT_TYPES_BY_DIMENSION, METHODS, SPATIAL_JOINT_TYPES, Beam, DistributedLoad, Driver, Gravity,
-                    Joint, Load, LoopConstraint, PointSpring, RigidBody, ShapeSpec, Simulation)
+                    JOINT_TYPES_BY_DIMENSION, METHODS, SPATIAL_JOINT_TYPES, Beam, Controller, DistributedLoad, Driver,
+                    Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody, Sensor, ShapeSpec, Simulation)
 
 __all__ = ["validate_model", "validate_run_arguments", "check_output_grid", "RUN_SETTINGS", "MAX_MODES",
            "MAX_ELASTIC_COORDINATES", "MAX_STIFFENED_MODES", "MAX_OUTPUT_ROWS", "METHODS", "is_name"]
@@ -83,6 +83,11 @@ class _Values(FieldValues):
     #: Where to record the unit of every numeric field checked, by key path (None: nowhere).
     units: dict | None = None
 
+    def __init__(self, model):
+        super().__init__(model)
+        #: (path, value) of laws that name something other than t and the parameters
+        self.deferred: list = []
+
     def evaluate(self, path: str, value, extra: dict) -> float:
         """The value of an expression of the parameters and ``extra`` names (``t``, ``x``) [their units].
 
@@ -99,6 +104,21 @@ class _Values(FieldValues):
         if not _is_value(value):
             raise ModelError(path, f"a number or an expression string ({kind})", value)
         return self.value(value, path, what=kind, **({"t": 0.0} if time else {}))
+
+    def law(self, path: str, value, what: str, unit: str) -> float | None:
+        """:meth:`number` of an effort (at t = 0), or None when it names a signal (coordinates,
+        speeds, sensors, controllers), which :mod:`flexkane.model.signals` checks once the chain's
+        coordinates are known."""
+        from ..expression_syntax import NeedsSymbolic, expression_names
+
+        try:
+            beyond = expression_names(value) - {*self.parameters, "t"}
+        except NeedsSymbolic:
+            beyond = set()      # not in the language: the evaluation below says why
+        if beyond:
+            self.deferred.append((path, value))
+            return None
+        return self.number(path, value, what, unit, time=True)
 
     @staticmethod
     def shown(value, number: float):
@@ -255,7 +275,8 @@ def validate_model(model: Model, *, units: dict | None = None) -> None:
     tables = {}
     for kind, cls in (("bodies", RigidBody), ("beams", Beam), ("joints", Joint), ("loads", Load),
                       ("distributed_loads", DistributedLoad),
-                      ("springs", PointSpring), ("constraints", LoopConstraint)):
+                      ("springs", PointSpring), ("constraints", LoopConstraint), ("sensors", Sensor),
+                      ("controllers", Controller)):
         with problems.part():
             tables[kind] = _table(model, kind, cls)
     with problems.part(later=True):
@@ -320,7 +341,8 @@ def validate_model(model: Model, *, units: dict | None = None) -> None:
         with problems.part():
             _check_constraint(model, con, values, lengths)
     problems.raise_found(final=True)   # the structure needs a valid tree of valid parts
-    _check_structure(model, values)
+    coordinates = _check_structure(model, values)
+    _check_signals(model, values, lengths, coordinates)
 
 
 # ---------------------------------------------------------------------------------------- parts
@@ -497,10 +519,10 @@ def _check_joint(model: Model, joint: Joint, values: _Values, lengths: dict) -> 
         values.non_negative(f"{path}.stiffness", joint.stiffness, "joint stiffness", f"{force}/{unit}")
     if joint.damping is not None:
         values.non_negative(f"{path}.damping", joint.damping, "joint damping", f"{force} s/{unit}")
-    values.number(f"{path}.rest", joint.rest, "rest position of the joint spring", unit)
+    values.law(f"{path}.rest", joint.rest, "rest position of the joint spring", unit)
     if joint.torque is not None:
         what = "actuator torque" if joint.type == "revolute" else "actuator force"
-        values.number(f"{path}.torque", joint.torque, what, force, time=True)
+        values.law(f"{path}.torque", joint.torque, what, force)
         if joint.driver is not None:
             raise ModelError(f"{path}.torque", "no actuator torque on a driven joint (the driver supplies it)",
                              joint.torque)
@@ -512,9 +534,9 @@ def _check_joint(model: Model, joint: Joint, values: _Values, lengths: dict) -> 
             raise ModelError(f"{path}.driver", "exactly one of 'coordinate' and 'speed'",
                              "both" if driver.coordinate is not None else "neither")
         if driver.coordinate is not None:
-            values.number(f"{path}.driver.coordinate", driver.coordinate, "prescribed coordinate", unit, time=True)
+            values.law(f"{path}.driver.coordinate", driver.coordinate, "prescribed coordinate", unit)
         else:
-            values.number(f"{path}.driver.speed", driver.speed, "prescribed speed", f"{unit}/s", time=True)
+            values.law(f"{path}.driver.speed", driver.speed, "prescribed speed", f"{unit}/s")
 
 
 def _check_tree(model: Model) -> None:
@@ -564,9 +586,12 @@ def _check_load(model: Model, load: Load, values: _Values, lengths: dict) -> Non
         spatial.check_load(load, values)
     else:
         if load.force is not None:
-            values.pair(f"{path}.force", load.force, "force components", "N", time=True)
+            if not _is_pair(load.force):
+                raise ModelError(f"{path}.force", "a pair [x, y] of force components [N]", load.force)
+            for k in range(2):
+                values.law(f"{path}.force[{k}]", load.force[k], "force component", "N")
         if load.torque is not None:
-            values.number(f"{path}.torque", load.torque, "torque", "N m", time=True)
+            values.law(f"{path}.torque", load.torque, "torque", "N m")
     _choice(f"{path}.frame", load.frame, FRAMES)
 
 
@@ -845,7 +870,7 @@ def _family(spec: ShapeSpec, path: str, n: int, kind: str, values: _Values) -> N
                          f"{spec.family!r} provides as specified", n)
 
 
-def _check_structure(model: Model, values: _Values) -> None:
+def _check_structure(model: Model, values: _Values) -> list:
     """Shape families, the chain's coordinates, initial conditions and dependent speeds."""
     from .coordinates import coordinate_names, coordinate_unit, speed_unit
 
@@ -878,3 +903,34 @@ def _check_structure(model: Model, values: _Values) -> None:
             if name in chosen:
                 raise ModelError(path, f"a speed not already dependent through constraint {chosen[name]!r}", name)
             chosen[name] = con.name
+    return coordinates
+
+
+def _check_signals(model: Model, values: _Values, lengths: dict, coordinates) -> None:
+    """Sensors, controllers and every effort that uses them (:mod:`flexkane.model.signals`)."""
+    from .signals import Signals, check_controller, check_sensor, effort_fields
+
+    problems = _Problems()
+    signals = None
+    with problems.part():
+        signals = Signals(model, coordinates, values)
+    problems.raise_found()
+    for sensor in model.sensors.values():
+        with problems.part():
+            check_sensor(model, sensor, values, lengths)
+    uses = {}
+    for ctrl in model.controllers.values():
+        with problems.part():
+            uses[ctrl.name] = check_controller(ctrl, signals, values)
+    with problems.part():
+        signals.check_outputs_acyclic(uses)
+    deferred = dict(values.deferred)
+    for path, value in effort_fields(model):
+        deferred.pop(path, None)
+        with problems.part():
+            signals.used(path, value, "an effort [N, N m, or m, rad for a rest position]")
+    for path, value in deferred.items():   # drivers' laws: of t and the parameters only
+        with problems.part():
+            signals.refuse_in_driver(path, value)
+            values.number(path, value, "prescribed motion", "m, rad or their rates", time=True)
+    problems.raise_found(final=True)

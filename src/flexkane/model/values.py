@@ -77,6 +77,9 @@ class FieldSymbols:
         #: symbol -> (path, value text or number) for field symbols
         self.definitions: dict[sp.Symbol, tuple[str, object]] = {}
         self._by_path: dict[str, sp.Expr] = {}
+        #: names efforts may use besides t and the parameters (coordinates, speeds, sensors,
+        #: controller states and outputs) -> their expressions (set by flexkane.kane.controllers)
+        self.signals: dict[str, sp.Expr] = {}
 
     # ------------------------------------------------------------------ construction
     def _fresh_name(self, base: str) -> str:
@@ -114,6 +117,12 @@ class FieldSymbols:
             expr = symbol
         self._by_path[path] = expr
         return expr
+
+    def effort(self, path: str, value) -> sp.Expr:
+        """An effort (torque, force, rest position, controller rate or output): an expression of t,
+        the parameters and the :attr:`signals` (state feedback), kept as it is in the equations."""
+        names = {**self.parameters, **self.signals, "t": TIME}
+        return self._parse(value, names, path=path)
 
     def time_function(self, path: str, value) -> sp.Expr:
         """An expression of t and the parameters (loads, drivers); kept as it is in the equations."""

@@ -152,16 +152,23 @@ def _symbol_table(eom, time_name: str, intermediates: Sequence = (), reserved: f
     u_names = _safe_names(list(eom.u), taken)
     c_names = _safe_names(list(eom.constants), taken)
     i_names = _safe_names(list(intermediates), taken)
+    z_symbols = list(getattr(eom, "z", None) or [])   # controller states, y = [q, u, z]
+    z_names = _safe_names(z_symbols, taken)
     t_name = getattr(eom.t, "name", "t")
     if t_name == time_name:
         taken.add(time_name)
     else:
         t_name = _safe_names([eom.t], taken)[0]
     subs = {}
-    for sym, name in zip([*eom.q, *eom.u, *eom.constants, *intermediates, eom.t],
-                         [*q_names, *u_names, *c_names, *i_names, t_name]):
+    for sym, name in zip([*eom.q, *eom.u, *eom.constants, *intermediates, *z_symbols, eom.t],
+                         [*q_names, *u_names, *c_names, *i_names, *z_names, t_name]):
         subs[sym] = sympy.Symbol(name, real=True)
     return subs, q_names, u_names, c_names, t_name
+
+
+def _state_names(eom, subs: Mapping, q_names: list, u_names: list) -> list[str]:
+    """Local names of the whole state ``y = [q, u, z]`` (z: controller states)."""
+    return [*q_names, *u_names, *(subs[z].name for z in (getattr(eom, "z", None) or []))]
 
 
 def _needed_definitions(eom, exprs) -> list:
@@ -236,9 +243,12 @@ def _check_free_symbols(exprs, subs: Mapping, what: str, extra=frozenset()) -> N
 
 def _header(eom, q_names, u_names, c_names, title: str) -> list[str]:
     nq, nu = len(q_names), len(u_names)
+    z = list(getattr(eom, "z", None) or [])
     lines = [f"# ---- {title} ----",
-             f"# State vector y = [q, u] (nq = {nq} coordinates, nu = {nu} speeds):"]
-    for k, sym in enumerate([*eom.q, *eom.u]):
+             f"# State vector y = [q, u] (nq = {nq} coordinates, nu = {nu} speeds):" if not z else
+             f"# State vector y = [q, u, z] (nq = {nq} coordinates, nu = {nu} speeds, nz = {len(z)} "
+             "controller states):"]
+    for k, sym in enumerate([*eom.q, *eom.u, *z]):
         lines.append(f"#   y[{k}] = {sym}")
     lines.append(f"# Constants vector p ({len(c_names)} entries):")
     for k, sym in enumerate(eom.constants):
@@ -327,8 +337,10 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
                          f"{mass.shape} (expected ({nu}, {nu})), forcing {forcing.shape} "
                          f"(expected ({nu}, 1))")
     upper = [(i, j) for i in range(nu) for j in range(i, nu)]
+    zdot = list(getattr(equations, "zdot", None) or [])   # controller states: dy[nq + nu + k]
+    nz = len(zdot)
     exprs = [qdot[i] for i in range(nq)] + [mass[i, j] for i, j in upper] \
-        + [forcing[i] for i in range(nu)]
+        + [forcing[i] for i in range(nu)] + zdot
     definitions = _needed_definitions(eom, exprs)
     subs, q_names, u_names, c_names, t_name = _symbol_table(eom, "t", [s for s, _ in definitions])
     exprs = [e for _, e in definitions] + exprs
@@ -355,7 +367,8 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
     unrolled = nu <= UNROLL_LDL_MAX and not split
     targets = ([f"dy[{i}]" for i in range(nq)]
                + [f"_m{i}_{j}" if unrolled else f"_M[{i}, {j}]" for i, j in upper]
-               + [f"_f{i}" if unrolled else f"dy[{nq + i}]" for i in range(nu)])
+               + [f"_f{i}" if unrolled else f"dy[{nq + i}]" for i in range(nu)]
+               + [f"dy[{nq + nu + k}]" for k in range(nz)])
     statements += [Statement(target, text, expr)
                    for target, text, expr in zip(targets, texts, reduced)]
     if definitions:
@@ -376,7 +389,8 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
               f"{prefix}NQ = {nq}",
               f"{prefix}NU = {nu}",
               f"{prefix}NW = {len(quadratures)}",
-              f"{prefix}STATE_NAMES = {tuple(str(s) for s in [*eom.q, *eom.u])!r}",
+              f"{prefix}NZ = {nz}",
+              f"{prefix}STATE_NAMES = {tuple(str(s) for s in [*eom.q, *eom.u, *(getattr(eom, 'z', None) or [])])!r}",
               f"{prefix}CONSTANT_NAMES = {tuple(str(s) for s in eom.constants)!r}",
               f"{prefix}QUADRATURE_NAMES = {tuple(quadratures)!r}",
               f"{prefix}RHS_OPERATIONS = {operations}",
@@ -393,21 +407,23 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
     if block or n_coefficients:
         lines, prologue = _prepare_lines(name, prefix, len(c_names), block_exprs, c_names,
                                          print_fn, n_coefficients, lines)
-    loads = {n: f"y[{k}]" for k, n in enumerate([*q_names, *u_names])}
+    state_names = _state_names(eom, subs, q_names, u_names)
+    loads = {n: f"y[{k}]" for k, n in enumerate(state_names)}
     loads.update({n: f"p[{k}]" for k, n in enumerate(c_names)})
     if t_name != "t":
         loads[t_name] = "t"
     if split:
         coefficients_at = len(c_names) + (constant_block.PREPARED_HEADER + len(block) ** 2
                                           if block else 0)
-        lines += large_rhs.large_rhs_lines(name, tabulated, [*q_names, *u_names], c_names, t_name,
+        lines += large_rhs.large_rhs_lines(name, tabulated, state_names, c_names, t_name,
                                            nq, nu, prologue=prologue, solve=solve,
                                            coefficients_at=coefficients_at)
         check_compiled_operations(compiled_operations(lines + system_lines))
         return "\n".join(lines + system_lines) + "\n"
+    zd = ", z'" if nz else ""
     lines += ['@njit(cache=True, error_model="numpy")',
               f"def {name}(t, y, p, dy):",
-              f'    """Write [q\', u\'] (nq + nu = {nq + nu},) into dy; return 0, 2 or 4."""']
+              f'    """Write [q\', u\'{zd}] ({nq + nu + nz},) into dy; return 0, 2 or 4."""']
     ind = "    "
     lines += prologue
     lines += [f"{ind}{local} = {source}" for local, source in loads.items()]
@@ -492,6 +508,7 @@ def _quadrature_lines(eom, name: str, system_name: str, quadratures: dict,
         return ["", "", f"# No quadrature states: the integrators integrate {name} itself.",
                 f"{system_name} = {name}"], 0
     nq, nu = len(eom.q), len(eom.u)
+    nz = len(getattr(eom, "z", None) or [])
     values = [sympy.sympify(e) for e in quadratures.values()]
     definitions = _needed_definitions(eom, values)
     subs, q_names, u_names, c_names, t_name = _symbol_table(eom, "t", [s for s, _ in definitions])
@@ -504,12 +521,13 @@ def _quadrature_lines(eom, name: str, system_name: str, quadratures: dict,
     values = [e.xreplace(subs) for e in values]
     _check_free_symbols(values + [e.xreplace(subs) for _, e in definitions], subs,
                         "the quadrature integrands")
-    n = nq + nu
+    n = nq + nu + nz
+    zd = ", z'" if nz else ""
     statements = _assignments(values, definitions, subs, printer,
                               [f"dy[{n + k}]" for k in range(len(values))])
     used = set().union(*(st.uses for st in statements))
     body = [f"{st.target} = {st.text}" for st in statements]
-    loads = [f"{v} = y[{k}]" for k, v in enumerate([*q_names, *u_names]) if v in used]
+    loads = [f"{v} = y[{k}]" for k, v in enumerate(_state_names(eom, subs, q_names, u_names)) if v in used]
     loads += [f"{v} = dy[{nq + k}]" for k, v in enumerate(ud_names) if v in used]
     loads += [f"{v} = p[{k}]" for k, v in enumerate(c_names) if v in used]
     if t_name != "t" and t_name in used:
@@ -518,7 +536,7 @@ def _quadrature_lines(eom, name: str, system_name: str, quadratures: dict,
              f"# Quadrature states W = y[{n}:] with W' = the integrands of " + ", ".join(quadratures),
              '@njit(cache=True, error_model="numpy")',
              f"def {system_name}(t, y, p, dy):",
-             f'    """Write [q\', u\', W\'] ({n + len(quadratures)},) into dy; return 0, 2 or 4."""',
+             f'    """Write [q\', u\'{zd}, W\'] ({n + len(quadratures)},) into dy; return 0, 2 or 4."""',
              f"    _code = {name}(t, y, p, dy)",
              "    if _code != 0:",
              f"        for _i in range({n}, {n + len(quadratures)}):",
@@ -572,26 +590,28 @@ def generate_outputs_source(exprs: Mapping[str, sympy.Expr], args, name: str = "
                               [f"_out[_k, {k}]" for k in range(len(values))])
     prefix = "" if name == "outputs" else name.upper() + "_"
     nq = len(q_names)
+    y_names = _state_names(args, subs, q_names, u_names)   # [q, u, z]
     lines = _header(args, q_names, u_names, c_names, f"generated outputs {name}")
     lines += ["# Columns of the result:"]
     lines += [f"#   [:, {k}] = {key}" for k, key in enumerate(keys)]
     lines += [f"{prefix}OUTPUT_NAMES = {tuple(keys)!r}", "", ""]
     if max((len(st.text) for st in statements), default=0) > LONG_SUM_CHARS \
             or sum(len(st.text) for st in statements) > large_rhs.SPLIT_CHARS:
-        return "\n".join(_large_outputs_lines(name, prefix, statements, printer, keys, q_names, u_names,
-                                               ud_names, c_names, t_name, rhs_name, lines)) + "\n"
+        return "\n".join(_large_outputs_lines(name, prefix, statements, printer, keys, q_names,
+                                               y_names[len(q_names):], ud_names, c_names, t_name, rhs_name,
+                                               lines)) + "\n"
     lines += ['@njit(cache=True, error_model="numpy")',
               f"def {name}(_t, _Y, _p):",
               f'    """Outputs (N, {len(keys)}) at times _t (N,) and states _Y (N, nq + nu)."""',
               f"    _out = np.empty((_t.shape[0], {len(keys)}))"]
     if needs_ud:
-        lines.append(f"    _dy = np.empty({nq + len(u_names)})")
+        lines.append(f"    _dy = np.empty({len(y_names)})")
     for k, cn in enumerate(c_names):
         lines.append(f"    {cn} = _p[{k}]")
     lines.append("    for _k in range(_t.shape[0]):")
     ind = "        "
     lines.append(f"{ind}{t_name} = _t[_k]")
-    for k, qn in enumerate([*q_names, *u_names]):
+    for k, qn in enumerate(y_names):
         lines.append(f"{ind}{qn} = _Y[_k, {k}]")
     if needs_ud:
         lines.append(f"{ind}{rhs_name}(_t[_k], _Y[_k], _p, _dy)")

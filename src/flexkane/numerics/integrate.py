@@ -249,10 +249,15 @@ def _quadrature_count(module) -> int:
     return int(getattr(module, "NW", 0))
 
 
+def _motion_count(module) -> int:
+    """Length of the state ``y = [q, u, z]`` before the quadratures (z: controller states)."""
+    return module.NQ + module.NU + int(getattr(module, "NZ", 0))
+
+
 def _with_quadratures(module, y: np.ndarray) -> np.ndarray:
     """``[q, u]`` with the quadrature states (0) appended; a full state is returned as is."""
     nw = _quadrature_count(module)
-    if nw and y.shape[0] == module.NQ + module.NU:
+    if nw and y.shape[0] == _motion_count(module):
         return np.concatenate([y, np.zeros(nw)])
     return y
 
@@ -309,7 +314,7 @@ def integrate(module, y0, t_out, p, *, rtol: float, atol, method: str = "auto",
     if t_out.shape[0] < 1 or not np.all(np.isfinite(t_out)) or np.any(np.diff(t_out) <= 0):
         raise ModelError("t_out", "strictly increasing finite output times [s]", "not so",
                          show_given=False)
-    n_motion = module.NQ + module.NU
+    n_motion = _motion_count(module)
     nw = _quadrature_count(module)
     n = n_motion + nw
     y0 = _as_vector(y0, "y0", n_motion, f"{n_motion} initial values {module.STATE_NAMES}")
@@ -399,13 +404,14 @@ def compile_integrators(module) -> None:
     module : module
         Generated module (:func:`~flexkane.numerics.jit_module.build_module`).
     """
-    n = module.NQ + module.NU + _quadrature_count(module)
+    n_motion = _motion_count(module)
+    n = n_motion + _quadrature_count(module)
     p = np.ones(len(module.CONSTANT_NAMES))
     y = np.zeros(n)
     calls = [(_system(module), (0.0, y, p, np.empty(n))),
-             (module.rhs, (0.0, np.zeros(module.NQ + module.NU), p, np.empty(module.NQ + module.NU)))]
+             (module.rhs, (0.0, np.zeros(n_motion), p, np.empty(n_motion)))]
     calls += _integrator_calls(system_function(module), n, p)
-    calls += [(getattr(module, name), (np.zeros(0), np.zeros((0, module.NQ + module.NU)), p))
+    calls += [(getattr(module, name), (np.zeros(0), np.zeros((0, n_motion)), p))
               for name in ("outputs", "spin_rates") if hasattr(module, name)]   # evaluate_outputs' types
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore")

@@ -1,0 +1,104 @@
+"""Controller states and outputs (``[controllers.NAME]``, :class:`flexkane.model.parts.Controller`).
+
+A controller state z is a first-order state integrated with the motion, ``z' = rate(...)``; a
+controller output is an expression (saturated to ``[min, max]`` when they are given: ``Min(Max(e,
+min), max)``) usable by name in efforts and in other controllers. Both may use t, the parameters,
+the coordinates and speeds, the sensors (:mod:`flexkane.kane.sensors`), the controller states and
+the other outputs (validation refuses cycles among outputs and acceleration sensors).
+
+State vector: ``y = [q, u, z]`` (then the work W of the integrated system): the controller states
+come after the speeds, in the order of the controllers (as listed in the model), each controller's
+states as listed.
+
+:func:`control_signals` makes the symbols and registers every name an effort may use on the
+chain's field symbols (:attr:`flexkane.model.values.FieldSymbols.signals`), so that
+``symbols.effort(path, text)`` parses a state-feedback law.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from ..model.values import GeneratedSymbol
+from .kinematics import Kinematics
+from .sensors import sensor_expressions
+
+__all__ = ["control_signals"]
+
+
+def _ordered_outputs(model) -> list:
+    """Controllers with an output, each after the outputs it uses (validation refused cycles)."""
+    names = [c.name for c in model.controllers.values() if c.output is not None]
+    order, done = [], set()
+
+    def visit(name, trail=()):
+        if name in done:
+            return
+        text = model.controllers[name].output
+        for other in names:
+            if other != name and other not in trail and isinstance(text, str) and _mentions(text, other):
+                visit(other, (*trail, name))
+        done.add(name)
+        order.append(name)
+
+    for name in names:
+        visit(name)
+    return order
+
+
+def _mentions(text: str, name: str) -> bool:
+    import re
+
+    return re.search(rf"(?<![A-Za-z0-9_]){re.escape(name)}(?![A-Za-z0-9_])", text) is not None
+
+
+def control_signals(kin: Kinematics) -> dict:
+    """Build the sensors and controllers of a chain; register the names efforts may use.
+
+    Sets on the chain ``controller_states`` (list of symbols, state order) and ``controller_rates``
+    (symbol -> rate expression), and on ``chain.symbols.signals`` every name an effort may use
+    (coordinates, speeds, sensors, controller states and outputs) with its expression.
+
+    Parameters
+    ----------
+    kin : Kinematics
+
+    Returns
+    -------
+    dict of str to sympy.Expr
+        The sensors by name (acceleration sensors with u').
+    """
+    chain = kin.chain
+    model = chain.model
+    symbols = chain.symbols
+    signals: dict = {}
+    for c in chain.coordinates:
+        signals[c.q.name] = c.q
+        signals[c.u.name] = c.u
+    sensors = sensor_expressions(kin)
+    signals.update({name: e for name, e in sensors.items() if model.sensors[name].type != "acceleration"})
+    states = []
+    for ctrl in model.controllers.values():
+        for state in ctrl.states:
+            z = GeneratedSymbol(state, real=True)
+            states.append(z)
+            signals[state] = z
+    symbols.signals = signals
+    for name in _ordered_outputs(model):
+        ctrl = model.controllers[name]
+        path = f"controllers.{name}"
+        value = symbols.effort(f"{path}.output", ctrl.output)
+        if ctrl.max is not None:
+            value = sp.Min(value, kin.value(f"{path}.max", ctrl.max, f"max_{name}"))
+        if ctrl.min is not None:
+            value = sp.Max(value, kin.value(f"{path}.min", ctrl.min, f"min_{name}"))
+        signals[name] = chain.name(value, name, above=0)
+    chain.controller_states = states
+    chain.sensors = sensors
+    chain.controller_rates = {}
+    k = 0
+    for ctrl in model.controllers.values():
+        for state, rate in ctrl.states.items():
+            chain.controller_rates[states[k]] = symbols.effort(f"controllers.{ctrl.name}.states.{state}", rate)
+            k += 1
+    return sensors
