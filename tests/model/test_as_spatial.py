@@ -133,7 +133,8 @@ def test_every_planar_builtin_converts_and_is_refused_only_for_parts_not_yet_in_
     spatial = as_spatial(planar, validate=False)
     assert loads_model(dumps_model(planar)) == planar   # not changed
     refused = {f"beams.{b}" for b in planar.beams} | {f"constraints.{c}" for c in planar.constraints} \
-        | {f"distributed_loads.{d}" for d in planar.distributed_loads}
+        | {f"distributed_loads.{d}" for d in planar.distributed_loads} \
+        | {f"sensors.{s}" for s in planar.sensors} | {f"controllers.{c}" for c in planar.controllers}
     assert refused
     with pytest.raises(ModelError) as info:
         spatial.validate()
@@ -146,6 +147,11 @@ def test_every_planar_builtin_converts_and_is_refused_only_for_parts_not_yet_in_
     rigid.beams.clear()
     rigid.constraints.clear()
     rigid.distributed_loads.clear()
+    rigid.sensors.clear()
+    rigid.controllers.clear()
+    if planar.sensors or planar.controllers:   # the efforts that read them go with them
+        for joint in rigid.joints.values():
+            joint.torque = None
     while True:
         hanging = {j.child for j in rigid.joints.values() if j.parent in removed} - removed
         if not hanging:

@@ -52,9 +52,11 @@ def effort_fields(model) -> list[tuple[str, object]]:
         if isinstance(joint.rest, str):
             fields.append((f"joints.{joint.name}.rest", joint.rest))
     for load in model.loads.values():
-        if isinstance(load.force, (list, tuple)) and len(load.force) == 2:
+        if isinstance(load.force, (list, tuple)) and len(load.force) == model.dimensions:
             fields += [(f"loads.{load.name}.force[{k}]", c) for k, c in enumerate(load.force)]
-        if load.torque is not None:
+        if isinstance(load.torque, (list, tuple)):      # a spatial model's torque vector
+            fields += [(f"loads.{load.name}.torque[{k}]", c) for k, c in enumerate(load.torque)]
+        elif load.torque is not None:
             fields.append((f"loads.{load.name}.torque", load.torque))
     return fields
 
