@@ -608,12 +608,12 @@ def table_lines(name: str, groups: list[dict], index: dict[str, int], constant_n
              f"{prefix}_TERMS_TABLE_INDEX = np.array({contribution_ptr!r}, dtype=np.int64)",
              f"{prefix}_FACTORS_TABLE_INDEX = np.array({factor_ptr!r}, dtype=np.int64)",
              f"{prefix}_CONSTANTS_TABLE_INDEX = np.array({factor_index or [0]!r}, dtype=np.int64)",
-             f"{prefix}_STARTS_TABLE_INDEX = np.array({starts_flat!r}, dtype=np.int64).reshape("
+             f"{prefix}_STARTS_TABLE_INDEX = np.array({starts_flat!r}, dtype=np.uint64).reshape("
              f"{n_sums + 1}, {len(degrees)})"]
     for d in degrees:
         if d:
             lines.append(f"{prefix}_D{d}_TABLE_INDEX = np.array({factor_rows[d]!r}, "
-                         f"dtype=np.int64).reshape({len(factor_rows[d]) // d}, {d})")
+                         f"dtype=np.uint64).reshape({len(factor_rows[d]) // d}, {d})")
     lines += ["", "",
               '@njit(cache=True, error_model="numpy")',
               f"def {name}_table_coefficients(p, out, at):",
@@ -632,13 +632,15 @@ def table_lines(name: str, groups: list[dict], index: dict[str, int], constant_n
               f"def {name}_table_sums(w, p, at, first, last):",
               f'    """Sums first:last of the {name} tables into w[{results} + k]; their coefficients '
               'are p[at:] (prepared)."""',
+              "    # unsigned indices (the tables' dtype): no wraparound test of negative ones",
+              *(f"    at{d} = np.uint64(at + {base[d]})" for d in degrees),
               "    for k in range(first, last):",
               "        s = 0.0"]
     for c, d in enumerate(degrees):
         product = "".join(f" * w[{prefix}_D{d}_TABLE_INDEX[i, {f}]]" for f in range(d))
         lines += [f"        for i in range({prefix}_STARTS_TABLE_INDEX[k, {c}], "
                   f"{prefix}_STARTS_TABLE_INDEX[k + 1, {c}]):",
-                  f"            s += p[at + {base[d]} + i]{product}"]
+                  f"            s += p[at{d} + i]{product}"]
     lines += [f"        w[{results} + k] = s", "", ""]
     if forms.blocks:
         n_blocks = len(forms.blocks)
