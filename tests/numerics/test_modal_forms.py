@@ -207,3 +207,29 @@ def test_schur_solve_by_columns_of_l_gives_the_bits_of_row_by_row_substitution()
     assert schur_solve(np.triu(M), x, p, 0, block, rest) == 0
     np.testing.assert_array_equal(x, _row_by_row_schur_solve(np.triu(M), b, p, 0, block, rest))
     np.testing.assert_allclose(M @ x, b, rtol=1e-12, atol=1e-12)
+
+
+@pytest.mark.slow
+def test_falling_beam_exact_with_40_modes_has_g_q_and_h_q_as_forms_and_the_same_numbers(models, monkeypatch):
+    import flexkane
+
+    model = flexkane.builtin_model("falling-beam-exact").with_modes(40)
+    eom = flexkane.derive(model)
+    forms = models.compile(eom)
+    with monkeypatch.context() as mp:
+        mp.setattr(large_rhs, "FORM_TERMS_MIN", 10 ** 9)
+        plain = models.compile(eom)
+    assert not hasattr(plain, "RHS_FORMS_TABLE_INDEX")
+    # the modal coordinates are y[3:43]: G q and H q (40 rows each) and E . q in one matrix
+    lo, hi, _, rows, _ = forms.RHS_FORMS_TABLE_INDEX[0]
+    assert (lo, hi, rows) == (3, 43, 81)
+    values = eom.constant_values(model)
+    p = np.array([values[s] for s in eom.constants], dtype=float)
+    y0 = np.asarray(eom.initial_state(model), dtype=float)
+    rng = np.random.default_rng(40)
+    for _ in range(10):
+        y = y0 + rng.normal(scale=0.05, size=y0.shape[0])
+        a, b = np.empty_like(y), np.empty_like(y)
+        assert forms.rhs(0.2, y, prepared_parameters(forms, p), a) == 0
+        assert plain.rhs(0.2, y, prepared_parameters(plain, p), b) == 0
+        np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12 * np.max(np.abs(b)))

@@ -16,12 +16,14 @@ operations, which took 145 s to compile. So, above ``SPLIT_CHARS`` printed chara
    factors share one coefficient), and the terms are stored by their number ``d`` of remaining
    factors, so that one compiled loop per ``d`` in ``<name>_table_sums`` multiplies exactly
    ``d`` factors (``u3^2 G_1j q_j`` costs two multiplications per call, not four). The compiled
-   code does not grow with the number of terms;
+   code does not grow with the number of terms; terms that share a linear form of the state (a
+   modal sum such as ``sum_j G_ij q_j``) read it from ``w``, where ``<name>_table_forms``
+   evaluates all such forms once per call as matrix-vector products (:func:`modal_forms`);
 2. the statements that remain are distributed over functions ``<name>_part<k>`` of about
    ``SPLIT_CHARS`` characters each.
 
 The tables' factors are read from one work array ``w``: ``w[:ny]`` the state, then 1.0, t and
-0.0, then the common subexpressions that tables or later parts read; their coefficients from the
+0.0, then the tables' sums, the linear forms, the common subexpressions that tables or later parts read; their coefficients from the
 prepared parameter vector (:func:`~flexkane.numerics.constant_block.prepared_parameters`).
 Outputs that are a state, a constant, 0 or 1 (most of the mass matrix, all of ``q' = u``) are
 copied from ``w`` or ``p`` by a loop over an index table.
