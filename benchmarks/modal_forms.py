@@ -140,6 +140,9 @@ def target(result: dict):
             row["forms_run_s"] < TARGET_S, fmt_time(row["forms_run_s"]))
 
 
+AUTO_NOTE = """*auto*: at rtol 1e-8 it keeps DOP853 (its stiffness test calls for a short trial of Radau, which loses), the right choice: Radau IIA takes fewer evaluations but as many steps, each with its Newton iterations and LU decompositions of the 86 x 86 system. At looser tolerances (measured by hand on 2026-11-24, rtol = 100 atol, CPU time): 1e-4: DOP853 5.2 s (1,472,042 ev.), Radau 0.20 s, auto 0.19 s (Radau); 1e-6: DOP853 7.8 s (2,104,639 ev.), Radau 1.27 s (33,994 ev.), **auto 4.1 s** (1,224,478 ev.): its trials of Radau, started from DOP853's state at the stability limit, run two times slower per unit of work than DOP853 and are dropped, while Radau from the start is six times faster. Longer trials (100 or 200 Radau steps instead of 40) made it worse (6.7 s, 7.1 s), so the choice was left as it is; a trial that measures Radau after its start-up, or starts Radau earlier, is what is missing."""
+
+
 def markdown(result: dict, machine: dict) -> list[str]:
     """Section of RESULTS.md for :func:`run`'s result."""
     md = [SECTION, "",
@@ -168,8 +171,8 @@ def markdown(result: dict, machine: dict) -> list[str]:
            "multiplying its factors, but with the other changes of the same step (unsigned indices in the "
            "tables, the Schur solve's substitutions by columns of L). Before that step (measured by hand "
            "on 2026-11-24, load average 5 to 6): one evaluation at 40 modes 11.47 us, the run 9.98 s of CPU "
-           "time (dop853, 842,191 evaluations), final state 6.6e-7 from the reference below; the command's "
-           "integration (wall-clock, warm cache) 13.8 s at load 3.", ""]
+           "time (dop853, 842,191 evaluations with 101 output rows), final state 6.6e-7 from the reference "
+           "below; the command's integration (wall-clock, warm cache) 13.8 to 16.0 s at load 3.", ""]
     for r in result["rows"]:
         if "methods" not in r:
             continue
@@ -179,7 +182,7 @@ def markdown(result: dict, machine: dict) -> list[str]:
                "| method | run (CPU) | evaluations | steps | error |", "|---|---|---|---|---|"]
         md += [f"| {m['method']} | {fmt_time(m['run_s'])} | {m['nfev']} | {m['steps'] or '-'} | "
                f"{m['error']:.1e} |" for m in r["methods"]]
-        md.append("")
+        md += ["", AUTO_NOTE, ""]
     return md
 
 
