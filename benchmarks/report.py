@@ -48,6 +48,13 @@ def targets(results) -> list[tuple[str, bool | None, str]]:
         row = block_target(block)
         if row is not None:
             out.append(row)
+    forms = _rows(results, "modal_forms")
+    if forms:
+        from modal_forms import target as forms_target
+
+        row = forms_target(forms)
+        if row is not None:
+            out.append(row)
     integrators = _rows(results, "integrators")
     if integrators:
         from first_class_rhs import targets as integrator_targets
@@ -248,6 +255,10 @@ def markdown(results) -> str:
     else:
         md += ["## Constant modal block factored once per run (issue 16, item 6)", "",
                f"Not run: {results.get('constant_block')}", ""]
+    if "rows" in results.get("modal_forms", {}):
+        from modal_forms import markdown as forms_markdown
+
+        md += forms_markdown(results["modal_forms"], info)
     integrators = _rows(results, "integrators")
     if integrators:
         from first_class_rhs import markdown as integrators_markdown

@@ -10,6 +10,8 @@ Sections (one script each, also runnable alone):
 (f) ``startup.py``      start-up of the command (--help, --version, check), derive n = 40, a cached run;
 (g) ``recursive_yardstick.py``  one evaluation of chain_model(k) against a hand-written recursive rhs;
 (h) ``constant_block.py``  the constant modal block factored once per run against L D L^T of all of M;
+    ``modal_forms.py``  a beam's modal sums evaluated once per call (matrix-vector products) against
+    every term in the tables, and DOP853 / Radau / auto at 40 modes;
 (i) ``first_class_rhs.py``  integrators compiled once: the cost of calling the right-hand side through a
     first-class function, and the time of a new structure with the integrators cached;
 (j) ``chain_scaling.py``  derive, code generation and compilation of chain_model(k), k = 1 ... 20;
@@ -109,6 +111,8 @@ def main() -> dict:
     else:
         _section("recursive_yardstick", recursive_yardstick.run, results)
     _section("constant_block", constant_block.run, results, (10,) if quick else constant_block.MODES)
+    import modal_forms
+    _section("modal_forms", modal_forms.run, results, modal_forms.QUICK_MODES if quick else modal_forms.MODES)
     import chain_scaling
     _section("chain_scaling", chain_scaling.run, results,
              chain_scaling.QUICK_LINKS if quick else chain_scaling.LINKS)

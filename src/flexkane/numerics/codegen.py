@@ -127,7 +127,7 @@ def _safe_names(symbols: Sequence[sympy.Basic], taken: set[str]) -> list[str]:
         base = getattr(sym, "name", None) or getattr(getattr(sym, "func", None), "__name__", "s")
         base = re.sub(r"\W", "_", str(base))
         if not base or base[0].isdigit() or base.startswith("_") or keyword.iskeyword(base) \
-                or base in _RESERVED or re.fullmatch(r"\w+_(part\d+|table_sums?|table_coefficients|prepare)", base) \
+                or base in _RESERVED or re.fullmatch(r"\w+_(part\d+|table_sums?|table_coefficients|table_forms|prepare)", base) \
                 or base.endswith("_TABLE_COEF") or base.endswith("_TABLE_INDEX") \
                 or base.endswith("_PREPARE_COPY"):
             base = "s_" + base.lstrip("_")
@@ -398,7 +398,8 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
               ""]
     prologue, solve = [], f"ldl_solve(_M, dy[{nq}:])"
     print_fn = lambda e: _print(printer, e)  # noqa: E731
-    tabulated = large_rhs.tabulate(statements, print_fn, name, c_names) if split else None
+    tabulated = large_rhs.tabulate(statements, print_fn, name, c_names, [*q_names, *u_names]) \
+        if split else None
     n_coefficients = tabulated.n_coefficients if split else 0
     block_exprs = []
     if block:
@@ -640,7 +641,7 @@ def _large_outputs_lines(name: str, prefix: str, statements: list, printer, keys
     rows = {f"_out[_k, {k}]": f"dy[{k}]" for k in range(n_out)}
     statements = [Statement(rows.get(st.target, st.target), st.text, st.expr) for st in statements]
     print_fn = lambda e: _print(printer, e)  # noqa: E731
-    tabulated = large_rhs.tabulate(statements, print_fn, row, c_names)
+    tabulated = large_rhs.tabulate(statements, print_fn, row, c_names, [*q_names, *u_names, *ud_names])
     nq, nu, n_p = len(q_names), len(u_names), len(c_names)
     lines = lines + ["", ""]
     prologue = []

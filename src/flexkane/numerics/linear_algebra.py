@@ -113,8 +113,9 @@ def constant_block_factor(G, out, offset):
 
     Writes ``out[offset] = 0.0`` and ``out[offset + 1] = 0.0`` on success, or ``1.0`` and the
     failing pivot (see :func:`ldl_factor`); then ``out[offset + 2 + i * c + j]`` holds
-    ``L_ij`` for ``i > j`` and ``1 / d_i`` for ``i == j`` (c * c entries, row-major; the
-    strict upper part is unused). ``G`` is overwritten; only its upper triangle is read.
+    ``L_ij`` for ``i > j``, ``1 / d_i`` for ``i == j`` and ``L_ji`` for ``i < j`` (c * c entries,
+    row-major: ``L`` and, in the strict upper part, ``L^T``, whose rows are the columns of ``L``,
+    contiguous for :func:`schur_solve`). ``G`` is overwritten; only its upper triangle is read.
     """
     c = G.shape[0]
     j = ldl_factor(G)
@@ -131,7 +132,7 @@ def constant_block_factor(G, out, offset):
             out[offset + 2 + i * c + k] = G[i, k]
         out[offset + 2 + i * c + i] = 1.0 / G[i, i]
         for k in range(i + 1, c):
-            out[offset + 2 + i * c + k] = 0.0
+            out[offset + 2 + i * c + k] = G[k, i]
 
 
 @njit(cache=True, error_model="numpy")
@@ -172,24 +173,29 @@ def schur_solve(M, b, p, offset, block, rest):
     c = block.shape[0]
     r = rest.shape[0]
     f0 = offset + 2
-    # z = L^-1 b_c and Y[a] = L^-1 M[c, rest[a]] (forward substitution, L unit lower)
+    # z = L^-1 b_c and Y[a] = L^-1 M[c, rest[a]] (forward substitution, L unit lower), column by
+    # column of L (rows of L^T, contiguous): each z_i is b_i - L_i0 z_0 - L_i1 z_1 - ... in the
+    # order of a row-by-row substitution (the same bits), but the loops over i need no reduction
+    # and, with unsigned indices (no wraparound test of negative ones), LLVM vectorizes them
     z = np.empty(c)
-    for k in range(c):
-        s = b[block[k]]
-        row = f0 + k * c
-        for j in range(k):
-            s -= p[row + j] * z[j]
-        z[k] = s
     Y = np.empty((r, c))
+    for k in range(c):
+        z[k] = b[block[k]]
     for a in range(r):
         ra = rest[a]
         for k in range(c):
             bk = block[k]
-            s = M[bk, ra] if bk < ra else M[ra, bk]
-            row = f0 + k * c
-            for j in range(k):
-                s -= p[row + j] * Y[a, j]
-            Y[a, k] = s
+            Y[a, k] = M[bk, ra] if bk < ra else M[ra, bk]
+    uc = np.uint64(c)
+    for k in range(c):
+        column = np.uint64(f0 + k * c)
+        zk = z[k]
+        for i in range(np.uint64(k + 1), uc):
+            z[i] -= p[column + i] * zk
+        for a in range(r):
+            yk = Y[a, k]
+            for i in range(np.uint64(k + 1), uc):
+                Y[a, i] -= p[column + i] * yk
     # S = M_rr - Y D^-1 Y^T (upper triangle), g = b_r - Y D^-1 z
     S = np.empty((r, r))
     g = np.empty(r)
@@ -220,8 +226,8 @@ def schur_solve(M, b, p, offset, block, rest):
         z[k] = s * p[f0 + k * c + k]
     for k in range(c - 1, -1, -1):
         zk = z[k]
-        row = f0 + k * c
-        for j in range(k):
+        row = np.uint64(f0 + k * c)
+        for j in range(np.uint64(k)):
             z[j] -= p[row + j] * zk
     for k in range(c):
         b[block[k]] = z[k]
