@@ -432,7 +432,7 @@ def _has_long_sums(exprs) -> bool:
     short statements (a long chain's) into parts that exchange their values through memory, and
     Numba's compile time per operation, constant within one function, more than doubles
     (chain_model(12): 18 s of CPU for the right-hand side as one function, 47 s in parts;
-    chain_model(20): 50 s against about 130 s; benchmarks/RESULTS.md).
+    chain_model(20): its whole compile 71 s instead of 148 s; benchmarks/RESULTS.md).
     """
     return any(isinstance(e, sympy.Add) and len(e.args) >= large_rhs.TABLE_TERMS_MIN for e in exprs)
 
