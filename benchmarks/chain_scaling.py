@@ -5,14 +5,16 @@
 
 * ``derive``: :func:`flexkane.derive` without its cache (kinematics, F*_r, F_r, the equations);
 * ``codegen``: the module's source (common subexpressions, printing);
-* ``compile``: Numba, the model's own functions (the whole of :func:`flexkane.compile_model` minus
-  the code generation);
+* ``compile``: Numba, the model's own functions (what :func:`flexkane.compile_model` does after code
+  generation), of which ``rhs`` (the right-hand side) and ``outputs`` separately;
 * ``operations``: floating-point operations of one right-hand-side evaluation, counted in the
   generated source (``RHS_OPERATIONS``).
 
 Times are CPU seconds of the child process (user + sys), which a loaded machine inflates less than
 wall time. The child lifts the code-size budget of untrusted models (``FLEXKANE_COMPILE_OPERATIONS``):
-20 links need about 34,000 operations outside term tables, above the default 20,000. The ratio of consecutive rows, divided by the ratio of their link counts, shows the growth
+20 links need about 38,000 operations outside term tables, above the default 20,000
+(``compiled operations``: :func:`flexkane.numerics.code_budget.compiled_operations` of the right-hand
+side). The ratio of consecutive rows, divided by the ratio of their link counts, shows the growth
 per link: 1 for linear growth.
 
 Usage: ``python benchmarks/chain_scaling.py [--quick] [--write]`` (``--quick``: k <= 8; ``--write``:
@@ -38,8 +40,13 @@ _CHILD = r"""
 import json, resource, sys, time
 sys.path.insert(0, {here!r})
 from scaling import chain_model
+import numpy as np
 import flexkane
-from flexkane.simulation import compile_model, model_source
+from flexkane._version import __version__
+from flexkane.numerics.code_budget import compiled_operations
+from flexkane.numerics.integrate import compile_integrators
+from flexkane.numerics.jit_module import build_module, structure_key
+from flexkane.simulation import model_source
 
 def cpu():
     r = resource.getrusage(resource.RUSAGE_SELF)
@@ -51,11 +58,21 @@ eom = flexkane.derive(model, cache=False)
 t1 = cpu()
 source = model_source(eom)
 t2 = cpu()
-compiled = compile_model(eom, cache_dir={cache!r})
+# what compile_model does after code generation, function by function
+module = build_module(source, structure_key(__version__, source), {cache!r})
+n, p = module.NQ + module.NU, eom.parameter_vector()
 t3 = cpu()
-ops = int(source.split("RHS_OPERATIONS = ")[1].split()[0])
-print(json.dumps({{"derive": t1 - t0, "codegen": t2 - t1, "compile": (t3 - t2) - (t2 - t1),
-                  "operations": ops, "speeds": len(eom.u), "intermediates": len(eom.intermediates)}}))
+module.rhs(0.0, np.zeros(n), p, np.empty(n))
+t4 = cpu()
+module.outputs(np.zeros(0), np.zeros((0, n)), p)
+t5 = cpu()
+compile_integrators(module)        # system_rhs, spin rates; the integrators load from their cache
+t6 = cpu()
+rhs_source = source.split("def outputs(")[0]
+print(json.dumps({{"derive": t1 - t0, "codegen": t2 - t1, "compile_rhs": t4 - t3, "compile_outputs": t5 - t4,
+                  "compile": t6 - t2, "operations": module.RHS_OPERATIONS,
+                  "compiled_operations": compiled_operations(rhs_source.splitlines()),
+                  "speeds": len(eom.u), "intermediates": len(eom.intermediates)}}))
 """
 
 
@@ -89,7 +106,9 @@ def run(links=LINKS) -> dict:
             continue
         print(f"  k = {k:2d} ({row['speeds']} speeds, {row['intermediates']} intermediates): derive "
               f"{row['derive']:.2f} s, codegen {row['codegen']:.2f} s, compile {row['compile']:.2f} s, "
-              f"total {row['total']:.2f} s, {row['operations']} operations per evaluation", flush=True)
+              f"(rhs {row['compile_rhs']:.2f} s, outputs {row['compile_outputs']:.2f} s), total {row['total']:.2f} s, "
+              f"{row['operations']} operations per evaluation, {row['compiled_operations']} compiled",
+              flush=True)
     return {"rows": rows, "load_average_end": os.getloadavg()[0], "date": time.strftime("%Y-%m-%d")}
 
 
@@ -99,23 +118,27 @@ def markdown(result: dict, machine: dict) -> list[str]:
           "`benchmarks/chain_scaling.py`: `chain_model(k)` (k flexible links on hubs, 2 modes each), each "
           "k in a fresh process with an empty cache; CPU seconds (user + sys) of that process. *derive*: "
           "`flexkane.derive(model, cache=False)`; *codegen*: the module source; *compile*: Numba, the "
-          "model's functions; *per link*: the total's ratio to the previous row divided by the ratio of "
-          "the link counts (1 = linear growth).", "",
+          "model's functions (what `compile_model` does after code generation), of which the right-hand "
+          "side (*rhs*, with the linear-algebra helpers it calls) and *outputs*; *per link*: the total's "
+          "ratio to the previous row divided by the ratio of the link counts (1 = linear growth); "
+          "*compiled operations*: the right-hand side's straight-line operations, the measure of the "
+          "code-size budget (20,000 by default; the child lifts it).", "",
           f"Measured on {result['date']}: {machine.get('Model name', '?')}, {machine.get('CPU(s)', '?')} "
           f"CPUs, load average {machine.get('load_average', float('nan')):.1f} at the start, "
           f"{result.get('load_average_end', float('nan')):.1f} at the end (the machine is shared).", "",
-          "| links | speeds | intermediates | derive [s] | codegen [s] | compile [s] | total [s] | per link "
-          "| operations per evaluation |",
-          "|---|---|---|---|---|---|---|---|---|"]
+          "| links | speeds | intermediates | derive [s] | codegen [s] | compile [s] | of which rhs [s] "
+          "| of which outputs [s] | total [s] | per link | operations per evaluation | compiled operations |",
+          "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     previous = None
     for r in result["rows"]:
         if "error" in r:
-            md.append(f"| {r['links']} | - | - | - | - | - | failed: {r['error']} | - | - |")
+            md.append(f"| {r['links']} | - | - | - | - | - | - | - | failed: {r['error']} | - | - | - |")
             continue
         per_link = "-" if previous is None else \
             f"{(r['total'] / previous['total']) / (r['links'] / previous['links']):.2f}"
         md.append(f"| {r['links']} | {r['speeds']} | {r['intermediates']} | {r['derive']:.2f} | "
-                  f"{r['codegen']:.2f} | {r['compile']:.2f} | {r['total']:.2f} | {per_link} | {r['operations']} |")
+                  f"{r['codegen']:.2f} | {r['compile']:.2f} | {r['compile_rhs']:.2f} | {r['compile_outputs']:.2f} | "
+                  f"{r['total']:.2f} | {per_link} | {r['operations']} | {r['compiled_operations']} |")
         previous = r
     return md + [""]
 

@@ -8,7 +8,8 @@ compiled once per installation into the package's own Numba cache, that take the
 structure compiles only its own functions. Every Numba function in the module is
 ``@njit(cache=True)``, so Numba stores the machine code beside the file
 (``<cache_dir>/<key>/__pycache__``) and a later process importing the same key loads it instead
-of compiling. Numba checks the file's modification time and size, so the file is written only
+of compiling (Numba's typing of scalar arithmetic is memoized for these compiles,
+:mod:`~flexkane.numerics.scalar_typing`). Numba checks the file's modification time and size, so the file is written only
 when it is missing or different, through a temporary file and ``os.replace`` (atomic): two
 processes building the same key at once both end up with a complete, identical file.
 
@@ -48,7 +49,7 @@ import numba
 
 from flexkane._version import __version__
 from flexkane.atomic import atomic_write_text
-from flexkane.numerics import linear_algebra
+from flexkane.numerics import linear_algebra, scalar_typing
 from flexkane.numerics.system_function import SIGNATURE
 
 __all__ = ["TEMPLATE_BEGIN", "TEMPLATE_END", "build_module", "compile_in_subprocess", "compose_module_source",
@@ -211,6 +212,7 @@ def _compile_file(path: str) -> None:
     """
     from flexkane.numerics.integrate import compile_integrators
 
+    scalar_typing.install()
     path = Path(path)
     spec = importlib.util.spec_from_file_location(path.stem, path)
     module = importlib.util.module_from_spec(spec)
@@ -324,6 +326,7 @@ def build_module(source: str, key: str, cache_dir: Path | None = None, *,
     if not key or not all(ch.isalnum() or ch in "_-" for ch in key):
         raise ValueError(f"key must be letters, digits, '_' or '-', got {key!r}")
     key = key.replace("-", "_")
+    scalar_typing.install()   # the functions compile on their first call, in this process or a child
     root = usable_cache_dir(cache_dir)
     directory = root / key
     directory.mkdir(parents=True, exist_ok=True)
