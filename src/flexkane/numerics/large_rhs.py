@@ -439,7 +439,7 @@ def large_rhs_lines(name: str, tabulated: Tabulated, state_names: list[str],
         ``<name>_table_coefficients(p, out, coefficients_at)``, once per run).
     """
     statements, groups, atoms = tabulated.statements, tabulated.groups, tabulated.atoms
-    ny, n_p = len(state_names), len(constant_names)
+    ny = len(state_names)
     fixed = {n: k for k, n in enumerate(state_names)}
     one = ny
     fixed["1"] = one
