@@ -1,0 +1,114 @@
+"""Independent derivations of rigid spatial chains with ``sympy.physics.mechanics.KanesMethod``.
+
+A chain is described in plain Python (the same description builds the flexkane model in the tests):
+
+* ``bodies``: name -> (mass [kg], inertia tensor about the mass centre, body axes, 3 x 3 [kg m^2],
+  points: name -> (x, y, z) from the mass centre [m]);
+* ``joints``: list of dicts with ``name``, ``type`` (``revolute`` or ``spherical``), ``parent``
+  (``ground`` or a body), ``child``, ``parent_point`` (a point of the parent, or a position on the
+  ground), ``child_point``, ``axis`` (revolute), ``orientation`` (optional: (axis, angle), the
+  orientation of the joint's parent frame in the parent body's frame), ``torque`` (optional
+  constant actuator torque [N m] about a revolute joint's axis);
+* ``gravity``: (gx, gy, gz) [m/s^2].
+
+Coordinates and speeds follow flexkane's definitions (revolute: angle and its rate; spherical:
+Euler parameters of the child frame in the parent frame and the child's angular velocity relative
+to the parent along the child's axes), in tree order.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import sympy as sp
+from sympy.physics.mechanics import KanesMethod, Point, ReferenceFrame, RigidBody, dynamicsymbols, inertia
+
+
+def kanes_method_rhs(bodies: dict, joints: list, gravity=(0.0, 0.0, 0.0)):
+    """``f(q, u) -> u'`` of the chain by KanesMethod, and the names of q and u (flexkane's order)."""
+    N = ReferenceFrame("N")
+    O = Point("O")
+    O.set_vel(N, 0)
+    frames, centres = {"ground": N}, {"ground": O}
+    q, u, kd, q_names, u_names = [], [], [], [], []
+    system, loads = [], []
+    for joint in joints:
+        name = joint["name"]
+        parent = joint["parent"]
+        P = frames[parent]
+        if parent == "ground":
+            attach = O.locatenew(f"J_{name}", sum((c * v for c, v in zip(joint["parent_point"], N)), 0 * N.x))
+            attach.set_vel(N, 0)
+        else:
+            p = bodies[parent][2][joint["parent_point"]]
+            attach = centres[parent].locatenew(f"J_{name}", sum((c * v for c, v in zip(p, P)), 0 * P.x))
+            attach.v2pt_theory(centres[parent], N, P)
+        if joint.get("orientation") is not None:
+            axis, angle = joint["orientation"]
+            Jp = ReferenceFrame(f"Jp_{name}")
+            Jp.orient_axis(P, sum((c * v for c, v in zip(axis, P)), 0 * P.x), angle)
+            Jp.set_ang_vel(P, 0)
+        else:
+            Jp = P
+        C = ReferenceFrame(f"C_{name}")
+        if joint["type"] == "revolute":
+            qj, uj = dynamicsymbols(f"q_{name} u_{name}")
+            axis = np.array(joint["axis"], dtype=float)
+            axis = axis / np.linalg.norm(axis)
+            n = sum((c * v for c, v in zip(axis, Jp)), 0 * Jp.x)
+            C.orient_axis(Jp, n, qj)
+            C.set_ang_vel(Jp, uj * n)
+            q.append(qj)
+            u.append(uj)
+            kd.append(qj.diff() - uj)
+            q_names.append(f"q_{name}")
+            u_names.append(f"u_{name}")
+        else:
+            e = dynamicsymbols(f"e0_{name} e1_{name} e2_{name} e3_{name}")
+            w = dynamicsymbols(f"wx_{name} wy_{name} wz_{name}")
+            C.orient_quaternion(Jp, e)
+            C.set_ang_vel(Jp, w[0] * C.x + w[1] * C.y + w[2] * C.z)
+            e0, e1, e2, e3 = e
+            wx, wy, wz = w
+            rates = [-(e1 * wx + e2 * wy + e3 * wz) / 2, (e0 * wx - e3 * wy + e2 * wz) / 2,
+                     (e3 * wx + e0 * wy - e1 * wz) / 2, (-e2 * wx + e1 * wy + e0 * wz) / 2]
+            q += list(e)
+            u += list(w)
+            kd += [ek.diff() - r for ek, r in zip(e, rates)]
+            q_names += [f"q_{name}_e{k}" for k in range(4)]
+            u_names += [f"u_{name}_w{a}" for a in "xyz"]
+        child = joint["child"]
+        m, I, points = bodies[child]
+        cp = points[joint["child_point"]]
+        cm = attach.locatenew(f"cm_{child}", sum((-c * v for c, v in zip(cp, C)), 0 * C.x))
+        cm.v2pt_theory(attach, N, C)
+        frames[child], centres[child] = C, cm
+        dyadic = inertia(C, I[0][0], I[1][1], I[2][2], I[0][1], I[1][2], I[0][2])
+        system.append(RigidBody(child, cm, C, m, (dyadic, cm)))
+        loads.append((cm, m * sum((g * v for g, v in zip(gravity, N)), 0 * N.x)))
+        if joint.get("torque") is not None and joint["type"] == "revolute":
+            loads.append((C, joint["torque"] * n))
+            if P is not N:
+                loads.append((P, -joint["torque"] * n))
+    kane = KanesMethod(N, q_ind=q, u_ind=u, kd_eqs=kd)
+    kane.kanes_equations(system, loads)
+    qs = sp.symbols(f"q0:{len(q)}")
+    us = sp.symbols(f"u0:{len(u)}")
+    plain = dict(zip(q, qs)) | dict(zip(u, us))
+    M = sp.lambdify([qs, us], kane.mass_matrix.subs(plain), "numpy")
+    f = sp.lambdify([qs, us], kane.forcing.subs(plain), "numpy")
+
+    def rhs(qv, uv):
+        return np.linalg.solve(np.array(M(qv, uv), dtype=float), np.array(f(qv, uv), dtype=float).ravel())
+
+    return rhs, q_names, u_names
+
+
+def random_state(q_names, u_names, rng):
+    """A random state: joint angles in (-pi, pi), unit Euler parameters per spherical joint, speeds
+    in (-2, 2)."""
+    q = rng.uniform(-np.pi, np.pi, len(q_names))
+    for k, name in enumerate(q_names):
+        if name.endswith("_e0"):
+            e = rng.normal(size=4)
+            q[k:k + 4] = e / np.linalg.norm(e)
+    return q, rng.uniform(-2, 2, len(u_names))
