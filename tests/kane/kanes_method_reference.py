@@ -94,8 +94,8 @@ def kanes_method_rhs(bodies: dict, joints: list, gravity=(0.0, 0.0, 0.0)):
     qs = sp.symbols(f"q0:{len(q)}")
     us = sp.symbols(f"u0:{len(u)}")
     plain = dict(zip(q, qs)) | dict(zip(u, us))
-    M = sp.lambdify([qs, us], kane.mass_matrix.subs(plain), "numpy")
-    f = sp.lambdify([qs, us], kane.forcing.subs(plain), "numpy")
+    M = sp.lambdify([qs, us], kane.mass_matrix.xreplace(plain), "numpy", cse=True)
+    f = sp.lambdify([qs, us], kane.forcing.xreplace(plain), "numpy", cse=True)
 
     def rhs(qv, uv):
         return np.linalg.solve(np.array(M(qv, uv), dtype=float), np.array(f(qv, uv), dtype=float).ravel())
