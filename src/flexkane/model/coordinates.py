@@ -4,6 +4,15 @@
 coordinates, then the modal coordinates of the beam a joint carries) and checks the names and the
 initial conditions. :func:`flexkane.kane.chain.build_chain` makes the symbols of the derivation from
 it; ``flexkane check`` needs only the names.
+
+Spatial joints (``dimensions = 3``) name their coordinates by role: ``q_<j>`` for a one-coordinate
+joint, else ``q_<j>_<suffix>`` (cylindrical ``_angle``, ``_slide``; universal ``_1``, ``_2``; planar
+``_x``, ``_y``, ``_angle``). A spherical joint has the Euler parameters ``q_<j>_e0 .. q_<j>_e3`` of
+J_c in J_p and the angular velocity of J_c in J_p along J_c's axes as speeds ``u_<j>_wx, _wy, _wz``:
+e0 has no speed of its own (``CoordinateName.u`` is None), so a spatial chain can have more
+coordinates than speeds. A free joint has first the position of J_c's origin in J_p
+(``q_<j>_x, _y, _z``, with speeds ``u_<j>_vx, _vy, _vz``: the velocity of that origin relative to J_p
+along J_c's axes), then the Euler parameters and angular speeds of a spherical joint.
 """
 
 from __future__ import annotations
@@ -13,9 +22,61 @@ from dataclasses import dataclass
 
 from ..errors import ModelError
 from .model import Model
-from .parts import JOINT_DOFS, Joint
+from .parts import JOINT_DOFS_BY_DIMENSION, Joint
 
-__all__ = ["CoordinateName", "coordinate_names", "tree_order"]
+__all__ = ["CoordinateName", "coordinate_names", "tree_order", "coordinate_unit", "speed_unit",
+           "orientation_key", "EULER_ROLES"]
+
+#: Roles of the Euler parameters of a spherical or free joint, scalar part first.
+EULER_ROLES = ("e0", "e1", "e2", "e3")
+#: Unit of a coordinate, by role.
+_COORDINATE_UNIT = {"x": "m", "y": "m", "z": "m", "angle": "rad", "angle_1": "rad", "angle_2": "rad",
+                    "slide": "m", "mode": "m", "axial": "m", "e0": "-", "e1": "-", "e2": "-", "e3": "-"}
+#: Name suffix of a spatial joint's coordinate and speed, by role, where it differs from the role.
+_Q_SUFFIX = {"angle_1": "1", "angle_2": "2"}
+_U_SUFFIX = {"e0": None, "e1": "wx", "e2": "wy", "e3": "wz"}
+#: The speeds of a spatial free joint's translations: velocity components along J_c's axes.
+_FREE_U_SUFFIX = {"x": "vx", "y": "vy", "z": "vz"}
+
+
+def coordinate_unit(role: str) -> str:
+    """Unit of a coordinate of this role (``m``, ``rad``, ``-`` for Euler parameters)."""
+    return _COORDINATE_UNIT[role]
+
+
+def speed_unit(role: str) -> str:
+    """Unit of the speed that goes with a coordinate of this role (an Euler parameter's is the
+    angular velocity component, ``rad/s``)."""
+    return "rad/s" if role in EULER_ROLES else f"{_COORDINATE_UNIT[role]}/s"
+
+
+def orientation_key(joint_name: str) -> str:
+    """The ``[initial]`` key that gives a spherical or free joint's orientation as a table
+    (``q_<joint>``, whatever the naming of the coordinates)."""
+    return f"q_{joint_name}"
+
+
+def _joint_names(joint: Joint, roles: tuple, dimensions: int) -> list[tuple[str, str | None]]:
+    """(coordinate, speed) names of a joint's coordinates, by role (speed None for e0)."""
+    pairs = []
+    for role in roles:
+        if len(roles) == 1:
+            pairs.append((f"q_{joint.name}", f"u_{joint.name}"))
+            continue
+        q_suffix = _Q_SUFFIX.get(role, role) if dimensions == 3 else role
+        if dimensions == 3 and role in _U_SUFFIX:
+            u_suffix = _U_SUFFIX[role]
+        elif dimensions == 3 and joint.type == "free":
+            u_suffix = _FREE_U_SUFFIX[role]
+        else:
+            u_suffix = q_suffix
+        pairs.append((f"q_{joint.name}_{q_suffix}", None if u_suffix is None else f"u_{joint.name}_{u_suffix}"))
+    if joint.coordinates:
+        pairs = [(name, u) for name, (_, u) in zip(joint.coordinates, pairs)]
+    if joint.speeds:
+        speeds = iter(joint.speeds)
+        pairs = [(q, None if u is None else next(speeds)) for q, u in pairs]
+    return pairs
 
 
 @dataclass(frozen=True)
@@ -24,12 +85,16 @@ class CoordinateName:
 
     Attributes
     ----------
-    q, u : str
-        Names of the coordinate and of the speed.
+    q : str
+        Name of the coordinate.
+    u : str or None
+        Name of its speed; None for the scalar Euler parameter e0 of a spatial spherical or free
+        joint, which has no speed of its own.
     owner : str
         Joint or beam name.
     role : str
-        ``x``, ``y``, ``angle``, ``slide``, ``mode``, ``axial``.
+        ``x``, ``y``, ``angle``, ``slide``, ``mode``, ``axial``; in space also ``z``, ``angle_1``,
+        ``angle_2`` (universal joints) and ``e0`` .. ``e3`` (Euler parameters).
     index : int
         Mode index (1-based) for beam coordinates, else 0.
     driver : str or None
@@ -37,7 +102,7 @@ class CoordinateName:
     """
 
     q: str
-    u: str
+    u: str | None
     owner: str
     role: str
     index: int = 0
@@ -77,15 +142,13 @@ def coordinate_names(model: Model) -> list[CoordinateName]:
         For a name used twice (or also by a parameter, ``t`` or ``pi``), an initial value of an unknown
         coordinate or speed, or one of a coordinate or speed a driver prescribes.
     """
-    raw: list[tuple[str, str, int, str, str, str | None]] = []  # (owner, role, index, q, u, driver)
+    raw: list[tuple[str, str, int, str, str | None, str | None]] = []  # (owner, role, index, q, u, driver)
+    dimensions = model.dimensions
     for joint in tree_order(model):
-        roles = JOINT_DOFS[joint.type]
+        roles = JOINT_DOFS_BY_DIMENSION[dimensions][joint.type]
         driver = None if joint.driver is None else ("coordinate" if joint.driver.coordinate is not None
                                                     else "speed")
-        for k, role in enumerate(roles):
-            suffix = "" if len(roles) == 1 else f"_{role}"
-            qn = joint.coordinates[k] if joint.coordinates else f"q_{joint.name}{suffix}"
-            un = joint.speeds[k] if joint.speeds else f"u_{joint.name}{suffix}"
+        for k, (role, (qn, un)) in enumerate(zip(roles, _joint_names(joint, roles, dimensions))):
             raw.append((joint.name, role, 0, qn, un, driver if k == 0 else None))
         if joint.child in model.beams:
             beam = model.beams[joint.child]
@@ -93,23 +156,32 @@ def coordinate_names(model: Model) -> list[CoordinateName]:
                 raw.append((beam.name, "mode", i, f"q_{beam.name}_{i}", f"u_{beam.name}_{i}", None))
             for k in range(1, beam.n_axial + 1):
                 raw.append((beam.name, "axial", k, f"s_{beam.name}_{k}", f"v_{beam.name}_{k}", None))
-    if model.naming == "sequential":
-        raw = [(o, r, i, f"q{n + 1}", f"u{n + 1}", d) for n, (o, r, i, _, _, d) in enumerate(raw)]
+    if model.naming == "sequential":   # q1, q2, ... and u1, u2, ... numbered separately
+        numbered, speeds = [], 0
+        for n, (o, r, i, _, un, d) in enumerate(raw):
+            speeds += un is not None
+            numbered.append((o, r, i, f"q{n + 1}", None if un is None else f"u{speeds}", d))
+        raw = numbered
     seen: dict[str, str] = {}
     coordinates = []
     for owner, role, index, qn, un, driver in raw:
         for name in (qn, un):
+            if name is None:
+                continue
             if name in seen or name in model.parameters or name in ("t", "pi"):
                 raise ModelError(f"joints.{owner}" if role not in ("mode", "axial") else f"beams.{owner}",
                                  "coordinate and speed names unique and distinct from parameters", name)
             seen[name] = owner
         coordinates.append(CoordinateName(qn, un, owner, role, index, driver))
-    names = {c.q for c in coordinates} | {c.u for c in coordinates}
+    names = {c.q for c in coordinates} | {c.u for c in coordinates if c.u is not None}
+    oriented = {orientation_key(c.owner) for c in coordinates if c.role == "e0"}
     for key in model.initial:
+        if key in oriented and key not in names:
+            continue   # a spherical or free joint's orientation (flexkane.model.initial_values)
         if key not in names:
             close = difflib.get_close_matches(key, sorted(names), n=1, cutoff=0.5)
             raise ModelError(f"initial.{key}", "the name of a generalized coordinate or speed of this model"
-                             f" ({', '.join(sorted(names))})", key,
+                             f" ({', '.join(sorted(names | oriented))})", key,
                              f"did you mean {close[0]!r}?" if close else None)
     for coord in coordinates:
         if coord.driver == "coordinate" and coord.q in model.initial:

@@ -1,4 +1,5 @@
-"""The model: a planar chain of rigid bodies and beams with its parameters and initial conditions."""
+"""The model: a chain of rigid bodies and beams, planar or spatial, with its parameters and initial
+conditions."""
 
 from __future__ import annotations
 
@@ -6,10 +7,10 @@ import copy
 from dataclasses import dataclass, field
 
 from ..errors import ModelError
-from .parts import (Beam, DistributedLoad, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody,
+from .parts import (DIMENSIONS, Beam, DistributedLoad, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody,
                     Simulation, Value)
 
-__all__ = ["Model", "NAMING_STYLES"]
+__all__ = ["Model", "NAMING_STYLES", "DIMENSIONS"]
 
 #: ``joint``: coordinates named after their joint and beam (``q_shoulder``, ``q_arm_1``);
 #: ``sequential``: q1, q2, ... and u1, u2, ... in tree order (the chapter's naming).
@@ -18,7 +19,7 @@ NAMING_STYLES = ("joint", "sequential")
 
 @dataclass
 class Model:
-    """A planar kinematic chain with continuous flexible links.
+    """A kinematic chain with continuous flexible links, in the plane or in space.
 
     The same content as a TOML model file (:func:`flexkane.model.load_model`,
     :func:`flexkane.model.dumps_model`). Build one in Python by filling the dictionaries, then call
@@ -48,6 +49,10 @@ class Model:
         Default run settings.
     description : str
         Free text.
+    dimensions : int
+        2 for a planar chain (two-component vectors, scalar inertias and angles), 3 for a spatial
+        one (three-component vectors, inertia tensors, joint axes and orientations); one of
+        :data:`~flexkane.model.parts.DIMENSIONS`.
     """
 
     name: str = "model"
@@ -64,6 +69,7 @@ class Model:
     naming: str = "joint"
     simulation: Simulation = field(default_factory=Simulation)
     description: str = ""
+    dimensions: int = 2
 
     # ------------------------------------------------------------------ queries
     def link_names(self) -> list[str]:

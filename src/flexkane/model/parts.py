@@ -1,4 +1,8 @@
-"""The parts of a planar chain: rigid bodies, flexible beams, joints, loads and drivers.
+"""The parts of a chain: rigid bodies, flexible beams, joints, loads and drivers.
+
+A planar model (``dimensions = 2``) has two-component vectors and scalar angles, inertias and
+torques; a spatial model (``dimensions = 3``) has three-component vectors, inertia tensors, torque
+vectors, joint axes as vectors and orientations (:class:`Orientation`).
 
 Values of physical fields are kept as given (a number, or the text of an expression of the model's
 parameters) so that a model can be saved back to the same file and so that the derivation can keep
@@ -18,8 +22,25 @@ from typing import Union
 Value = Union[int, float, str]
 
 JOINT_TYPES = ("free", "revolute", "prismatic", "weld")
-#: Generalized coordinates that each joint type introduces, in order, by role.
+#: Generalized coordinates that each joint type introduces, in order, by role (planar chains).
 JOINT_DOFS = {"free": ("x", "y", "angle"), "revolute": ("angle",), "prismatic": ("slide",), "weld": ()}
+#: Joint types of spatial chains (``dimensions = 3``).
+SPATIAL_JOINT_TYPES = ("revolute", "prismatic", "cylindrical", "universal", "spherical", "planar", "free", "weld")
+#: Generalized coordinates of each spatial joint type, in order, by role: ``angle`` about the axis,
+#: ``slide`` along it, ``angle_1``/``angle_2`` about a universal joint's two axes, ``x``/``y``/``z``
+#: translations, ``e0``..``e3`` Euler parameters (e0 has no speed of its own; see
+#: :func:`flexkane.model.coordinates.coordinate_names`).
+SPATIAL_JOINT_DOFS = {"revolute": ("angle",), "prismatic": ("slide",), "cylindrical": ("angle", "slide"),
+                      "universal": ("angle_1", "angle_2"), "planar": ("x", "y", "angle"),
+                      "spherical": ("e0", "e1", "e2", "e3"),
+                      "free": ("x", "y", "z", "e0", "e1", "e2", "e3"), "weld": ()}
+#: Joint types and their coordinates' roles by number of dimensions.
+JOINT_TYPES_BY_DIMENSION = {2: JOINT_TYPES, 3: SPATIAL_JOINT_TYPES}
+JOINT_DOFS_BY_DIMENSION = {2: JOINT_DOFS, 3: SPATIAL_JOINT_DOFS}
+#: Numbers of dimensions a model may have (2: planar chains, 3: spatial chains).
+DIMENSIONS = (2, 3)
+#: Letters of the body-fixed axes in an orientation's ``sequence``.
+SEQUENCE_AXES = "xyz"
 GRAVITY_MODELS = ("distributed", "midpoint")
 ELASTIC_MODELS = ("strain-energy", "shear-moment")
 FRAMES = ("ground", "local")
@@ -33,7 +54,7 @@ DISTRIBUTED_FRAMES = ("beam", "ground")
 
 @dataclass
 class RigidBody:
-    """A rigid body moving in the plane.
+    """A rigid body, in the plane or in space.
 
     Parameters
     ----------
@@ -41,19 +62,76 @@ class RigidBody:
         Unique name among bodies and beams.
     mass : Value
         Mass [kg].
-    inertia : Value
-        Moment of inertia about the mass centre, about an axis normal to the plane [kg m^2].
-    points : dict of str to (Value, Value)
-        Named points in the body frame, relative to the mass centre [m].
-    outline : list of (Value, Value)
-        Closed polygon drawn in animations, in the body frame [m]; may be empty.
+    inertia : Value, or 3 Values, or 3 x 3 Values
+        Planar: moment of inertia about the mass centre, about an axis normal to the plane [kg m^2].
+        Spatial: the inertia tensor about the mass centre in the body axes [kg m^2], as three
+        principal values ``(Ixx, Iyy, Izz)`` or a symmetric 3 x 3 ``((Ixx, Ixy, Ixz), (Ixy, Iyy, Iyz),
+        (Ixz, Iyz, Izz))`` of tensor components (``Ixy = -int x y dm``); see :meth:`inertia_tensor`.
+    points : dict of str to tuple of Value
+        Named points in the body frame, relative to the mass centre [m]: (x, y), or (x, y, z) in space.
+    outline : list of tuple of Value
+        Closed polygon drawn in animations, in the body frame [m], 2 or 3 components a vertex; may
+        be empty.
     """
 
     name: str
     mass: Value
-    inertia: Value
-    points: dict[str, tuple[Value, Value]] = field(default_factory=dict)
-    outline: list[tuple[Value, Value]] = field(default_factory=list)
+    inertia: Value | tuple
+    points: dict[str, tuple] = field(default_factory=dict)
+    outline: list[tuple] = field(default_factory=list)
+
+    def inertia_tensor(self) -> tuple:
+        """The inertia tensor about the mass centre in the body axes, 3 x 3 [kg m^2].
+
+        Returns
+        -------
+        tuple of 3 tuples of 3 Value
+            The components as given (a principal form ``(Ixx, Iyy, Izz)`` gives zeros off the
+            diagonal), rows ``x, y, z``; symmetric when the model is valid.
+
+        Raises
+        ------
+        ModelError
+            If ``inertia`` is neither three values nor a 3 x 3 table (a planar body's scalar).
+        """
+        from ..errors import ModelError
+
+        inertia = self.inertia
+        if isinstance(inertia, (list, tuple)) and len(inertia) == 3:
+            if all(isinstance(row, (list, tuple)) and len(row) == 3 for row in inertia):
+                return tuple(tuple(row) for row in inertia)
+            if not any(isinstance(row, (list, tuple, dict)) for row in inertia):
+                return ((inertia[0], 0, 0), (0, inertia[1], 0), (0, 0, inertia[2]))
+        raise ModelError(f"bodies.{self.name}.inertia", "three principal values [Ixx, Iyy, Izz] or a 3x3 "
+                         "symmetric tensor [[Ixx, Ixy, Ixz], [Ixy, Iyy, Iyz], [Ixz, Iyz, Izz]] [kg m^2]",
+                         inertia)
+
+
+@dataclass
+class Orientation:
+    """A constant orientation of a frame B relative to a frame A (spatial models).
+
+    Exactly one form is given: a turn by ``angle`` about ``axis`` (components in A and B alike), or
+    successive body-fixed turns by ``angles`` about the axes named by ``sequence`` (``"zyx"``: about
+    z, then about the new y, then about the newest x). Direction cosines and Euler parameters follow
+    from :mod:`flexkane.model.orientation`.
+
+    Parameters
+    ----------
+    axis : (Value, Value, Value), optional
+        Axis of the turn (normalized when used; not zero) [-].
+    angle : Value, optional
+        Angle of the turn about ``axis`` [rad].
+    sequence : str, optional
+        One to three letters among x, y, z.
+    angles : list of Value, optional
+        One angle per letter of ``sequence`` [rad].
+    """
+
+    axis: tuple | None = None
+    angle: Value | None = None
+    sequence: str | None = None
+    angles: list | None = None
 
 
 @dataclass
@@ -165,8 +243,8 @@ class Joint:
         A body name or a beam name.
     parent_point : str, optional
         Name of a point of the parent body.
-    parent_position : (Value, Value), optional
-        Position on the ground [m] (parent ``ground`` only).
+    parent_position : tuple of Value, optional
+        Position on the ground [m] (parent ``ground`` only), 2 or 3 components.
     station : Value, optional
         Distance x from the root of the parent beam [m] (parent a beam only); the child follows the
         beam's deflected position and slope there.
@@ -174,10 +252,21 @@ class Joint:
         Point of the child body that sits at the joint; the mass centre when omitted.
         A beam child is always attached at its root.
     angle : Value
-        Constant angle of the child frame relative to the attachment frame [rad] (added to the
-        joint angle of revolute and free joints).
-    axis : Value
-        Direction of a prismatic joint's slide, as an angle in the attachment frame [rad].
+        Planar: constant angle of the child frame relative to the attachment frame [rad] (added to
+        the joint angle of revolute and free joints).
+    axis : Value or (Value, Value, Value)
+        Planar: direction of a prismatic joint's slide, as an angle in the attachment frame [rad].
+        Spatial: a vector in the joint frame J_p [-] (revolute: rotation axis; prismatic: slide
+        direction; cylindrical: both; planar: the plane's normal), normalized when used.
+    axes : list of two (Value, Value, Value), optional
+        Spatial universal joint: the first axis fixed in J_p, the second fixed in J_c [-],
+        perpendicular in the reference configuration.
+    orientation : Orientation, optional
+        Spatial: the orientation of the joint frame J_p relative to the parent link's frame
+        (identity when omitted).
+    child_orientation : Orientation, optional
+        Spatial: the orientation of the joint frame J_c relative to the child link's frame
+        (identity when omitted). With all joint coordinates zero, J_c coincides with J_p.
     coordinates, speeds : list of str, optional
         Names of the joint's generalized coordinates and speeds.
     stiffness, damping : Value, optional
@@ -197,11 +286,11 @@ class Joint:
     parent: str
     child: str
     parent_point: str | None = None
-    parent_position: tuple[Value, Value] | None = None
+    parent_position: tuple | None = None
     station: Value | None = None
     child_point: str | None = None
     angle: Value = 0
-    axis: Value = 0
+    axis: Value | tuple = 0
     coordinates: list[str] | None = None
     speeds: list[str] | None = None
     stiffness: Value | None = None
@@ -209,6 +298,9 @@ class Joint:
     rest: Value = 0
     torque: Value | None = None
     driver: Driver | None = None
+    axes: list | None = None
+    orientation: Orientation | None = None
+    child_orientation: Orientation | None = None
 
 
 @dataclass
@@ -219,12 +311,13 @@ class Gravity:
     ----------
     g : Value
         Magnitude [m/s^2].
-    direction : (Value, Value)
-        Direction in the ground frame (normalised when used), e.g. ``(0, -1)`` for -j0.
+    direction : tuple of Value
+        Direction in the ground frame (normalised when used), e.g. ``(0, -1)`` for -j0; three
+        components in a spatial model.
     """
 
     g: Value
-    direction: tuple[Value, Value]
+    direction: tuple
 
 
 @dataclass
@@ -241,10 +334,11 @@ class Load:
         Point of a body; the mass centre when omitted.
     station : Value, optional
         Station x on a beam [m].
-    force : (Value, Value), optional
-        Force components [N], expressions of t allowed.
-    torque : Value, optional
-        Torque about the normal to the plane [N m], expression of t allowed.
+    force : tuple of Value, optional
+        Force components [N], expressions of t allowed (3 in a spatial model).
+    torque : Value or (Value, Value, Value), optional
+        Torque about the normal to the plane [N m], expression of t allowed; a spatial model's is a
+        vector of three components.
     frame : str
         ``ground`` or ``local`` (components along the body or beam-station frame).
     """
@@ -253,8 +347,8 @@ class Load:
     body: str
     point: str | None = None
     station: Value | None = None
-    force: tuple[Value, Value] | None = None
-    torque: Value | None = None
+    force: tuple | None = None
+    torque: Value | tuple | None = None
     frame: str = "ground"
 
 
@@ -305,8 +399,8 @@ class PointSpring:
         Points of bodies (the mass centre when omitted).
     station_a, station_b : Value, optional
         Stations x on beams [m]: the end follows the beam's deflected position there (eq. 8.18).
-    position_a, position_b : (Value, Value), optional
-        Positions on the ground [m].
+    position_a, position_b : tuple of Value, optional
+        Positions on the ground [m] (3 components in a spatial model).
     stiffness : Value
         [N/m].
     damping : Value
@@ -320,8 +414,8 @@ class PointSpring:
     body_b: str
     point_a: str | None = None
     point_b: str | None = None
-    position_a: tuple[Value, Value] | None = None
-    position_b: tuple[Value, Value] | None = None
+    position_a: tuple | None = None
+    position_b: tuple | None = None
     stiffness: Value = 0
     damping: Value = 0
     rest_length: Value = 0

@@ -2,6 +2,7 @@
 
 The file has one table per kind of part, keyed by name::
 
+    dimensions = 3          # a spatial model (2, the default, is planar)
     [parameters]            # name = number or "expression of other parameters"
     [bodies.NAME]           # mass, inertia, points = { P = [x, y] }, outline = [[x, y], ...]
     [beams.NAME]            # L, EI, rho, n_modes, shape = { family, roots, ... }, damping, ...
@@ -15,6 +16,11 @@ The file has one table per kind of part, keyed by name::
     [simulation]            # t_end, dt_out, rtol, atol, method, max_steps, deflection_warning, spin_warning
     [sweep]                 # read by flexkane.sweep, ignored here
 
+In a spatial model vectors have three components, a body's ``inertia`` is three principal values or
+a 3 x 3 tensor, a joint has ``axis = [ax, ay, az]`` (or ``axes`` for a universal joint) and
+``orientation`` / ``child_orientation`` tables (:func:`flexkane.model.orientation.orientation_from_table`),
+a load's ``torque`` is a vector.
+
 Reading checks the layout of the file: tables where tables belong, no unknown key (a typo is
 reported with the nearest valid key), every required key present. Values are kept as given (a
 number or the text of an expression); :func:`flexkane.model.validate.validate_model` then checks
@@ -24,6 +30,7 @@ Python gets the same checks.
 
 from __future__ import annotations
 
+import dataclasses
 import difflib
 import numbers
 import tomllib
@@ -33,6 +40,7 @@ import tomli_w
 
 from ..errors import ModelError
 from .model import Model
+from .orientation import orientation_from_table
 from .parts import (Beam, DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody,
                     ShapeSpec, Simulation)
 
@@ -41,14 +49,15 @@ __all__ = ["load_model", "loads_model", "dumps_model", "save_model", "model_to_d
 #: Largest model file accepted [bytes].
 MAX_FILE_BYTES = 1_000_000
 
-_TOP_KEYS = ("name", "description", "naming", "parameters", "bodies", "beams", "joints", "gravity",
+_TOP_KEYS = ("name", "dimensions", "description", "naming", "parameters", "bodies", "beams", "joints", "gravity",
              "loads", "distributed_loads", "springs", "constraints", "initial", "simulation", "sweep")
 _BODY_KEYS = ("mass", "inertia", "points", "outline")
 _BEAM_KEYS = ("L", "EI", "rho", "n_modes", "shape", "damping", "gravity", "elastic_forces",
               "geometric_stiffening", "EA", "n_axial", "axial_shape")
 _SHAPE_KEYS = ("family", "roots")  # plus the options of the family, checked by the family
 _JOINT_KEYS = ("type", "parent", "child", "parent_point", "parent_position", "station", "child_point",
-               "angle", "axis", "coordinates", "speeds", "stiffness", "damping", "rest", "torque", "driver")
+               "angle", "axis", "axes", "orientation", "child_orientation", "coordinates", "speeds", "stiffness",
+               "damping", "rest", "torque", "driver")
 _DRIVER_KEYS = ("coordinate", "speed")
 _GRAVITY_KEYS = ("g", "direction")
 _LOAD_KEYS = ("body", "point", "station", "force", "torque", "frame")
@@ -125,6 +134,13 @@ def _shape(table: dict, key: str, path: str, default_family: str | None):
     return ShapeSpec(family, roots, options)
 
 
+def _vectors(value):
+    """Lists (of lists) as tuples, to any depth (other values are kept for the validation)."""
+    if isinstance(value, list):
+        return tuple(_vectors(v) for v in value)
+    return value
+
+
 def _float(table: dict, key: str, default=None):
     value = table.get(key, default)
     if isinstance(value, numbers.Real) and not isinstance(value, bool):
@@ -136,7 +152,9 @@ def _model_from_dict(data: dict) -> Model:
     _check_keys(data, _TOP_KEYS, "")
     model = Model(name=_get(data, "name", "", default="model"),
                   description=_get(data, "description", "", default=""),
-                  naming=_get(data, "naming", "", default="joint"))
+                  naming=_get(data, "naming", "", default="joint"),
+                  dimensions=_get(data, "dimensions", "", default=2))
+    spatial = model.dimensions == 3
     model.parameters.update(_table(data, "parameters", "", "a table of parameters { name = value }"))
     for name, body in _parts(data, "bodies", _BODY_KEYS).items():
         path = f"bodies.{name}"
@@ -145,9 +163,11 @@ def _model_from_dict(data: dict) -> Model:
         outline = body.get("outline", [])
         if isinstance(outline, list):
             outline = [tuple(v) if isinstance(v, list) else v for v in outline]
-        model.bodies[name] = RigidBody(name, _get(body, "mass", path, "the mass [kg]"),
-                                       _get(body, "inertia", path, "the moment of inertia about the mass centre"
-                                            " [kg m^2]"), points, outline)
+        inertia = _get(body, "inertia", path, "the inertia tensor about the mass centre, [Ixx, Iyy, Izz] or "
+                       "[[Ixx, Ixy, Ixz], [Ixy, Iyy, Iyz], [Ixz, Iyz, Izz]] [kg m^2]" if spatial else
+                       "the moment of inertia about the mass centre [kg m^2]")
+        model.bodies[name] = RigidBody(name, _get(body, "mass", path, "the mass [kg]"), _vectors(inertia),
+                                       points, outline)
     for name, beam in _parts(data, "beams", _BEAM_KEYS).items():
         path = f"beams.{name}"
         damping = beam.get("damping", [])
@@ -168,16 +188,20 @@ def _model_from_dict(data: dict) -> Model:
             table = _table(joint, "driver", path, "a table { coordinate = ... } or { speed = ... }")
             _check_keys(table, _DRIVER_KEYS, f"{path}.driver")
             driver = Driver(table.get("coordinate"), table.get("speed"))
+        axes = joint.get("axes")
+        orientations = {key: orientation_from_table(joint[key], f"{path}.{key}") if key in joint else None
+                        for key in ("orientation", "child_orientation")}
         model.joints[name] = Joint(
             name, _get(joint, "type", path, "the joint type (free, revolute, prismatic or weld)"),
             _get(joint, "parent", path, "the parent: 'ground', a body or a beam"),
             _get(joint, "child", path, "the child: a body or a beam"),
             parent_point=joint.get("parent_point"), parent_position=_pair(joint, "parent_position", path),
             station=joint.get("station"), child_point=joint.get("child_point"),
-            angle=joint.get("angle", 0), axis=joint.get("axis", 0),
+            angle=joint.get("angle", 0), axis=_vectors(joint.get("axis", 0)),
             coordinates=joint.get("coordinates"), speeds=joint.get("speeds"),
             stiffness=joint.get("stiffness"), damping=joint.get("damping"), rest=joint.get("rest", 0),
-            torque=joint.get("torque"), driver=driver)
+            torque=joint.get("torque"), driver=driver,
+            axes=[_vectors(a) for a in axes] if isinstance(axes, list) else axes, **orientations)
     if "gravity" in data:
         grav = _table(data, "gravity", "", "a table { g = ..., direction = [x, y] }")
         _check_keys(grav, _GRAVITY_KEYS, "gravity")
@@ -187,7 +211,7 @@ def _model_from_dict(data: dict) -> Model:
         path = f"loads.{name}"
         model.loads[name] = Load(name, _get(load, "body", path, "the name of a body or a beam"),
                                  point=load.get("point"), station=load.get("station"),
-                                 force=_pair(load, "force", path), torque=load.get("torque"),
+                                 force=_pair(load, "force", path), torque=_vectors(load.get("torque")),
                                  frame=load.get("frame", "ground"))
     for name, table in _parts(data, "distributed_loads", _DISTRIBUTED_KEYS).items():
         path = f"distributed_loads.{name}"
@@ -294,6 +318,8 @@ def _drop_none(table: dict) -> dict:
 def model_to_dict(model: Model) -> dict:
     """The model as nested dictionaries in the model-file layout."""
     out: dict = {"name": model.name}
+    if model.dimensions != 2:
+        out["dimensions"] = model.dimensions
     if model.description:
         out["description"] = model.description
     if model.naming != "joint":
@@ -334,6 +360,12 @@ def model_to_dict(model: Model) -> dict:
             t["angle"] = j.angle
         if j.axis != 0:
             t["axis"] = j.axis
+        if j.axes is not None:
+            t["axes"] = j.axes
+        for key in ("orientation", "child_orientation"):
+            spec = getattr(j, key)
+            if spec is not None:
+                t[key] = _drop_none(dataclasses.asdict(spec)) if dataclasses.is_dataclass(spec) else spec
         if j.rest != 0:
             t["rest"] = j.rest
         if j.driver is not None:

@@ -31,9 +31,10 @@ import re
 
 from ..errors import ModelError, ModelErrors
 from .field_values import FieldValues
+from . import validate_spatial as spatial
 from .model import NAMING_STYLES, Model
-from .parts import (DISTRIBUTED_FRAMES, ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES, METHODS,
-                    Beam, DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody,
+from .parts import (DIMENSIONS, DISTRIBUTED_FRAMES, ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS,
+                    JOINT_TYPES, JOINT_TYPES_BY_DIMENSION, METHODS, SPATIAL_JOINT_TYPES, Beam, DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody,
                     ShapeSpec, Simulation)
 
 __all__ = ["validate_model", "validate_run_arguments", "check_output_grid", "RUN_SETTINGS", "MAX_MODES",
@@ -56,8 +57,6 @@ RTOL_RANGE = (1e-13, 1.0)
 
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _NAME_RULE = "of ASCII letters, digits and underscores, not starting with a digit"
-#: Unit of a joint's coordinate, by role.
-_ROLE_UNIT = {"x": "m", "y": "m", "angle": "rad", "slide": "m", "mode": "m", "axial": "m"}
 
 
 def is_name(text) -> bool:
@@ -239,6 +238,9 @@ def validate_model(model: Model) -> None:
             raise ModelError("description", "a text", model.description)
     with problems.part():
         _choice("naming", model.naming, NAMING_STYLES)
+    with problems.part():
+        if isinstance(model.dimensions, bool) or model.dimensions not in DIMENSIONS:
+            raise ModelError("dimensions", "2 (a planar chain) or 3 (a spatial chain)", model.dimensions)
     values = None
     with problems.part():
         values = _Values(model)
@@ -254,10 +256,11 @@ def validate_model(model: Model) -> None:
         if not isinstance(model.initial, dict):
             raise ModelError("initial", "a table of initial values by coordinate or speed name", model.initial)
     problems.raise_found()   # values and parts are needed by every check below
+    dimensions = model.dimensions
     with problems.part():
         _check_parameter_names(model)
     with problems.part():
-        _check_gravity(model.gravity, values)
+        _check_gravity(model.gravity, values, dimensions)
     bodies, beams = tables["bodies"], tables["beams"]
     for name in beams:
         if name in bodies:
@@ -273,10 +276,12 @@ def validate_model(model: Model) -> None:
             raise ModelError("bodies", "at least one body or beam", None, show_given=False)
     for body in bodies.values():
         with problems.part():
-            _check_body(body, values)
+            _check_body(body, values, dimensions)
     lengths = {}
     for beam in beams.values():
         with problems.part():
+            if dimensions == 3:
+                spatial.refuse_part(f"beams.{beam.name}", "beams", beam.name)
             lengths[beam.name] = _check_beam(beam, values)
     with problems.part():   # over the beams that passed their own checks
         _check_elastic_coordinates({name: beams[name] for name in lengths})
@@ -292,21 +297,28 @@ def validate_model(model: Model) -> None:
             _check_load(model, load, values, lengths)
     for load in model.distributed_loads.values():
         with problems.part():
+            if dimensions == 3:
+                spatial.refuse_part(f"distributed_loads.{load.name}", "distributed loads", load.name)
             _check_distributed_load(model, load, values, lengths)
     for spring in model.springs.values():
         with problems.part():
             _check_spring(model, spring, values, lengths)
     for con in model.constraints.values():
         with problems.part():
+            if dimensions == 3:
+                spatial.refuse_part(f"constraints.{con.name}", "loop constraints", con.name)
             _check_constraint(model, con, values, lengths)
     problems.raise_found(final=True)   # the structure needs a valid tree of valid parts
     _check_structure(model, values)
 
 
 # ---------------------------------------------------------------------------------------- parts
-def _check_body(body: RigidBody, values: _Values) -> None:
+def _check_body(body: RigidBody, values: _Values, dimensions: int) -> None:
     path = f"bodies.{body.name}"
     values.positive(f"{path}.mass", body.mass, "mass", "kg")
+    if dimensions == 3:
+        spatial.check_body(body, values)
+        return
     values.non_negative(f"{path}.inertia", body.inertia, "moment of inertia about the mass centre", "kg m^2")
     if not isinstance(body.points, dict):
         raise ModelError(f"{path}.points", "a table of named points { P = [x, y] } [m]", body.points)
@@ -404,7 +416,12 @@ def _link(path: str, model: Model, name, *, ground: bool) -> None:
 
 def _check_joint(model: Model, joint: Joint, values: _Values, lengths: dict) -> None:
     path = f"joints.{joint.name}"
-    _choice(f"{path}.type", joint.type, JOINT_TYPES)
+    dimensions = model.dimensions
+    if dimensions == 2 and isinstance(joint.type, str) and joint.type in SPATIAL_JOINT_TYPES \
+            and joint.type not in JOINT_TYPES:
+        raise ModelError(f"{path}.type", "one of " + ", ".join(repr(c) for c in JOINT_TYPES), joint.type,
+                         f"a {joint.type} joint needs a spatial model: dimensions = 3 at the top of the file")
+    _choice(f"{path}.type", joint.type, JOINT_TYPES_BY_DIMENSION[dimensions])
     _link(f"{path}.parent", model, joint.parent, ground=True)
     _link(f"{path}.child", model, joint.child, ground=False)
     if joint.parent == joint.child:
@@ -423,22 +440,31 @@ def _check_joint(model: Model, joint: Joint, values: _Values, lengths: dict) -> 
             raise ModelError(f"{path}.station", f"the station x on parent beam {joint.parent!r} [m]", None,
                              show_given=False)
         _station(f"{path}.station", joint.station, joint.parent, lengths, values)
-    elif joint.parent_position is not None:
+    elif joint.parent_position is not None and dimensions == 2:
         values.pair(f"{path}.parent_position", joint.parent_position, "ground coordinates", "m")
     if joint.child in model.bodies:
         _point(f"{path}.child_point", model, joint.child, joint.child_point)
     elif joint.child_point is not None:
         raise ModelError(f"{path}.child_point", "no child point for a beam (a beam hangs at its root)",
                          joint.child_point)
-    dofs = len(JOINT_DOFS[joint.type])
     unit = {"revolute": "rad", "prismatic": "m"}.get(joint.type, "")
-    values.number(f"{path}.angle", joint.angle, "angle of the child frame", "rad")
-    axis = values.number(f"{path}.axis", joint.axis, "slide direction angle", "rad")
-    if axis != 0 and joint.type != "prismatic":
-        raise ModelError(f"{path}.axis", "no slide axis on a joint that is not prismatic", joint.axis)
-    for key, what in (("coordinates", "coordinate"), ("speeds", "speed")):
+    if dimensions == 3:
+        dofs, speeds = spatial.joint_counts(joint.type)
+        spatial.check_joint_geometry(joint, values)
+    else:
+        dofs = speeds = len(JOINT_DOFS[joint.type])
+        for key in ("axes", "orientation", "child_orientation"):
+            if getattr(joint, key) is not None:
+                raise ModelError(f"{path}.{key}", f"no {key} in a planar model (dimensions = 2; the child frame's "
+                                 "angle is 'angle', a prismatic joint's slide direction 'axis', both [rad])",
+                                 getattr(joint, key), "or set dimensions = 3 at the top of the file")
+        values.number(f"{path}.angle", joint.angle, "angle of the child frame", "rad")
+        axis = values.number(f"{path}.axis", joint.axis, "slide direction angle", "rad")
+        if axis != 0 and joint.type != "prismatic":
+            raise ModelError(f"{path}.axis", "no slide axis on a joint that is not prismatic", joint.axis)
+    for key, what, count in (("coordinates", "coordinate", dofs), ("speeds", "speed", speeds)):
         names = getattr(joint, key)
-        _names_list(f"{path}.{key}", names, dofs, f"{joint.type}-joint {what}")
+        _names_list(f"{path}.{key}", names, count, f"{joint.type}-joint {what}")
         if names is not None and model.naming == "sequential":
             raise ModelError(f"{path}.{key}", "no names with naming = 'sequential' (q1, q2, ... are used)",
                              names)
@@ -514,10 +540,13 @@ def _check_load(model: Model, load: Load, values: _Values, lengths: dict) -> Non
         _station(f"{path}.station", load.station, load.body, lengths, values)
     if load.force is None and load.torque is None:
         raise ModelError(path, "a force, a torque or both", None, show_given=False)
-    if load.force is not None:
-        values.pair(f"{path}.force", load.force, "force components", "N", time=True)
-    if load.torque is not None:
-        values.number(f"{path}.torque", load.torque, "torque", "N m", time=True)
+    if model.dimensions == 3:
+        spatial.check_load(load, values)
+    else:
+        if load.force is not None:
+            values.pair(f"{path}.force", load.force, "force components", "N", time=True)
+        if load.torque is not None:
+            values.number(f"{path}.torque", load.torque, "torque", "N m", time=True)
     _choice(f"{path}.frame", load.frame, FRAMES)
 
 
@@ -589,6 +618,8 @@ def _check_end(model: Model, path: str, part, end: str, values: _Values, lengths
             raise ModelError(f"{path}.station_{end}", f"the station x on beam {body!r} [m]", None,
                              show_given=False)
         _station(f"{path}.station_{end}", given["station"], body, lengths, values)
+    elif given["position"] is not None and model.dimensions == 3:
+        spatial.check_position(f"{path}.position_{end}", given["position"], values, "ground coordinates")
     elif given["position"] is not None:
         values.pair(f"{path}.position_{end}", given["position"], "ground coordinates", "m")
 
@@ -619,12 +650,15 @@ def _check_constraint(model: Model, con: LoopConstraint, values: _Values, length
     values.non_negative(f"{path}.stabilization", con.stabilization, "constraint stabilization rate", "1/s")
 
 
-def _check_gravity(gravity, values: _Values) -> None:
+def _check_gravity(gravity, values: _Values, dimensions: int) -> None:
     if gravity is None:
         return
     if not isinstance(gravity, Gravity):
         raise ModelError("gravity", "a table { g = ..., direction = [x, y] }", gravity)
     values.non_negative("gravity.g", gravity.g, "gravitational acceleration", "m/s^2")
+    if dimensions == 3:
+        spatial.check_gravity(gravity, values)
+        return
     direction = gravity.direction
     if not _is_pair(direction):
         raise ModelError("gravity.direction", "two finite values [x, y] (a direction in the ground frame)",
@@ -788,7 +822,8 @@ def _family(spec: ShapeSpec, path: str, n: int, kind: str, values: _Values) -> N
 
 def _check_structure(model: Model, values: _Values) -> None:
     """Shape families, the chain's coordinates, initial conditions and dependent speeds."""
-    from .coordinates import coordinate_names
+    from .coordinates import coordinate_names, coordinate_unit, speed_unit
+    from .initial import initial_values
 
     for beam in model.beams.values():
         path = f"beams.{beam.name}"
@@ -798,10 +833,14 @@ def _check_structure(model: Model, values: _Values) -> None:
     coordinates = coordinate_names(model)   # names unique; initial conditions name existing coordinates
     units = {}
     for coord in coordinates:
-        unit = _ROLE_UNIT[coord.role]
-        units[coord.q], units[coord.u] = unit, f"{unit}/s"
+        units[coord.q] = coordinate_unit(coord.role)
+        if coord.u is not None:
+            units[coord.u] = speed_unit(coord.role)
     for key, value in model.initial.items():
-        values.number(f"initial.{key}", value, f"initial value of {key}", units[key])
+        if key in units:
+            values.number(f"initial.{key}", value, f"initial value of {key}", units[key])
+    if model.dimensions == 3:
+        initial_values(model, values)   # orientations as tables, Euler parameters (all four, not zero)
     free = {c.u for c in coordinates if c.driver is None}
     chosen: dict[str, str] = {}
     for con in model.constraints.values():

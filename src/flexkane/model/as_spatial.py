@@ -1,0 +1,138 @@
+"""A planar model as the equivalent spatial model (``dimensions = 3``), its motion in the x-y plane.
+
+:func:`as_spatial` rewrites every part of a planar model for the spatial engine, so that both
+engines can be compared on the same chain (a planar chain is the special case of a spatial one):
+
+* vectors get a zero z component (points, outlines, ground positions, gravity, forces);
+* a body's moment of inertia J about the normal becomes the principal tensor ``diag(J, J, J)``: only
+  ``Izz = J`` enters planar motion, and the in-plane values ``J, J`` keep the tensor a valid one
+  (non-negative, triangle inequalities) whatever J is;
+* a load's torque T becomes ``(0, 0, T)``;
+* a revolute joint turns about ``axis = [0, 0, 1]``; a prismatic one slides along
+  ``[cos(axis), sin(axis), 0]``; a planar ``free`` joint becomes a spatial ``planar`` joint with
+  normal z (the same coordinates x, y, angle; its speeds are the rates of x and y, so the initial
+  speeds of the planar free joint, components along the child's axes (eq. 8.10), are rotated into
+  them); a weld stays a weld;
+* a joint's constant ``angle`` (the child frame turned from the attachment frame) becomes the
+  ``child_orientation`` turn about z by ``-angle`` (J_c relative to the child's frame), which keeps
+  the joint's axes, positions and coordinates those of the attachment frame.
+
+Beams, distributed loads and loop constraints are carried over unchanged: spatial models refuse them
+until spatial beams and loops exist, so the result of a model that has them does not validate.
+"""
+
+from __future__ import annotations
+
+import copy
+
+from ..errors import ModelError
+from .coordinates import coordinate_names
+from .model import Model
+from .parts import Orientation
+
+__all__ = ["as_spatial"]
+
+_Z = (0, 0, 1)
+
+
+def _pad(vector):
+    """(x, y) -> (x, y, 0); None stays None."""
+    return None if vector is None else (*tuple(vector), 0)
+
+
+def _negated(value):
+    """-value, as a number or an expression text."""
+    if isinstance(value, str):
+        return f"-({value})"
+    return -value
+
+
+def _text(value) -> str:
+    return f"({value})"
+
+
+def _slide_axis(axis) -> tuple:
+    """The planar slide direction (an angle [rad] in the attachment frame) as a 3-vector."""
+    if isinstance(axis, str):
+        return (f"cos({axis})", f"sin({axis})", 0)
+    if axis == 0:
+        return (1, 0, 0)
+    import math
+
+    return (math.cos(axis), math.sin(axis), 0)
+
+
+def as_spatial(model: Model, *, validate: bool = True) -> Model:
+    """The spatial model (``dimensions = 3``) equivalent to a planar one.
+
+    Parameters
+    ----------
+    model : Model
+        A valid planar model (``dimensions = 2``); it is not changed.
+    validate : bool
+        Validate the result (:meth:`Model.validate`); a model with beams, distributed loads or loop
+        constraints then raises ModelError naming them (not yet supported in 3D).
+
+    Returns
+    -------
+    Model
+        The spatial model; its coordinates have the names and the order of the planar model's (a
+        free joint's x, y, angle included), and so do its speeds.
+
+    Raises
+    ------
+    ModelError
+        If ``model`` is not a valid planar model (or, with ``validate``, the result does not validate).
+    """
+    if not isinstance(model, Model):
+        raise ModelError("model", "a flexkane Model", type(model).__name__)
+    if model.dimensions != 2:
+        raise ModelError("dimensions", "a planar model (dimensions = 2) to convert", model.dimensions)
+    model.validate()
+    out = copy.deepcopy(model)
+    out.dimensions = 3
+    for body in out.bodies.values():
+        body.inertia = (body.inertia, body.inertia, body.inertia)
+        body.points = {name: _pad(xy) for name, xy in body.points.items()}
+        body.outline = [_pad(xy) for xy in body.outline]
+    for joint in out.joints.values():
+        if joint.parent == "ground" and joint.parent_position is not None:
+            joint.parent_position = _pad(joint.parent_position)
+        if joint.type == "revolute":
+            joint.axis = _Z
+        elif joint.type == "prismatic":
+            joint.axis = _slide_axis(joint.axis)
+        elif joint.type == "free":
+            joint.type, joint.axis = "planar", _Z
+        if joint.angle != 0:
+            joint.child_orientation = Orientation(axis=_Z, angle=_negated(joint.angle))
+        joint.angle = 0
+    if out.gravity is not None:
+        out.gravity.direction = _pad(out.gravity.direction)
+    for load in out.loads.values():
+        load.force = _pad(load.force)
+        if load.torque is not None:
+            load.torque = (0, 0, load.torque)
+    for spring in out.springs.values():
+        spring.position_a, spring.position_b = _pad(spring.position_a), _pad(spring.position_b)
+    _free_joint_speeds(model, out)
+    return out.validate() if validate else out
+
+
+def _free_joint_speeds(planar: Model, spatial: Model) -> None:
+    """Initial speeds of planar free joints (components along the child's axes, eq. 8.10) as the
+    rates of x and y that the spatial planar joint's speeds are."""
+    coordinates = coordinate_names(planar)
+    for joint in planar.joints.values():
+        if joint.type != "free":
+            continue
+        cx, cy, ca = (c for c in coordinates if c.owner == joint.name)
+        ux, uy = planar.initial.get(cx.u, 0), planar.initial.get(cy.u, 0)
+        if ux == 0 and uy == 0:
+            continue
+        angle = f"{_text(planar.initial.get(ca.q, 0))} + {_text(joint.angle)}"
+        if isinstance(ux, (int, float)) and isinstance(uy, (int, float)) and angle == "(0) + (0)":
+            continue   # the child's axes are the attachment's: the components are the rates
+        c, s = f"cos({angle})", f"sin({angle})"
+        spatial.initial[cx.u] = f"{_text(ux)}*{c} - {_text(uy)}*{s}"
+        spatial.initial[cy.u] = f"{_text(ux)}*{s} + {_text(uy)}*{c}"
