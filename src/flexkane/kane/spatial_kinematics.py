@@ -96,13 +96,17 @@ class SpatialKinematics:
 
     def inertia_tensor(self, body: str) -> sp.Matrix:
         """Inertia tensor of a body about its mass centre, body axes (3, 3) [kg m^2]."""
-        rows = self.chain.model.bodies[body].inertia_tensor()
+        given = self.chain.model.bodies[body]
+        rows = given.inertia_tensor()
+        principal = not isinstance(given.inertia[0], (list, tuple))    # [Ixx, Iyy, Izz]
         path = f"bodies.{body}.inertia"
         out = sp.zeros(3, 3)
         for i in range(3):
             for j in range(i, 3):
-                out[i, j] = out[j, i] = self.value(f"{path}[{i}][{j}]", rows[i][j],
-                                                   f"I_{body}_{'xyz'[i]}{'xyz'[j]}")
+                if principal and i != j:
+                    continue
+                where = f"{path}[{i}]" if principal else f"{path}[{i}][{j}]"
+                out[i, j] = out[j, i] = self.value(where, rows[i][j], f"I_{body}_{'xyz'[i]}{'xyz'[j]}")
         return out
 
     def mass(self, body: str) -> sp.Expr:
