@@ -28,8 +28,10 @@ weld           none
 =============  =========================================  ====================================
 
 With all coordinates zero (e0 = 1) J_c coincides with J_p. Literal numbers in axis vectors are
-structure (exact, so that an axis ``[0, 0, 1]`` gives the planar rotation matrix); expressions of the
-parameters become symbols of their own and the axis is normalized in the equations.
+structure (integers exact, so that an axis ``[0, 0, 1]`` gives the planar rotation matrix and
+``[1, 1, 0]`` the exact ``1/sqrt(2)``; other numbers as the same doubles, normalized at derivation);
+expressions of the parameters become symbols of their own and the axis is normalized in the
+equations.
 """
 
 from __future__ import annotations
@@ -47,13 +49,13 @@ __all__ = ["JointMotion", "joint_motion", "kinematic_equations", "orientation", 
 
 
 def _literal(value):
-    """A literal number as an exact SymPy number, else None."""
+    """A literal number as a SymPy number (integers exact, other floats as the same double), else None."""
     if isinstance(value, bool):
         return None
-    if isinstance(value, int):
-        return sp.Integer(value)
+    if isinstance(value, int) or (isinstance(value, float) and value.is_integer()):
+        return sp.Integer(int(value))
     if isinstance(value, float):
-        return sp.nsimplify(value, rational=True)
+        return sp.Float(value)
     return None
 
 
@@ -106,8 +108,8 @@ def plane_axes(normal: tuple) -> tuple[tuple, tuple]:
         raise ModelError("axis", "a planar joint's normal with numeric components", normal)
     k = min(range(3), key=lambda i: (abs(float(normal[i])), i))
     e = tuple(sp.Integer(1 if i == k else 0) - normal[k] * normal[i] for i in range(3))
-    e1 = unit_vector(tuple(sp.nsimplify(sp.simplify(c)) for c in e))
-    e2 = tuple(sp.simplify(c) for c in cross(normal, e1))
+    e1 = unit_vector(tuple(sp.expand(c) for c in e))
+    e2 = tuple(sp.expand(c) for c in cross(normal, e1))
     return e1, e2
 
 
