@@ -97,3 +97,11 @@ def test_mass_centre_of_a_spinning_free_body_falls_at_g(compiled):
         x = res.outputs[f"{a}_cm"]
         v = res.outputs[f"p_{a}"][0] / 2.5
         assert np.abs(x - (x[0] + v * t)).max() <= 1e-9
+
+
+def test_a_loose_tolerance_that_lets_the_quaternion_norm_drift_is_warned(compiled):
+    tight = _run(compiled, 5.0, **_spin(1, 6.0, 3.0))
+    assert not [w for w in tight.warnings if "Euler parameters" in w]
+    loose = _run(compiled, 5.0, rtol=1e-3, atol=1e-3, **_spin(1, 6.0, 3.0))
+    assert np.abs(loose.outputs["quaternion_norm_float"]).max() > 1e-6
+    assert [w for w in loose.warnings if "joint 'float'" in w and "Euler parameters" in w]
