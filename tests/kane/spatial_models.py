@@ -8,7 +8,7 @@ description builds the flexkane model (:func:`flexkane_model`) and the independe
 from __future__ import annotations
 
 from flexkane.model import Model
-from flexkane.model.parts import Gravity, Joint, Orientation, RigidBody
+from flexkane.model.parts import Gravity, Joint, Load, Orientation, RigidBody
 
 G = (0.0, 0.0, -9.81)
 
@@ -41,8 +41,41 @@ THREE_JOINT_ARM = (
      dict(name="elbow", type="revolute", parent="upper", child="fore", parent_point="b", child_point="a",
           axis=(0, 1, 1), torque=0.5)])
 
+#: A free body carrying a link on a universal joint (J_c turned in the link), which carries a slider
+#: along a skew axis (J_p turned in the link).
+FREE_UNIVERSAL_PRISMATIC = (
+    {"hub": (5.0, _I1, {"U": (0.2, 0.1, 0.0), "C": (-0.05, 0.02, 0.03)}),
+     "link": (1.0, _I2, {"a": (0.0, 0.0, -0.3), "b": (0.0, 0.02, 0.3)}),
+     "slider": (0.4, _I1, {"s": (0.01, 0.0, 0.0)})},
+    [dict(name="float", type="free", parent="ground", child="hub", parent_point=(0.1, 0.2, 0.3), child_point="C",
+          orientation=((1, 1, 0), 0.5)),
+     dict(name="cardan", type="universal", parent="hub", child="link", parent_point="U", child_point="a",
+          axes=((1, 0, 0), (0, 1, 0)), child_orientation=((0, 0, 1), 0.4)),
+     dict(name="slide", type="prismatic", parent="link", child="slider", parent_point="b", child_point="s",
+          axis=(1, 1, 0), orientation=((0, 1, 0), 0.2))])
 
-def flexkane_model(description, gravity=G, name: str = "spatial") -> Model:
+#: A cart on a planar joint (normal z), a rod on a cylindrical joint, a tip on a revolute joint with
+#: a spring and a damper; loads in local and ground axes.
+PLANAR_CYLINDRICAL_REVOLUTE = (
+    {"cart": (3.0, _I2, {"top": (0.0, 0.0, 0.1), "C": (0.05, 0.0, -0.1)}),
+     "rod": (1.0, _I1, {"a": (0.0, 0.0, -0.2), "b": (0.0, 0.0, 0.2)}),
+     "tip": (0.5, _I2, {"a": (-0.1, 0.0, 0.0), "tool": (0.1, 0.02, 0.0)})},
+    [dict(name="table", type="planar", parent="ground", child="cart", parent_point=(0.0, 0.0, 0.0), child_point="C",
+          axis=(0, 0, 1)),
+     dict(name="column", type="cylindrical", parent="cart", child="rod", parent_point="top", child_point="a",
+          axis=(0, 1, 1)),
+     dict(name="wrist", type="revolute", parent="rod", child="tip", parent_point="b", child_point="a",
+          axis=(1, 0, 0), child_orientation=((0, 1, 0), 0.3), stiffness=4.0, rest=0.2, damping=0.3)])
+
+APPLIED = [dict(body="tip", point="tool", force=(0.5, -1.0, 2.0), torque=(0.1, 0.0, -0.2), frame="local"),
+           dict(body="rod", point="b", force=(1.0, 0.3, 0.0), torque=(0.0, 0.4, 0.0), frame="ground")]
+
+
+def _orientation(pair):
+    return None if pair is None else Orientation(axis=tuple(pair[0]), angle=pair[1])
+
+
+def flexkane_model(description, gravity=G, name: str = "spatial", applied=()) -> Model:
     """The flexkane model (dimensions = 3) of a chain description."""
     bodies, joints = description
     model = Model(name=name, dimensions=3)
@@ -57,11 +90,17 @@ def flexkane_model(description, gravity=G, name: str = "spatial") -> Model:
             kw["parent_point"] = j["parent_point"]
         if "axis" in j:
             kw["axis"] = tuple(j["axis"])
-        if j.get("orientation") is not None:
-            kw["orientation"] = Orientation(axis=tuple(j["orientation"][0]), angle=j["orientation"][1])
-        if j.get("torque") is not None:
-            kw["torque"] = j["torque"]
+        if "axes" in j:
+            kw["axes"] = [tuple(a) for a in j["axes"]]
+        kw["orientation"] = _orientation(j.get("orientation"))
+        kw["child_orientation"] = _orientation(j.get("child_orientation"))
+        for key in ("torque", "stiffness", "rest", "damping"):
+            if j.get(key) is not None:
+                kw[key] = j[key]
         model.joints[j["name"]] = Joint(j["name"], j["type"], j["parent"], j["child"], **kw)
+    for k, load in enumerate(applied):
+        model.loads[f"load{k}"] = Load(f"load{k}", load["body"], point=load["point"], force=tuple(load["force"]),
+                                       torque=tuple(load["torque"]), frame=load["frame"])
     if gravity is not None and any(gravity):
         norm = sum(c * c for c in gravity) ** 0.5
         model.gravity = Gravity(norm, tuple(c / norm for c in gravity))
