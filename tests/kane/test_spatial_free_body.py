@@ -105,3 +105,11 @@ def test_a_loose_tolerance_that_lets_the_quaternion_norm_drift_is_warned(compile
     loose = _run(compiled, 5.0, rtol=1e-3, atol=1e-3, **_spin(1, 6.0, 3.0))
     assert np.abs(loose.outputs["quaternion_norm_float"]).max() > 1e-6
     assert [w for w in loose.warnings if "joint 'float'" in w and "Euler parameters" in w]
+
+
+def test_orientation_outputs_of_a_body_are_its_euler_parameters_and_yaw_pitch_roll(compiled):
+    res = _run(compiled, 1.0, **_spin(2, 1.0, 0.2))
+    e = np.array([res.state[:, res.state_names.index(f"q_float_e{k}")] for k in range(4)])
+    assert np.abs(np.array([res.outputs[f"e{k}_B"] for k in range(4)]) - e).max() <= 1e-14
+    # the initial orientation was given as the body-fixed sequence zyx (yaw, pitch, roll)
+    assert np.allclose([res.outputs[a][0] for a in ("yaw_B", "pitch_B", "roll_B")], [0.4, -0.3, 1.1], atol=1e-12)

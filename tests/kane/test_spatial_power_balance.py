@@ -71,6 +71,15 @@ force = [0.5, "sin(3*t)", 0]
 torque = [0, 0, 0.1]
 frame = "local"
 
+[springs.tether]
+body_a = "ground"
+position_a = [0.3, 0.2, 0.0]
+body_b = "fore"
+point_b = "tool"
+stiffness = 30.0
+damping = 0.5
+rest_length = 0.4
+
 [gravity]
 g = 9.81
 direction = [0, 0, -1]
