@@ -93,3 +93,20 @@ def test_custom_names_of_a_spherical_joint():
     model = _joint_model("spherical", coordinates='["a0", "a1", "a2", "a3"]', speeds='["w1", "w2", "w3"]')
     assert [(c.q, c.u) for c in coordinate_names(model)] == [("a0", None), ("a1", "w1"), ("a2", "w2"),
                                                              ("a3", "w3")]
+
+
+def test_the_readme_example_of_a_spatial_model_is_valid(capsys):
+    from flexkane.cli import main
+
+    readme = (HERE.parents[1] / "README.md").read_text()
+    section = readme[readme.index("### Spatial models (`dimensions = 3`)"):]
+    text = section[section.index("```toml") + len("```toml"):section.index("```\n", section.index("```toml") + 7)]
+    model = loads_model(text)
+    assert model.dimensions == 3
+    names = [(c.q, c.u) for c in coordinate_names(model)]
+    assert names[:2] == [("q_shoulder_1", "u_shoulder_1"), ("q_shoulder_2", "u_shoulder_2")]
+    assert names[2] == ("q_elbow_e0", None)
+    path = HERE / "spatial_models" / "two-body-arm.toml"
+    assert main(["check", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "valid (spatial, 2 bodies" in out and "6 generalized coordinates" in out and "5 generalized speeds" in out

@@ -8,6 +8,11 @@ results (``results.npz`` holds the model file text), so any finished run directo
     results = flexkane.load_results("out/falling-beam")
     animate(results, "out/falling-beam/animation.gif", magnify=1000)
     render_frame(results, "frame.png", time=0.5, magnify=1000)
+
+A spatial model (``dimensions = 3``) is drawn on matplotlib's 3D axes from a chosen ``view``
+(elevation, azimuth [deg]): its bodies' outlines (or centre lines between their points) placed by the
+outputs ``x_<b>, y_<b>, z_<b>`` and ``yaw_<b>, pitch_<b>, roll_<b>`` (:mod:`.spatial_scene`).
+:func:`animate_polylines` draws any per-frame 3D polylines (:mod:`.spatial_render`), with no model.
 """
 
 from __future__ import annotations
@@ -21,10 +26,12 @@ import numpy as np
 from ..errors import ModelError
 from ..results import Results
 from .scene import TRACE_CENTRE_OF_MASS, TRACE_NONE, Scene
+from .spatial_render import DEFAULT_VIEW, SpatialPolyline, check_view
 from .writers import MP4_MISSING, GifWriter, Mp4Writer, ffmpeg_executable
 
-__all__ = ["animate", "render_frame", "frame_rows", "resolve_magnification", "check_animation_options",
-           "Animation", "Scene", "TRACE_NONE", "TRACE_CENTRE_OF_MASS", "ffmpeg_executable"]
+__all__ = ["animate", "animate_polylines", "render_frame", "frame_rows", "resolve_magnification",
+           "check_animation_options", "Animation", "Scene", "SpatialPolyline", "TRACE_NONE", "TRACE_CENTRE_OF_MASS",
+           "DEFAULT_VIEW", "ffmpeg_executable"]
 
 
 @dataclass
@@ -75,12 +82,17 @@ def resolve_magnification(scene: Scene, magnify) -> float:
     return _magnification_number(magnify)
 
 
-def check_animation_options(model, magnify, trace) -> None:
-    """Refuse ``magnify`` or ``trace`` (as for :func:`animate`) that an animation of ``model`` could
-    not use, with a :class:`~flexkane.errors.ModelError`: checked before a run, not after it."""
+def check_animation_options(model, magnify, trace, view=None) -> None:
+    """Refuse ``magnify``, ``trace`` or ``view`` (as for :func:`animate`) that an animation of ``model``
+    could not use, with a :class:`~flexkane.errors.ModelError`: checked before a run, not after it."""
     if not (isinstance(magnify, str) and magnify.strip().lower() == "auto"):
         _magnification_number(magnify)
-    if trace not in (None, "", "auto"):
+    _check_view_for(model.dimensions, view)
+    if trace not in (None, "", "auto") and model.dimensions == 3:
+        names = [*model.bodies, TRACE_CENTRE_OF_MASS, TRACE_NONE]
+        if trace not in names:
+            raise ModelError("--trace", "one of " + ", ".join(names), trace)
+    elif trace not in (None, "", "auto"):
         names = [*model.bodies, *model.beams, TRACE_CENTRE_OF_MASS, TRACE_NONE]
         if trace not in names and not (trace.startswith("tip_") and trace[4:] in model.beams):
             raise ModelError("--trace", "one of " + ", ".join(names), trace)
@@ -97,6 +109,38 @@ def _magnification_number(magnify) -> float:
     return float(magnify)
 
 
+def _check_view_for(dimensions: int, view) -> tuple[float, float] | None:
+    """The view of a spatial model's drawing (checked); a planar model takes none."""
+    if dimensions == 3:
+        return check_view(view)
+    if view is not None:
+        raise ModelError("--view", "no view for a planar model (it is drawn in its plane); a view is for models "
+                         "with dimensions = 3", view)
+    return None
+
+
+def _model_of(results: Results):
+    from ..model import loads_model
+
+    if not results.model_text:
+        raise ModelError("results.npz", "a run that stored its model file text", "no model text")
+    return loads_model(results.model_text, source="results.npz")
+
+
+def _spatial_drawing(results: Results, model, trace, view, rows, dpi: int):
+    """The 3D drawing of a spatial model's run, and the traced point."""
+    from .spatial_render import SpatialDrawing
+    from .spatial_scene import SpatialScene
+
+    scene = SpatialScene(results, model)
+    point = scene.default_trace() if trace in (None, "", "auto") else trace
+    path = scene.trace(point)
+    title = scene.name + (" (partial run)" if scene.partial else "")
+    drawing = SpatialDrawing(scene.t, scene.polylines(), trace=path, trace_label=scene.trace_label(point),
+                             view=view, title=title, rows=rows, dpi=dpi)
+    return drawing, point
+
+
 def _setup(results: Results, magnify, trace):
     scene = Scene(results)
     factor = resolve_magnification(scene, magnify)
@@ -106,7 +150,7 @@ def _setup(results: Results, magnify, trace):
 
 
 def render_frame(results: Results, path, *, time: float | None = None, magnify=1.0, trace=None,
-                 dpi: int = 110) -> Path:
+                 dpi: int = 110, view=None) -> Path:
     """Write one frame of the animation as a PNG file.
 
     Parameters
@@ -124,6 +168,9 @@ def render_frame(results: Results, path, *, time: float | None = None, magnify=1
         the last beam.
     dpi : int
         Resolution [dots per inch].
+    view : (float, float) or str, optional
+        Spatial models: elevation and azimuth of the camera [deg] (``"25,-60"`` as text);
+        :data:`DEFAULT_VIEW` by default. Planar models take none.
 
     Returns
     -------
@@ -131,6 +178,19 @@ def render_frame(results: Results, path, *, time: float | None = None, magnify=1
     """
     from .render import FrameDrawing
 
+    model = _model_of(results)
+    view = _check_view_for(model.dimensions, view)
+    if model.dimensions == 3:
+        if not (isinstance(magnify, str) and magnify.strip().lower() == "auto"):
+            _magnification_number(magnify)   # checked alike; spatial models have no beams to magnify yet
+        t = np.asarray(results.t, dtype=float)
+        k = len(t) - 1 if time is None else int(np.argmin(np.abs(t - float(time))))
+        drawing, _ = _spatial_drawing(results, model, trace, view, None, dpi)
+        try:
+            drawing.save_png(k, Path(path))
+        finally:
+            drawing.close()
+        return Path(path)
     scene, factor, point = _setup(results, magnify, trace)
     k = len(scene.t) - 1 if time is None else int(np.argmin(np.abs(scene.t - float(time))))
     drawing = FrameDrawing(scene, np.arange(len(scene.t)), magnify=factor, trace=point, dpi=dpi)
@@ -142,7 +202,7 @@ def render_frame(results: Results, path, *, time: float | None = None, magnify=1
 
 
 def animate(results: Results, gif, *, magnify=1.0, trace=None, fps: float = 20, frames: int = 120,
-            mp4: bool = True, dpi: int = 100, progress=None) -> Animation:
+            mp4: bool = True, dpi: int = 100, progress=None, view=None) -> Animation:
     """Write the animation of a run as a GIF and, where ffmpeg is available, as an MP4 beside it.
 
     Parameters
@@ -166,27 +226,90 @@ def animate(results: Results, gif, *, magnify=1.0, trace=None, fps: float = 20, 
         Resolution [dots per inch].
     progress : callable, optional
         ``progress(frames_done, frames_total)`` after every frame.
+    view : (float, float) or str, optional
+        Spatial models: elevation and azimuth of the camera [deg]; :data:`DEFAULT_VIEW` by default.
+        Planar models take none.
 
     Returns
     -------
     Animation
     """
-    from ..atomic import atomic_writer
     from .render import FrameDrawing
 
-    if not (np.isfinite(fps) and fps > 0):
+    gif = _check_movie(gif, fps)
+    model = _model_of(results)
+    view = _check_view_for(model.dimensions, view)
+    if model.dimensions == 3:
+        if not (isinstance(magnify, str) and magnify.strip().lower() == "auto"):
+            _magnification_number(magnify)
+        rows = frame_rows(len(results.t), frames)
+        drawing, point = _spatial_drawing(results, model, trace, view, rows, dpi)
+        return _write_movie(drawing, rows, gif, fps, mp4, progress, 1.0, point)
+    scene, factor, point = _setup(results, magnify, trace)
+    rows = frame_rows(len(scene.t), frames)
+    drawing = FrameDrawing(scene, rows, magnify=factor, trace=point, dpi=dpi)
+    return _write_movie(drawing, rows, gif, fps, mp4, progress, factor, point)
+
+
+def animate_polylines(t, polylines: list[SpatialPolyline], gif, *, trace=None, trace_label: str = "", view=None,
+                      title: str = "", fps: float = 20, frames: int = 120, mp4: bool = True, dpi: int = 100,
+                      progress=None) -> Animation:
+    """Write a GIF (and an MP4 where ffmpeg exists) of 3D polylines given frame by frame.
+
+    Parameters
+    ----------
+    t : array_like, shape (N,)
+        Time of each row [s].
+    polylines : list of SpatialPolyline
+        What is drawn, each with points of shape (N, m, 3) in the ground frame [m].
+    gif : str or pathlib.Path
+        GIF file to write (``.gif``).
+    trace : ndarray, shape (N, 3), optional
+        Path of a point drawn up to the current frame [m].
+    trace_label : str
+        Its legend.
+    view : (float, float) or str, optional
+        Elevation and azimuth of the camera [deg]; :data:`DEFAULT_VIEW` by default.
+    title : str
+    fps, frames, mp4, dpi, progress
+        As for :func:`animate`.
+
+    Returns
+    -------
+    Animation
+        ``magnify`` 1 and ``trace`` the trace's label.
+    """
+    from .spatial_render import SpatialDrawing
+
+    gif = _check_movie(gif, fps)
+    view = check_view(view)
+    t = np.asarray(t, dtype=float)
+    rows = frame_rows(len(t), frames)
+    drawing = SpatialDrawing(t, polylines, trace=trace, trace_label=trace_label, view=view, title=title, rows=rows,
+                             dpi=dpi)
+    return _write_movie(drawing, rows, gif, fps, mp4, progress, 1.0, trace_label or "none")
+
+
+def _check_movie(gif, fps) -> Path:
+    if not (isinstance(fps, (int, float)) and np.isfinite(fps) and fps > 0):
         raise ModelError("--fps", "a positive number of frames per second", fps)
     gif = Path(gif)
     if gif.suffix.lower() != ".gif":
         raise ModelError("--out", "a file name ending in .gif", str(gif))
-    scene, factor, point = _setup(results, magnify, trace)
-    rows = frame_rows(len(scene.t), frames)
+    return gif
+
+
+def _write_movie(drawing, rows: np.ndarray, gif: Path, fps: float, mp4: bool, progress, factor: float,
+                 point: str) -> Animation:
+    """Write the frames ``rows`` of a drawing (:class:`~.render.FrameDrawing` or
+    :class:`~.spatial_render.SpatialDrawing`) as a GIF and, where ffmpeg exists, an MP4; closes it."""
+    from ..atomic import atomic_writer
+
     messages = []
     mp4_path = gif.with_suffix(".mp4") if mp4 else None
     if mp4 and ffmpeg_executable() is None:
         messages.append(MP4_MISSING)
         mp4_path = None
-    drawing = FrameDrawing(scene, rows, magnify=factor, trace=point, dpi=dpi)
     try:
         reference = drawing.frame(int(rows[-1]))
         with atomic_writer(gif, "path") as gif_tmp:

@@ -149,7 +149,7 @@ def model_from_args(args) -> Model:
 
 def _check_bare_names(model: Model, bare: set[str]) -> None:
     """Report a ``--set NAME=...`` whose name is neither a parameter nor a coordinate or speed."""
-    from ..model.coordinates import coordinate_names
+    from ..model.coordinates import coordinate_names, initial_keys
 
     if not bare:
         return
@@ -157,7 +157,7 @@ def _check_bare_names(model: Model, bare: set[str]) -> None:
     for name in bare:
         probe.initial.pop(name, None)
     coordinates = coordinate_names(probe.validate())
-    names = [c.q for c in coordinates] + [c.u for c in coordinates]
+    names = initial_keys(coordinates)
     for name in sorted(bare):
         if name not in names:
             options = list(model.parameters) + names

@@ -11,13 +11,16 @@ __all__ = ["register", "add_animation_arguments", "animate_run"]
 
 
 def add_animation_arguments(parser, *, movie_options: bool = True) -> None:
-    """``--magnify`` and ``--trace`` (shared with ``run``); ``--fps``, ``--frames``, ``--no-mp4``."""
+    """``--magnify``, ``--trace`` and ``--view`` (shared with ``run``); ``--fps``, ``--frames``, ``--no-mp4``."""
     parser.add_argument("--magnify", default="1", metavar="K",
                         help="magnification of the beam displacements, a number or 'auto' (a round factor "
                              "that draws the largest one at about a tenth of the beam) [default: 1]")
     parser.add_argument("--trace", default=None, metavar="POINT",
                         help="point whose path is drawn: a body (its mass centre), a beam (its tip), 'cm' "
                              "(centre of mass of the system) or 'none' [default: the tip of the last beam]")
+    parser.add_argument("--view", default=None, metavar="ELEV,AZIM",
+                        help="spatial models (dimensions = 3): elevation and azimuth of the camera [deg]; "
+                             "90,-90 looks down the z axis with x to the right [default: 25,-60]")
     if not movie_options:
         return
     parser.add_argument("--fps", type=float, default=20.0, metavar="N", help="frames per second [default: 20]")
@@ -63,7 +66,8 @@ def animate_run(results, out: Path, args, *, quiet: bool) -> list[Path]:
     frames = getattr(args, "frames", 120)
     with ProgressBar(frames, enabled=not quiet, unit="frames") as bar:
         movie = animate(results, out, magnify=args.magnify, trace=args.trace, fps=fps, frames=frames,
-                        mp4=not getattr(args, "no_mp4", False), progress=bar.update)
+                        mp4=not getattr(args, "no_mp4", False), progress=bar.update,
+                        view=getattr(args, "view", None))
     for message in movie.messages:
         print(f"flexkane: {message}", file=sys.stderr)
     written = [movie.gif] + ([movie.mp4] if movie.mp4 else [])

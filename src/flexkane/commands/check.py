@@ -27,11 +27,14 @@ def _handle(args) -> int:
     free = [c for c in coordinates if c.driver is None]
     modes = ", ".join(f"{b.name}: {b.n_modes} {b.shape.family}" + (f" + {b.n_axial} axial" if b.n_axial else "")
                       for b in model.beams.values())
-    print(f"{args.model}: valid ({len(model.bodies)} bodies, {len(model.beams)} beams"
+    speeds = sum(c.u is not None for c in coordinates)
+    print(f"{args.model}: valid ({'spatial, ' if model.dimensions == 3 else ''}{len(model.bodies)} bodies, "
+          f"{len(model.beams)} beams"
           + (f" [{modes}]" if modes else "") + f", {len(model.joints)} joints"
           + (f", {len(model.constraints)} loop constraints" if model.constraints else "")
           + f"; {len(coordinates)} generalized coordinates: "
           f"{', '.join(c.q for c in coordinates)}"
+          + (f"; {speeds} generalized speeds" if speeds != len(coordinates) else "")
           + (f"; {len(coordinates) - len(free)} prescribed by drivers" if len(free) < len(coordinates)
              else "") + ")" + (f"; [sweep] of {sweep} variant(s)" if sweep else ""))
     return 0

@@ -95,7 +95,7 @@ def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None
     if animation is not None:
         from ..animation import check_animation_options
 
-        check_animation_options(model, animation.magnify, animation.trace)
+        check_animation_options(model, animation.magnify, animation.trace, getattr(animation, "view", None))
     out = prepare_out(out, force=force)
     with StopRequest() as stop:
         return _run_phases(model, out, stop, t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol, method=method,

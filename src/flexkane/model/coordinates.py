@@ -25,7 +25,7 @@ from .model import Model
 from .parts import JOINT_DOFS_BY_DIMENSION, Joint
 
 __all__ = ["CoordinateName", "coordinate_names", "tree_order", "coordinate_unit", "speed_unit",
-           "orientation_key", "EULER_ROLES"]
+           "orientation_key", "initial_keys", "EULER_ROLES"]
 
 #: Roles of the Euler parameters of a spherical or free joint, scalar part first.
 EULER_ROLES = ("e0", "e1", "e2", "e3")
@@ -54,6 +54,15 @@ def orientation_key(joint_name: str) -> str:
     """The ``[initial]`` key that gives a spherical or free joint's orientation as a table
     (``q_<joint>``, whatever the naming of the coordinates)."""
     return f"q_{joint_name}"
+
+
+def initial_keys(coordinates: list[CoordinateName]) -> list[str]:
+    """Every key ``[initial]`` may hold: the coordinates, the speeds (e0 has none), and the orientation
+    table ``q_<joint>`` of each spatial spherical or free joint (unless a coordinate has that name)."""
+    names = [c.q for c in coordinates] + [c.u for c in coordinates if c.u is not None]
+    taken = set(names)
+    oriented = [orientation_key(c.owner) for c in coordinates if c.role == "e0"]
+    return names + [key for key in oriented if key not in taken]
 
 
 def _joint_names(joint: Joint, roles: tuple, dimensions: int) -> list[tuple[str, str | None]]:
@@ -173,15 +182,12 @@ def coordinate_names(model: Model) -> list[CoordinateName]:
                                  "coordinate and speed names unique and distinct from parameters", name)
             seen[name] = owner
         coordinates.append(CoordinateName(qn, un, owner, role, index, driver))
-    names = {c.q for c in coordinates} | {c.u for c in coordinates if c.u is not None}
-    oriented = {orientation_key(c.owner) for c in coordinates if c.role == "e0"}
+    keys = set(initial_keys(coordinates))   # with the orientation tables (flexkane.model.initial)
     for key in model.initial:
-        if key in oriented and key not in names:
-            continue   # a spherical or free joint's orientation (flexkane.model.initial_values)
-        if key not in names:
-            close = difflib.get_close_matches(key, sorted(names), n=1, cutoff=0.5)
+        if key not in keys:
+            close = difflib.get_close_matches(key, sorted(keys), n=1, cutoff=0.5)
             raise ModelError(f"initial.{key}", "the name of a generalized coordinate or speed of this model"
-                             f" ({', '.join(sorted(names | oriented))})", key,
+                             f" ({', '.join(sorted(keys))})", key,
                              f"did you mean {close[0]!r}?" if close else None)
     for coord in coordinates:
         if coord.driver == "coordinate" and coord.q in model.initial:

@@ -25,7 +25,7 @@ import numpy as np
 from ..errors import ModelError
 from .parts import SEQUENCE_AXES, Orientation
 
-__all__ = ["axis_angle_matrix", "sequence_matrix", "quaternion_matrix", "matrix_quaternion", "normalized",
+__all__ = ["unit_vector", "axis_angle_matrix", "sequence_matrix", "quaternion_matrix", "matrix_quaternion", "normalized",
            "orientation_from_table", "orientation_matrix", "orientation_quaternion", "vector3", "ORIENTATION_KEYS",
            "ORIENTATION_FORMS"]
 
@@ -53,14 +53,26 @@ def axis_angle_matrix(axis, angle: float) -> np.ndarray:
     ndarray, shape (3, 3)
         ``C = cos(a) 1 + (1 - cos(a)) n n^T + sin(a) [n x]``.
     """
-    n = np.asarray(axis, dtype=float)
-    norm = np.linalg.norm(n)
-    if not norm > 0:
-        raise ValueError("a turn about a zero axis")
-    n = n / norm
+    n = unit_vector(axis)
     c, s = math.cos(angle), math.sin(angle)
     cross = np.array([[0.0, -n[2], n[1]], [n[2], 0.0, -n[0]], [-n[1], n[0], 0.0]])
     return c * np.eye(3) + (1.0 - c) * np.outer(n, n) + s * cross
+
+
+def unit_vector(v) -> np.ndarray:
+    """``v / |v|`` for a finite 3-vector, without overflow or underflow whatever its size [-].
+
+    Raises
+    ------
+    ValueError
+        If ``v`` is zero.
+    """
+    v = np.asarray(v, dtype=float)
+    largest = float(np.max(np.abs(v)))
+    if not largest > 0:
+        raise ValueError("a zero vector has no direction")
+    v = v / largest
+    return v / np.linalg.norm(v)
 
 
 def sequence_matrix(sequence: str, angles) -> np.ndarray:
@@ -144,10 +156,11 @@ def normalized(e) -> tuple[np.ndarray, float]:
         If all four are zero (no rotation has them).
     """
     e = np.asarray(e, dtype=float)
-    norm = float(np.linalg.norm(e))
-    if not norm > 0:
+    largest = float(np.max(np.abs(e)))
+    if not largest > 0:
         raise ValueError("four zero Euler parameters")
-    return e / norm, norm
+    norm = largest * float(np.linalg.norm(e / largest))
+    return e / norm if math.isfinite(norm) else (e / largest) / np.linalg.norm(e / largest), norm
 
 
 def orientation_from_table(table, path: str) -> Orientation:
@@ -222,7 +235,7 @@ def orientation_matrix(spec, path: str, fields) -> np.ndarray:
             raise ModelError(f"{path}.{missing}", "the axis [ax, ay, az] and the angle [rad] of the turn", None,
                              "missing", show_given=False)
         axis = vector3(spec.axis, f"{path}.axis", fields, "axis components", "-")
-        if not np.linalg.norm(axis) > 0:
+        if not np.any(axis != 0):
             raise ModelError(f"{path}.axis", "a non-zero axis [ax, ay, az]", list(spec.axis))
         angle = _number(spec.angle, f"{path}.angle", fields, "angle of the turn", "rad")
         return axis_angle_matrix(axis, angle)

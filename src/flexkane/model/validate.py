@@ -257,6 +257,13 @@ def validate_model(model: Model) -> None:
             raise ModelError("initial", "a table of initial values by coordinate or speed name", model.initial)
     problems.raise_found()   # values and parts are needed by every check below
     dimensions = model.dimensions
+    if dimensions == 3:   # parts that spatial models do not have yet, all named at once
+        for kind, what in (("beams", "beams"), ("distributed_loads", "distributed loads"),
+                           ("constraints", "loop constraints")):
+            for name in tables[kind]:
+                with problems.part():
+                    spatial.refuse_part(f"{kind}.{name}", what, name)
+        problems.raise_found()
     with problems.part():
         _check_parameter_names(model)
     with problems.part():
@@ -280,8 +287,6 @@ def validate_model(model: Model) -> None:
     lengths = {}
     for beam in beams.values():
         with problems.part():
-            if dimensions == 3:
-                spatial.refuse_part(f"beams.{beam.name}", "beams", beam.name)
             lengths[beam.name] = _check_beam(beam, values)
     with problems.part():   # over the beams that passed their own checks
         _check_elastic_coordinates({name: beams[name] for name in lengths})
@@ -297,16 +302,12 @@ def validate_model(model: Model) -> None:
             _check_load(model, load, values, lengths)
     for load in model.distributed_loads.values():
         with problems.part():
-            if dimensions == 3:
-                spatial.refuse_part(f"distributed_loads.{load.name}", "distributed loads", load.name)
             _check_distributed_load(model, load, values, lengths)
     for spring in model.springs.values():
         with problems.part():
             _check_spring(model, spring, values, lengths)
     for con in model.constraints.values():
         with problems.part():
-            if dimensions == 3:
-                spatial.refuse_part(f"constraints.{con.name}", "loop constraints", con.name)
             _check_constraint(model, con, values, lengths)
     problems.raise_found(final=True)   # the structure needs a valid tree of valid parts
     _check_structure(model, values)

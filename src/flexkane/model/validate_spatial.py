@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import ModelError
-from .orientation import orientation_matrix, vector3
+from .orientation import orientation_matrix, unit_vector, vector3
 from .parts import SPATIAL_JOINT_DOFS, Gravity, Joint, Load, RigidBody
 
 __all__ = ["check_body", "check_joint_geometry", "check_gravity", "check_load", "check_position", "refuse_part",
@@ -71,11 +71,12 @@ def check_body(body: RigidBody, values) -> None:
             where = f"{path}.inertia[{i}]" + ("" if principal else f"[{j}]")
             tensor[i, j] = values.number(where, rows[i][j], "inertia tensor component", "kg m^2")
     scale = max(float(np.abs(tensor).max()), np.finfo(float).tiny)
+    unit = tensor / scale                      # components up to 1: no overflow whatever the values
     for i, j in ((0, 1), (0, 2), (1, 2)):
-        if abs(tensor[i, j] - tensor[j, i]) > INERTIA_TOLERANCE * scale:
+        if abs(unit[i, j] - unit[j, i]) > INERTIA_TOLERANCE:
             raise ModelError(f"{path}.inertia[{i}][{j}]", f"a symmetric tensor: inertia[{i}][{j}] equal to "
                              f"inertia[{j}][{i}] = {tensor[j, i]:g} [kg m^2]", f"{tensor[i, j]:g}")
-    moments = np.linalg.eigvalsh(0.5 * (tensor + tensor.T))
+    moments = np.linalg.eigvalsh(0.5 * (unit + unit.T)) * scale
     what = "principal values" if principal else "principal moments (eigenvalues of the tensor)"
     shown = ", ".join(f"{m:.6g}" for m in moments)
     if moments[0] < -INERTIA_TOLERANCE * scale:
@@ -101,10 +102,11 @@ def joint_counts(joint_type: str) -> tuple[int, int]:
 
 
 def _direction(path: str, value, values, what: str) -> np.ndarray:
+    """A direction field as a unit vector (refused if zero)."""
     vector = vector3(value, path, values, what, "-")
-    if not np.linalg.norm(vector) > 0:
+    if not np.any(vector != 0):
         raise ModelError(path, f"a non-zero vector [x, y, z] ({what})", list(value))
-    return vector
+    return unit_vector(vector)
 
 
 def check_joint_geometry(joint: Joint, values) -> None:
@@ -132,7 +134,7 @@ def check_joint_geometry(joint: Joint, values) -> None:
                              show_given=axes is not None)
         first = _direction(f"{path}.axes[0]", axes[0], values, "first axis, fixed in J_p")
         second = _direction(f"{path}.axes[1]", axes[1], values, "second axis, fixed in J_c")
-        cosine = float(first @ second / (np.linalg.norm(first) * np.linalg.norm(second)))
+        cosine = float(first @ second)
         if abs(cosine) > PERPENDICULAR_TOLERANCE:
             raise ModelError(f"{path}.axes", "two perpendicular axes (in the reference configuration, J_c = J_p)",
                              [list(a) for a in axes], f"the cosine of the angle between them is {cosine:.6g}")
@@ -146,7 +148,7 @@ def check_gravity(gravity: Gravity, values) -> None:
     """A spatial gravity's direction: three values, not all zero (its g is checked as planar)."""
     direction = check_position("gravity.direction", gravity.direction, values, "direction components in the ground "
                                "frame", "-")
-    if not np.linalg.norm(direction) > 0:
+    if not np.any(direction != 0):
         raise ModelError("gravity.direction", "a non-zero direction [x, y, z]", list(gravity.direction))
 
 

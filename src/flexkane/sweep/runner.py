@@ -112,7 +112,7 @@ def _check_initial_keys(spec: SweepSpec, base: Model) -> None:
         return
     coordinates = coordinate_names(base)
     names = [c.q for c in coordinates if c.driver != "coordinate"]
-    names += [c.u for c in coordinates if c.driver is None]
+    names += [c.u for c in coordinates if c.driver is None and c.u is not None]
     for vary in spec.vary:
         if key_kind(base, vary.key) == "initial":
             name = parse_path(vary.key)[-1]

@@ -1,0 +1,169 @@
+"""A planar model as the equivalent spatial model: every part rewritten for dimensions = 3."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from flexkane.builtin import builtin_model, builtin_names
+from flexkane.errors import ModelError, ModelErrors
+from flexkane.model import Orientation, as_spatial, dumps_model, loads_model
+from flexkane.model.coordinates import coordinate_names
+from flexkane.model.field_values import FieldValues
+from flexkane.model.initial import initial_values
+from flexkane.model.orientation import orientation_matrix
+
+RIGID = """
+name = "rigid-planar"
+[parameters]
+a = 0.2
+m = 1.5
+[bodies.b]
+mass = "m"
+inertia = 0.1
+points = { P = [0.5, 0], Q = [-0.5, 0.1] }
+outline = [[0.5, 0], [-0.5, 0]]
+[bodies.c]
+mass = 1
+inertia = "a"
+[bodies.d]
+mass = 1
+inertia = 0
+[bodies.e]
+mass = 2
+inertia = 0.3
+[joints.j]
+type = "free"
+parent = "ground"
+child = "b"
+parent_position = [1, 2]
+angle = 0.3
+[joints.k]
+type = "prismatic"
+parent = "b"
+parent_point = "P"
+child = "c"
+axis = "a"
+angle = "a"
+stiffness = 10
+[joints.r]
+type = "revolute"
+parent = "b"
+parent_point = "Q"
+child = "d"
+angle = 0.1
+torque = "sin(t)"
+[joints.w]
+type = "weld"
+parent = "d"
+child = "e"
+[gravity]
+g = 9.81
+direction = [0, -1]
+[loads.f]
+body = "c"
+force = [1, 2]
+torque = "sin(t)"
+[springs.s]
+body_a = "ground"
+position_a = [0, 1]
+body_b = "e"
+stiffness = 3
+[initial]
+u_j_x = 1
+u_j_y = 2
+q_j_angle = 0.1
+q_r = 0.4
+"""
+
+
+def test_a_rigid_planar_model_becomes_a_valid_spatial_one():
+    planar = loads_model(RIGID)
+    spatial = as_spatial(planar)
+    assert planar.dimensions == 2 and spatial.dimensions == 3
+    assert loads_model(dumps_model(spatial)) == spatial
+    assert spatial.bodies["b"].inertia == (0.1, 0.1, 0.1) and spatial.bodies["c"].inertia == ("a", "a", "a")
+    assert spatial.bodies["b"].points == {"P": (0.5, 0, 0), "Q": (-0.5, 0.1, 0)}
+    assert spatial.bodies["b"].outline == [(0.5, 0, 0), (-0.5, 0, 0)]
+    j, k, r, w = (spatial.joints[n] for n in "jkrw")
+    assert (j.type, j.axis, j.parent_position) == ("planar", (0, 0, 1), (1, 2, 0))
+    assert j.child_orientation == Orientation(axis=(0, 0, 1), angle=-0.3)
+    assert k.axis == ("cos(a)", "sin(a)", 0) and k.child_orientation.angle == "-(a)" and k.stiffness == 10
+    assert r.axis == (0, 0, 1) and r.torque == "sin(t)" and all(x.angle == 0 for x in (j, k, r, w))
+    assert w.child_orientation is None and w.axis == 0
+    assert spatial.gravity.direction == (0, -1, 0)
+    assert spatial.loads["f"].force == (1, 2, 0) and spatial.loads["f"].torque == (0, 0, "sin(t)")
+    assert spatial.springs["s"].position_a == (0, 1, 0)
+    # the planar model is not changed
+    assert planar.joints["j"].type == "free" and planar.bodies["b"].inertia == 0.1
+
+
+def test_coordinates_keep_their_names_and_order():
+    planar = loads_model(RIGID)
+    before = [(c.q, c.u, c.role) for c in coordinate_names(planar)]
+    after = [(c.q, c.u, c.role) for c in coordinate_names(as_spatial(planar))]
+    assert after == before
+
+
+def test_the_child_frame_is_turned_by_the_planar_angle_about_z():
+    """The child frame relative to J_c is the inverse of child_orientation: a turn by +angle."""
+    spatial = as_spatial(loads_model(RIGID))
+    fields = FieldValues(spatial)
+    Oc = orientation_matrix(spatial.joints["k"].child_orientation, "joints.k.child_orientation", fields)
+    c, s = math.cos(0.2), math.sin(0.2)
+    assert np.allclose(Oc.T, [[c, -s, 0], [s, c, 0], [0, 0, 1]], rtol=0, atol=1e-15)
+
+
+def test_free_joint_speeds_along_the_child_axes_become_rates_of_x_and_y():
+    """Planar free joint: q_x' = u_x cos(phi) - u_y sin(phi), phi = q_angle + angle (eq. 8.10)."""
+    values = initial_values(as_spatial(loads_model(RIGID))).values
+    phi = 0.1 + 0.3
+    assert values["u_j_x"] == pytest.approx(1 * math.cos(phi) - 2 * math.sin(phi), rel=1e-15)
+    assert values["u_j_y"] == pytest.approx(1 * math.sin(phi) + 2 * math.cos(phi), rel=1e-15)
+    assert values["q_j_angle"] == 0.1 and values["q_r"] == 0.4
+
+
+@pytest.mark.parametrize("name", builtin_names())
+def test_every_planar_builtin_converts_and_is_refused_only_for_parts_not_yet_in_3d(name):
+    """Every built-in model has beams or a loop constraint, which spatial models refuse for now: its
+    spatial form validates except for exactly those parts, each named."""
+    planar = builtin_model(name)
+    spatial = as_spatial(planar, validate=False)
+    assert loads_model(dumps_model(planar)) == planar   # not changed
+    refused = {f"beams.{b}" for b in planar.beams} | {f"constraints.{c}" for c in planar.constraints} \
+        | {f"distributed_loads.{d}" for d in planar.distributed_loads}
+    assert refused
+    with pytest.raises(ModelError) as info:
+        spatial.validate()
+    errors = info.value.errors if isinstance(info.value, ModelErrors) else [info.value]
+    assert {e.path for e in errors} == refused
+    assert all("not yet supported in 3D" in str(e) for e in errors)
+    # with those parts taken away (and what hangs from them), the rest is a valid spatial model
+    rigid = spatial.copy()
+    removed = set(rigid.beams)
+    rigid.beams.clear()
+    rigid.constraints.clear()
+    rigid.distributed_loads.clear()
+    while True:
+        hanging = {j.child for j in rigid.joints.values() if j.parent in removed} - removed
+        if not hanging:
+            break
+        removed |= hanging
+    rigid.joints = {n: j for n, j in rigid.joints.items() if j.child not in removed}
+    rigid.bodies = {n: b for n, b in rigid.bodies.items() if n not in removed}
+    rigid.loads = {n: ld for n, ld in rigid.loads.items() if ld.body not in removed}
+    rigid.springs = {n: s for n, s in rigid.springs.items() if s.body_a not in removed and s.body_b not in removed}
+    given, rigid.initial = rigid.initial, {}
+    if not rigid.bodies:
+        return
+    names = {name for c in coordinate_names(rigid) for name in (c.q, c.u)}
+    rigid.initial = {k: v for k, v in given.items() if k in names}
+    rigid.validate()
+
+
+def test_only_planar_models_convert():
+    spatial = as_spatial(loads_model(RIGID))
+    with pytest.raises(ModelError, match="dimensions: expected a planar model"):
+        as_spatial(spatial)
