@@ -73,3 +73,15 @@ def test_a_driven_revolute_joint_leaves_the_state_and_reports_its_effort():
     assert "q_j2" not in [q.name for q in eom.q] and "u_j2" not in [u.name for u in eom.u]
     assert len(eom.q) == 11 and len(eom.u) == 9
     assert "effort_j2" in eom.output_names
+
+
+def test_a_planar_joint_normal_given_by_expressions_is_refused_with_its_path():
+    import pytest
+
+    from flexkane.errors import ModelError
+
+    text = CHAIN.format(naming="joint", driver="").replace('type = "spherical"', 'type = "planar"\naxis = ["a", 0, 1]')
+    model = loads_model(text + "\n[parameters]\na = 0.5\n")
+    with pytest.raises(ModelError) as info:
+        flexkane.derive(model, cache=False)
+    assert info.value.path == "joints.j3.axis"

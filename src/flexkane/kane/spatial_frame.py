@@ -25,7 +25,7 @@ import sympy as sp
 from .intermediates import FRAME_NAME_ABOVE
 from .rotation import IDENTITY, Rotation
 
-__all__ = ["GROUND", "SpatialFrame", "acceleration_remainder", "cross", "dot"]
+__all__ = ["GROUND", "SpatialFrame", "acceleration_remainder", "add", "cross", "dot", "ground_frame"]
 
 ZERO3 = (sp.Integer(0),) * 3
 
@@ -73,10 +73,6 @@ class SpatialFrame:
             return SpatialFrame(self.rotation, add(self.omega, w_rel), self.r, self.v)
         return SpatialFrame(self.rotation * rotation, add(rotation.inverse_apply(self.omega), w_rel),
                             self.r, rotation.inverse_apply(self.v))
-
-    def at_global_point(self, p_local, chain) -> tuple:
-        """Velocity in N of the point at ``p_local`` (frame axes), components along N [m/s]."""
-        return self.rotation.apply(self.point(p_local, chain).v)
 
     def named(self, chain, label: str) -> "SpatialFrame":
         """The same frame with its large components replaced by intermediates (``R<i><j>_<label>``,

@@ -100,12 +100,13 @@ def orientation(symbols, path: str, spec, name: str) -> Rotation:
     return about_axis(axis, angle)
 
 
-def plane_axes(normal: tuple) -> tuple[tuple, tuple]:
+def plane_axes(normal: tuple, path: str = "axis") -> tuple[tuple, tuple]:
     """Two unit vectors spanning the plane normal to ``normal`` (a unit vector with literal
     components): the J_p axis least aligned with the normal, made orthogonal to it, then
-    ``normal x`` that one. For the normal z: x and y."""
+    ``normal x`` that one. For the normal z: x and y; x: y and z; y: x and -z."""
     if not all(c.is_number for c in normal):
-        raise ModelError("axis", "a planar joint's normal with numeric components", normal)
+        raise ModelError(path, "a planar joint's normal with numbers as components (not expressions)",
+                         [str(c) for c in normal])
     k = min(range(3), key=lambda i: (abs(float(normal[i])), i))
     e = tuple(sp.Integer(1 if i == k else 0) - normal[k] * normal[i] for i in range(3))
     e1 = unit_vector(tuple(sp.expand(c) for c in e))
@@ -151,7 +152,7 @@ def joint_motion(joint, coords, symbols) -> JointMotion:
                            tuple(x + a * c2.u for x, a in zip(w, a2)), ZERO3)
     if kind == "planar":
         cx, cy, ca = coords
-        e1, e2 = plane_axes(n)
+        e1, e2 = plane_axes(n, f"{path}.axis")
         turn = about_axis(n, ca.q)
         d = tuple(a * cx.q + b * cy.q for a, b in zip(e1, e2))
         return JointMotion(d, turn, tuple(a * ca.u for a in n),

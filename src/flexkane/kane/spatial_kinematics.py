@@ -61,7 +61,6 @@ class SpatialKinematics:
         self.constants: dict = {}
         self.joint_frames: dict[str, tuple[SpatialFrame, SpatialFrame]] = {}
         self.link_offsets: dict[str, tuple[tuple, Rotation]] = {}
-        self.joint_motions: dict = {}
         for joint in chain.joints:
             self._add_joint(joint)
 
@@ -124,7 +123,6 @@ class SpatialKinematics:
         chain = self.chain
         path = f"joints.{joint.name}"
         motion = joint_motion(joint, chain.of(joint.name), self.symbols)
-        self.joint_motions[joint.name] = motion
         Op = orientation(self.symbols, f"{path}.orientation", getattr(joint, "orientation", None),
                          f"Op_{joint.name}")
         Oc = orientation(self.symbols, f"{path}.child_orientation", getattr(joint, "child_orientation", None),
