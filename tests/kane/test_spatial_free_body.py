@@ -113,3 +113,20 @@ def test_orientation_outputs_of_a_body_are_its_euler_parameters_and_yaw_pitch_ro
     assert np.abs(np.array([res.outputs[f"e{k}_B"] for k in range(4)]) - e).max() <= 1e-14
     # the initial orientation was given as the body-fixed sequence zyx (yaw, pitch, roll)
     assert np.allclose([res.outputs[a][0] for a in ("yaw_B", "pitch_B", "roll_B")], [0.4, -0.3, 1.1], atol=1e-12)
+
+
+def test_a_spatial_model_runs_from_the_command_line(compiled, tmp_path):
+    """``flexkane run`` of a spatial model file (the structure compiled above is taken from the cache):
+    the state has 7 coordinates and 6 speeds, equations.md lists the Euler parameters."""
+    from flexkane.cli import main
+
+    path = tmp_path / "free-body.toml"
+    path.write_text(FREE_BODY)
+    out = tmp_path / "run"
+    assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plots", "--t-end", "0.5"]) == 0
+    header = (out / "results.csv").read_text().splitlines()[0].split(",")
+    assert header[1:14] == ["q_float_x", "q_float_y", "q_float_z", "q_float_e0", "q_float_e1", "q_float_e2",
+                            "q_float_e3", "u_float_vx", "u_float_vy", "u_float_vz", "u_float_wx", "u_float_wy",
+                            "u_float_wz"]
+    equations = (out / "equations.md").read_text()
+    assert "(none: an Euler parameter)" in equations and "Partial velocities" in equations
