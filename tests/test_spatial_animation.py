@@ -46,7 +46,7 @@ def test_frames_are_written_and_bytes_repeat(tmp_path):
     assert first.frames == 8 and first.mp4 is None
     gif = Image.open(first.gif)
     assert gif.n_frames == 8
-    assert (tmp_path / "a.gif").read_bytes() == (tmp_path / "b.gif").read_bytes()
+    assert first.gif.read_bytes() == again.gif.read_bytes()
     gif.seek(7)
     last = np.asarray(gif.convert("RGB"))
     assert _pixels(last, _BEAM).sum() > 50 and _pixels(last, _TRACE).sum() > 50

@@ -394,8 +394,12 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
               "method_spans": {k: float(v) for k, v in sorted(result.method_spans.items())}}
     from .validity import run_warnings
 
+    warnings = run_warnings(numbers["checks"], model.simulation, t, state, spins)
+    if model.dimensions == 3:   # given Euler parameters normalized (flexkane.model.initial)
+        from .model.initial import initial_values
+
+        warnings = initial_values(model).warnings + warnings
     return Results(t=t, state=state, state_names=list(state_names), outputs=outputs,
                    model_text=dumps_model(model),
                    parameters=dict(zip(manifest["constant_names"], numbers["p"])),
-                   solver=solver, partial=partial,
-                   warnings=run_warnings(numbers["checks"], model.simulation, t, state, spins))
+                   solver=solver, partial=partial, warnings=warnings)

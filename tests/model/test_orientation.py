@@ -96,3 +96,18 @@ def test_orientation_fields_with_parameter_expressions():
     e = orientation_quaternion({"sequence": "zyx", "angles": ["tilt", 0, "-tilt"]}, "initial.q_s", fields)
     assert np.allclose(quaternion_matrix(e), Rz(0.25) @ Rx(-0.25), rtol=0, atol=1e-15)
     assert np.array_equal(orientation_matrix(None, "joints.j.orientation", fields), np.eye(3))
+
+
+def test_many_orientations_at_once_equal_one_at_a_time():
+    from flexkane.model.orientation import quaternion_matrices, sequence_matrices
+
+    rng = np.random.default_rng(7)
+    angles = rng.uniform(-4, 4, size=(50, 3))
+    many = sequence_matrices("zyx", angles)
+    assert many.shape == (50, 3, 3)
+    for k in range(50):
+        assert np.allclose(many[k], Rz(angles[k, 0]) @ Ry(angles[k, 1]) @ Rx(angles[k, 2]), rtol=0, atol=1e-14)
+    e = rng.normal(size=(50, 4))
+    e /= np.linalg.norm(e, axis=1)[:, None]
+    assert np.array_equal(quaternion_matrices(e)[13], quaternion_matrix(e[13]))
+    assert np.allclose(quaternion_matrices(e), [quaternion_matrix(row) for row in e], rtol=0, atol=0)

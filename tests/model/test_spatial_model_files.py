@@ -110,3 +110,16 @@ def test_the_readme_example_of_a_spatial_model_is_valid(capsys):
     assert main(["check", str(path)]) == 0
     out = capsys.readouterr().out
     assert "valid (spatial, 2 bodies" in out and "6 generalized coordinates" in out and "5 generalized speeds" in out
+
+
+def test_reading_and_checking_a_planar_model_imports_no_numpy():
+    """The spatial checks (NumPy) load only for spatial models: planar `flexkane check` starts as fast
+    as before."""
+    import subprocess
+    import sys
+
+    code = ("import sys\nfrom flexkane.builtin import builtin_model\nfrom flexkane.model.coordinates import "
+            "coordinate_names\nm = builtin_model('four-bar').validate()\ncoordinate_names(m)\n"
+            "print('numpy' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "False"

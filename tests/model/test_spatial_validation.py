@@ -251,3 +251,13 @@ def test_set_on_the_command_line_names_the_orientation_key_and_refuses_unknown_n
     err = capsys.readouterr().err
     assert err.startswith("flexkane: error: --set nosuch: expected a parameter") and "u_s_wx" in err
     assert "u_u_2, q_s), got 'nosuch'" in err     # the orientation table's key is listed last
+
+
+def test_check_warns_of_normalized_euler_parameters(tmp_path, capsys):
+    path = _write(tmp_path, {"initial": {"q_s_e0": 3, "q_s_e1": 0, "q_s_e2": 0, "q_s_e3": 4}})
+    assert main(["check", path]) == 0
+    out, err = capsys.readouterr()
+    assert "valid (spatial" in out
+    assert err == "flexkane: warning: initial Euler parameters of joint 's' had norm 5; normalized to 1\n"
+    assert main(["check", _write(tmp_path, {})]) == 0
+    assert capsys.readouterr().err == ""

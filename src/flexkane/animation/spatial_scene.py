@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import ModelError
+from ..model.orientation import quaternion_matrices, sequence_matrices
 from ..results import Results
 from .spatial_render import SpatialPolyline
 
@@ -82,12 +83,7 @@ class SpatialScene:
         except KeyError:
             raise ModelError("results.npz", f"outputs {', '.join(f'{c}_{body}' for c in _POSE)} (or "
                              f"e0_{body} .. e3_{body} for the orientation)", "a run without them") from None
-        cy, sy, cp, sp_, cr, sr = np.cos(yaw), np.sin(yaw), np.cos(pitch), np.sin(pitch), np.cos(roll), np.sin(roll)
-        C = np.empty((len(x), 3, 3))
-        C[:, 0, 0], C[:, 0, 1], C[:, 0, 2] = cy * cp, cy * sp_ * sr - sy * cr, cy * sp_ * cr + sy * sr
-        C[:, 1, 0], C[:, 1, 1], C[:, 1, 2] = sy * cp, sy * sp_ * sr + cy * cr, sy * sp_ * cr - cy * sr
-        C[:, 2, 0], C[:, 2, 1], C[:, 2, 2] = -sp_, cp * sr, cp * cr
-        return np.column_stack([x, y, z]), C
+        return np.column_stack([x, y, z]), sequence_matrices("zyx", np.column_stack([yaw, pitch, roll]))
 
     def polylines(self) -> list[SpatialPolyline]:
         """Every body's outline or centre line and its mass-centre marker, at every output row."""
@@ -129,9 +125,7 @@ class SpatialScene:
 
 def _quaternion_matrices(e: np.ndarray) -> np.ndarray:
     """Direction cosines of Euler parameters row by row, shape (N, 3, 3) from (N, 4); each row is
-    normalized first (:func:`flexkane.model.orientation.quaternion_matrix` of a unit quaternion)."""
-    from ..model.orientation import quaternion_matrix
-
+    normalized first (the integration keeps the norm only to its tolerance)."""
     norms = np.linalg.norm(e, axis=1)
     safe = np.where(norms > 0, norms, 1.0)[:, None]
-    return np.array([quaternion_matrix(row) for row in e / safe]) if len(e) else np.zeros((0, 3, 3))
+    return quaternion_matrices(e / safe)

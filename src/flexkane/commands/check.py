@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import sys
+
 from ._common import add_model_arguments, model_from_args
 
 __all__ = ["register"]
@@ -24,6 +26,11 @@ def _handle(args) -> int:
     model = model_from_args(args)   # validates fields, references, shape families and the chain
     sweep = _check_sweep_table(args.model, model)
     coordinates = coordinate_names(model)
+    if model.dimensions == 3:
+        from ..model.initial import initial_values
+
+        for warning in initial_values(model).warnings:   # Euler parameters normalized
+            print(f"flexkane: warning: {warning}", file=sys.stderr)
     free = [c for c in coordinates if c.driver is None]
     modes = ", ".join(f"{b.name}: {b.n_modes} {b.shape.family}" + (f" + {b.n_axial} axial" if b.n_axial else "")
                       for b in model.beams.values())

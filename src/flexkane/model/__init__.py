@@ -7,6 +7,5 @@ from .parts import (Beam, DistributedLoad, Driver, Gravity, Joint, Load, LoopCon
 from .toml_io import dumps_model, load_model, loads_model, save_model
 
 __all__ = ["Model", "NAMING_STYLES", "RigidBody", "Beam", "ShapeSpec", "Joint", "Driver", "Gravity",
-           "Load", "DistributedLoad", "Orientation", "as_spatial", "LoopConstraint", "PointSpring", "Simulation", "load_model", "loads_model",
-           "dumps_model",
-           "save_model"]
+           "Load", "DistributedLoad", "Orientation", "as_spatial", "LoopConstraint", "PointSpring", "Simulation",
+           "load_model", "loads_model", "dumps_model", "save_model"]

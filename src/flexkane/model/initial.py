@@ -19,7 +19,8 @@ from ..errors import ModelError
 from .coordinates import coordinate_names, orientation_key
 from .field_values import FieldValues
 from .model import Model
-from .orientation import ORIENTATION_FORMS, normalized, orientation_quaternion
+from .orientation import normalized, orientation_quaternion
+from .toml_io import ORIENTATION_FORMS
 
 __all__ = ["InitialValues", "initial_values", "NORM_TOLERANCE"]
 

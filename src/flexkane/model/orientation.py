@@ -23,17 +23,12 @@ import numbers
 import numpy as np
 
 from ..errors import ModelError
-from .parts import SEQUENCE_AXES, Orientation
+from .parts import SEQUENCE_AXES
+from .toml_io import ORIENTATION_FORMS, orientation_from_table
 
-__all__ = ["unit_vector", "axis_angle_matrix", "sequence_matrix", "quaternion_matrix", "matrix_quaternion", "normalized",
-           "orientation_from_table", "orientation_matrix", "orientation_quaternion", "vector3", "ORIENTATION_KEYS",
-           "ORIENTATION_FORMS"]
-
-#: Keys of an orientation table.
-ORIENTATION_KEYS = ("axis", "angle", "sequence", "angles")
-#: What an orientation table looks like, for messages.
-ORIENTATION_FORMS = ("a table { axis = [ax, ay, az], angle = a } or { sequence = \"zyx\", angles = [a1, a2, a3] }"
-                     " (sequence: 1 to 3 letters among x, y, z; angles [rad])")
+__all__ = ["unit_vector", "axis_angle_matrix", "sequence_matrix", "sequence_matrices", "quaternion_matrix",
+           "quaternion_matrices", "matrix_quaternion",
+           "normalized", "orientation_matrix", "orientation_quaternion", "vector3"]
 
 _UNIT = {"x": 0, "y": 1, "z": 2}
 
@@ -53,8 +48,12 @@ def axis_angle_matrix(axis, angle: float) -> np.ndarray:
     ndarray, shape (3, 3)
         ``C = cos(a) 1 + (1 - cos(a)) n n^T + sin(a) [n x]``.
     """
-    n = unit_vector(axis)
-    c, s = math.cos(angle), math.sin(angle)
+    return _turns(unit_vector(axis), np.array([float(angle)]))[0]
+
+
+def _turns(n: np.ndarray, angles: np.ndarray) -> np.ndarray:
+    """Rodrigues' formula for a unit axis ``n`` and N angles [rad]: shape (N, 3, 3)."""
+    c, s = np.cos(angles)[:, None, None], np.sin(angles)[:, None, None]
     cross = np.array([[0.0, -n[2], n[1]], [n[2], 0.0, -n[0]], [-n[1], n[0], 0.0]])
     return c * np.eye(3) + (1.0 - c) * np.outer(n, n) + s * cross
 
@@ -89,11 +88,31 @@ def sequence_matrix(sequence: str, angles) -> np.ndarray:
     -------
     ndarray, shape (3, 3)
     """
-    out = np.eye(3)
-    for letter, angle in zip(sequence, angles, strict=True):
+    return sequence_matrices(sequence, np.asarray(angles, dtype=float)[None, :])[0]
+
+
+def sequence_matrices(sequence: str, angles) -> np.ndarray:
+    """:func:`sequence_matrix` for N sets of angles at once.
+
+    Parameters
+    ----------
+    sequence : str
+        1 to 3 letters among x, y, z.
+    angles : array_like, shape (N, len(sequence))
+        [rad]
+
+    Returns
+    -------
+    ndarray, shape (N, 3, 3)
+    """
+    angles = np.asarray(angles, dtype=float)
+    if angles.ndim != 2 or angles.shape[1] != len(sequence):
+        raise ValueError(f"angles of shape (N, {len(sequence)}) for sequence {sequence!r}, got {angles.shape}")
+    out = np.broadcast_to(np.eye(3), (len(angles), 3, 3))
+    for k, letter in enumerate(sequence):
         axis = np.zeros(3)
         axis[_UNIT[letter]] = 1.0
-        out = out @ axis_angle_matrix(axis, float(angle))
+        out = out @ _turns(axis, angles[:, k])
     return out
 
 
@@ -104,11 +123,31 @@ def quaternion_matrix(e) -> np.ndarray:
     -------
     ndarray, shape (3, 3)
     """
-    e0, e1, e2, e3 = (float(c) for c in e)
-    return np.array([
-        [e0 * e0 + e1 * e1 - e2 * e2 - e3 * e3, 2 * (e1 * e2 - e0 * e3), 2 * (e1 * e3 + e0 * e2)],
-        [2 * (e1 * e2 + e0 * e3), e0 * e0 - e1 * e1 + e2 * e2 - e3 * e3, 2 * (e2 * e3 - e0 * e1)],
-        [2 * (e1 * e3 - e0 * e2), 2 * (e2 * e3 + e0 * e1), e0 * e0 - e1 * e1 - e2 * e2 + e3 * e3]])
+    return quaternion_matrices(np.asarray(e, dtype=float)[None, :])[0]
+
+
+def quaternion_matrices(e) -> np.ndarray:
+    """:func:`quaternion_matrix` for N sets of Euler parameters at once.
+
+    Parameters
+    ----------
+    e : array_like, shape (N, 4)
+        Unit quaternions ``(e0, e1, e2, e3)``, one per row.
+
+    Returns
+    -------
+    ndarray, shape (N, 3, 3)
+    """
+    e = np.asarray(e, dtype=float)
+    e0, e1, e2, e3 = e[:, 0], e[:, 1], e[:, 2], e[:, 3]
+    out = np.empty((len(e), 3, 3))
+    out[:, 0, 0], out[:, 0, 1], out[:, 0, 2] = (e0 * e0 + e1 * e1 - e2 * e2 - e3 * e3, 2 * (e1 * e2 - e0 * e3),
+                                                2 * (e1 * e3 + e0 * e2))
+    out[:, 1, 0], out[:, 1, 1], out[:, 1, 2] = (2 * (e1 * e2 + e0 * e3), e0 * e0 - e1 * e1 + e2 * e2 - e3 * e3,
+                                                2 * (e2 * e3 - e0 * e1))
+    out[:, 2, 0], out[:, 2, 1], out[:, 2, 2] = (2 * (e1 * e3 - e0 * e2), 2 * (e2 * e3 + e0 * e1),
+                                                e0 * e0 - e1 * e1 - e2 * e2 + e3 * e3)
+    return out
 
 
 def matrix_quaternion(C) -> np.ndarray:
@@ -161,38 +200,6 @@ def normalized(e) -> tuple[np.ndarray, float]:
         raise ValueError("four zero Euler parameters")
     norm = largest * float(np.linalg.norm(e / largest))
     return e / norm if math.isfinite(norm) else (e / largest) / np.linalg.norm(e / largest), norm
-
-
-def orientation_from_table(table, path: str) -> Orientation:
-    """An :class:`~flexkane.model.parts.Orientation` from a model file's table (keys checked; values
-    kept as given for the validation).
-
-    Parameters
-    ----------
-    table : dict or Orientation
-        ``{ axis = [...], angle = ... }`` or ``{ sequence = "...", angles = [...] }``.
-    path : str
-        Key path of the table, for messages.
-
-    Raises
-    ------
-    ModelError
-        For a value that is not a table, an unknown key, or keys of both forms.
-    """
-    if isinstance(table, Orientation):
-        return table
-    if not isinstance(table, dict):
-        raise ModelError(path, ORIENTATION_FORMS, table)
-    for key in table:
-        if key not in ORIENTATION_KEYS:
-            import difflib
-
-            close = difflib.get_close_matches(str(key), ORIENTATION_KEYS, n=1, cutoff=0.5)
-            raise ModelError(f"{path}.{key}", "a known key of an orientation (axis, angle or sequence, angles)",
-                             key, f"did you mean {close[0]!r}?" if close else None)
-    axis, angles = table.get("axis"), table.get("angles")
-    return Orientation(axis=tuple(axis) if isinstance(axis, list) else axis, angle=table.get("angle"),
-                       sequence=table.get("sequence"), angles=list(angles) if isinstance(angles, tuple) else angles)
 
 
 def _is_value(value) -> bool:

@@ -40,11 +40,11 @@ import tomli_w
 
 from ..errors import ModelError
 from .model import Model
-from .orientation import orientation_from_table
-from .parts import (Beam, DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody,
-                    ShapeSpec, Simulation)
+from .parts import (Beam, DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint, Orientation, PointSpring,
+                    RigidBody, ShapeSpec, Simulation)
 
-__all__ = ["load_model", "loads_model", "dumps_model", "save_model", "model_to_dict", "MAX_FILE_BYTES"]
+__all__ = ["load_model", "loads_model", "dumps_model", "save_model", "model_to_dict", "orientation_from_table",
+           "MAX_FILE_BYTES", "ORIENTATION_KEYS", "ORIENTATION_FORMS"]
 
 #: Largest model file accepted [bytes].
 MAX_FILE_BYTES = 1_000_000
@@ -67,6 +67,12 @@ _SPRING_KEYS = ("body_a", "point_a", "station_a", "position_a", "body_b", "point
 _CONSTRAINT_KEYS = ("type", "body_a", "point_a", "station_a", "position_a", "body_b", "point_b", "station_b",
                     "position_b", "axis", "angle", "dependent", "stabilization")
 _SIM_KEYS = ("t_end", "dt_out", "rtol", "atol", "method", "max_steps", "deflection_warning", "spin_warning")
+
+#: Keys of an orientation table.
+ORIENTATION_KEYS = ("axis", "angle", "sequence", "angles")
+#: What an orientation table looks like, for messages.
+ORIENTATION_FORMS = ("a table { axis = [ax, ay, az], angle = a } or { sequence = \"zyx\", angles = [a1, a2, a3] }"
+                     " (sequence: 1 to 3 letters among x, y, z; angles [rad])")
 
 _MISSING = object()
 
@@ -139,6 +145,36 @@ def _vectors(value):
     if isinstance(value, list):
         return tuple(_vectors(v) for v in value)
     return value
+
+
+def orientation_from_table(table, path: str) -> Orientation:
+    """An :class:`~flexkane.model.parts.Orientation` from a model file's table (keys checked; values
+    kept as given for the validation).
+
+    Parameters
+    ----------
+    table : dict or Orientation
+        ``{ axis = [...], angle = ... }`` or ``{ sequence = "...", angles = [...] }``.
+    path : str
+        Key path of the table, for messages.
+
+    Raises
+    ------
+    ModelError
+        For a value that is not a table, an unknown key, or keys of both forms.
+    """
+    if isinstance(table, Orientation):
+        return table
+    if not isinstance(table, dict):
+        raise ModelError(path, ORIENTATION_FORMS, table)
+    for key in table:
+        if key not in ORIENTATION_KEYS:
+            close = difflib.get_close_matches(str(key), ORIENTATION_KEYS, n=1, cutoff=0.5)
+            raise ModelError(f"{path}.{key}", "a known key of an orientation (axis, angle or sequence, angles)",
+                             key, f"did you mean {close[0]!r}?" if close else None)
+    axis, angles = table.get("axis"), table.get("angles")
+    return Orientation(axis=tuple(axis) if isinstance(axis, list) else axis, angle=table.get("angle"),
+                       sequence=table.get("sequence"), angles=list(angles) if isinstance(angles, tuple) else angles)
 
 
 def _float(table: dict, key: str, default=None):

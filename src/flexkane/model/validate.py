@@ -31,11 +31,10 @@ import re
 
 from ..errors import ModelError, ModelErrors
 from .field_values import FieldValues
-from . import validate_spatial as spatial
 from .model import NAMING_STYLES, Model
-from .parts import (DIMENSIONS, DISTRIBUTED_FRAMES, ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS,
-                    JOINT_TYPES, JOINT_TYPES_BY_DIMENSION, METHODS, SPATIAL_JOINT_TYPES, Beam, DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody,
-                    ShapeSpec, Simulation)
+from .parts import (DIMENSIONS, DISTRIBUTED_FRAMES, ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES,
+                    JOINT_TYPES_BY_DIMENSION, METHODS, SPATIAL_JOINT_TYPES, Beam, DistributedLoad, Driver, Gravity,
+                    Joint, Load, LoopConstraint, PointSpring, RigidBody, ShapeSpec, Simulation)
 
 __all__ = ["validate_model", "validate_run_arguments", "check_output_grid", "RUN_SETTINGS", "MAX_MODES",
            "MAX_ELASTIC_COORDINATES", "MAX_STIFFENED_MODES", "MAX_OUTPUT_ROWS", "METHODS", "is_name"]
@@ -258,6 +257,8 @@ def validate_model(model: Model) -> None:
     problems.raise_found()   # values and parts are needed by every check below
     dimensions = model.dimensions
     if dimensions == 3:   # parts that spatial models do not have yet, all named at once
+        from . import validate_spatial as spatial   # NumPy, for spatial models only
+
         for kind, what in (("beams", "beams"), ("distributed_loads", "distributed loads"),
                            ("constraints", "loop constraints")):
             for name in tables[kind]:
@@ -318,6 +319,8 @@ def _check_body(body: RigidBody, values: _Values, dimensions: int) -> None:
     path = f"bodies.{body.name}"
     values.positive(f"{path}.mass", body.mass, "mass", "kg")
     if dimensions == 3:
+        from . import validate_spatial as spatial
+
         spatial.check_body(body, values)
         return
     values.non_negative(f"{path}.inertia", body.inertia, "moment of inertia about the mass centre", "kg m^2")
@@ -450,6 +453,8 @@ def _check_joint(model: Model, joint: Joint, values: _Values, lengths: dict) -> 
                          joint.child_point)
     unit = {"revolute": "rad", "prismatic": "m"}.get(joint.type, "")
     if dimensions == 3:
+        from . import validate_spatial as spatial
+
         dofs, speeds = spatial.joint_counts(joint.type)
         spatial.check_joint_geometry(joint, values)
     else:
@@ -542,6 +547,8 @@ def _check_load(model: Model, load: Load, values: _Values, lengths: dict) -> Non
     if load.force is None and load.torque is None:
         raise ModelError(path, "a force, a torque or both", None, show_given=False)
     if model.dimensions == 3:
+        from . import validate_spatial as spatial
+
         spatial.check_load(load, values)
     else:
         if load.force is not None:
@@ -620,6 +627,8 @@ def _check_end(model: Model, path: str, part, end: str, values: _Values, lengths
                              show_given=False)
         _station(f"{path}.station_{end}", given["station"], body, lengths, values)
     elif given["position"] is not None and model.dimensions == 3:
+        from . import validate_spatial as spatial
+
         spatial.check_position(f"{path}.position_{end}", given["position"], values, "ground coordinates")
     elif given["position"] is not None:
         values.pair(f"{path}.position_{end}", given["position"], "ground coordinates", "m")
@@ -658,6 +667,8 @@ def _check_gravity(gravity, values: _Values, dimensions: int) -> None:
         raise ModelError("gravity", "a table { g = ..., direction = [x, y] }", gravity)
     values.non_negative("gravity.g", gravity.g, "gravitational acceleration", "m/s^2")
     if dimensions == 3:
+        from . import validate_spatial as spatial
+
         spatial.check_gravity(gravity, values)
         return
     direction = gravity.direction
@@ -824,7 +835,6 @@ def _family(spec: ShapeSpec, path: str, n: int, kind: str, values: _Values) -> N
 def _check_structure(model: Model, values: _Values) -> None:
     """Shape families, the chain's coordinates, initial conditions and dependent speeds."""
     from .coordinates import coordinate_names, coordinate_unit, speed_unit
-    from .initial import initial_values
 
     for beam in model.beams.values():
         path = f"beams.{beam.name}"
@@ -841,6 +851,8 @@ def _check_structure(model: Model, values: _Values) -> None:
         if key in units:
             values.number(f"initial.{key}", value, f"initial value of {key}", units[key])
     if model.dimensions == 3:
+        from .initial import initial_values
+
         initial_values(model, values)   # orientations as tables, Euler parameters (all four, not zero)
     free = {c.u for c in coordinates if c.driver is None}
     chosen: dict[str, str] = {}
