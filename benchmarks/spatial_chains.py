@@ -170,7 +170,7 @@ def run(links=LINKS) -> dict:
     print(_line("three-joint arm", arm), flush=True)
     rows = []
     for k in links:
-        row = measure(pendulum_chain(k), runs=1)
+        row = measure(pendulum_chain(k))
         row["links"] = k
         rows.append(row)
         print(_line(f"spherical chain k = {k}", row), flush=True)
@@ -183,7 +183,7 @@ def markdown(result: dict, machine: dict) -> list[str]:
           "`benchmarks/spatial_chains.py`: each case in a fresh process with an empty cache; CPU seconds (user + "
           "sys) of that process. *derive*: `flexkane.derive(model, cache=False)`; *codegen*: the module source; "
           "*compile*: Numba, the model's functions; *5 s*: `flexkane.simulate` of 5 s at rtol 1e-8 (wall time of "
-          "the integration, best of three for the arm).", "",
+          "the integration, best of three runs).", "",
           f"Measured on {result['date']}: {machine.get('Model name', '?')}, {machine.get('CPU(s)', '?')} CPUs, "
           f"load average {machine.get('load_average', float('nan')):.1f} at the start, "
           f"{result.get('load_average_end', float('nan')):.1f} at the end (the machine is shared).", "",
