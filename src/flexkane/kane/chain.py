@@ -8,7 +8,11 @@ parts does not matter), each beam's modal coordinates right after the joint that
   u1, u2 = components of its velocity relative to that frame along the child frame's axes,
   u3 = angle rate; so ``x' = u1 cos(a) - u2 sin(a)``, ``y' = u1 sin(a) + u2 cos(a)``, ``a' = u3``;
 * revolute and prismatic joints: one coordinate, u = q';
-* beam shape functions (eq. 8.16): ``u_{i} = q_{i}'``; axial shape functions likewise.
+* beam shape functions (eq. 8.16): ``u_{i} = q_{i}'``; axial shape functions likewise;
+* in a spatial chain (``dimensions = 3``) the kinematic equations of each joint type are those of
+  :mod:`flexkane.kane.spatial_joints`: spherical and free joints have four Euler parameters and
+  three angular speeds, so the chain has more coordinates than speeds (``Coordinate.u`` is None
+  for e0; :attr:`Chain.u` lists the speeds).
 
 A driven joint coordinate is not free: with a coordinate law q(t), q and u leave the state; with a
 speed law, q stays in the state with q' = law(t) and u leaves it.
