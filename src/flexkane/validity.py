@@ -28,7 +28,8 @@ import math
 
 import numpy as np
 
-__all__ = ["QUATERNION_NORM_WARNING", "beam_checks", "first_bending_frequency", "run_warnings", "spin_expressions", "validity_warnings"]
+__all__ = ["QUATERNION_NORM_WARNING", "beam_checks", "first_bending_frequency", "run_warnings", "spin_expressions",
+           "validity_warnings"]
 
 #: Largest departure of a joint's Euler parameters from unit norm before a run warns [-].
 QUATERNION_NORM_WARNING = 1e-6

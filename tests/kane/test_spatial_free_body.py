@@ -75,7 +75,8 @@ def test_torque_free_body_conserves_energy_and_angular_momentum(compiled):
     assert w_y.min() < 0 < w_y.max()
 
 
-@pytest.mark.parametrize("axis, stable", [(0, True), (1, False), (2, True)], ids=["smallest", "intermediate", "largest"])
+@pytest.mark.parametrize("axis, stable", [(0, True), (1, False), (2, True)],
+                         ids=["smallest", "intermediate", "largest"])
 def test_rotation_about_the_intermediate_principal_axis_is_unstable(compiled, axis, stable):
     res = _run(compiled, 20.0, rtol=1e-10, atol=1e-12, **_spin(axis, 2.0, 1e-4))
     others = np.delete(np.array([res.state[:, res.state_names.index(f"u_float_w{a}")] for a in "xyz"]), axis, 0)

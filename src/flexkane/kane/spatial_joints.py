@@ -128,7 +128,6 @@ def joint_motion(joint, coords, symbols) -> JointMotion:
     """The relative motion of a joint from its coordinates (``coords``: the chain's Coordinates of
     the joint, in order)."""
     path = f"joints.{joint.name}"
-    zero = sp.Integer(0)
     kind = joint.type
     if kind in ("revolute", "prismatic", "cylindrical", "planar"):
         n = direction(symbols, f"{path}.axis", joint.axis, f"n_{joint.name}")
