@@ -62,13 +62,15 @@ __all__ = ["VALUE_FIELDS", "Derivation", "cache_path", "cached_derive", "cached_
 VALUE_FIELDS = tuple(re.compile(pattern) for pattern in (
     r"gravity\.g",
     r"bodies\.[^.]+\.(mass|inertia)",
-    r"bodies\.[^.]+\.points\.[^.]+\[[01]\]",
+    r"bodies\.[^.]+\.inertia(\[[012]\]){1,2}",          # a spatial body's principal values or tensor
+    r"bodies\.[^.]+\.points\.[^.]+\[[012]\]",
     r"beams\.[^.]+\.(EI|rho|EA|rotary_inertia)",
     r"beams\.[^.]+\.damping\[\d+\]",
     r"joints\.[^.]+\.(angle|axis|stiffness|damping|rest)",
-    r"joints\.[^.]+\.parent_position\[[01]\]",
+    r"joints\.[^.]+\.parent_position\[[012]\]",
+    r"joints\.[^.]+\.(orientation|child_orientation)\.(angle|angles\[[012]\])",   # not their axes: structure
     r"springs\.[^.]+\.(stiffness|damping|rest_length)",
-    r"springs\.[^.]+\.position_[ab]\[[01]\]",
+    r"springs\.[^.]+\.position_[ab]\[[012]\]",
     r"constraints\.[^.]+\.(axis|angle)",
     r"constraints\.[^.]+\.position_[ab]\[[01]\]",
     r"sensors\.[^.]+\.(station|distance)",

@@ -432,6 +432,8 @@ def _kinematics(eom, names) -> list[tuple[str, list[str]]]:
     """(heading, items) of the kinematics and the partial velocities; items are LaTeX-bearing text."""
     kin = eom.kinematics
     speeds = eom.all_speeds
+    if getattr(kin, "dimensions", 2) == 3:
+        return _spatial_kinematics(eom, names)
     velocities = []
     for name, frame in kin.bodies.items():
         velocities.append(f"body {name}: angular velocity $\\omega = {_latex(frame.omega, names)}$, velocity of "
@@ -460,6 +462,27 @@ def _kinematics(eom, names) -> list[tuple[str, list[str]]]:
                                f"{_latex_symbol(u.name)} = ({_field_latex(vx, names)},\\ {_field_latex(vy, names)})$, "
                                f"$\\omega_r = {_latex(w, names)}$")
     return [("Kinematics (eqs. 8.11-8.18)", velocities), ("Partial velocities", partial)]
+
+
+def _spatial_kinematics(eom, names) -> list[tuple[str, list[str]]]:
+    """(heading, items) of a spatial chain: each body's angular velocity and mass-centre velocity
+    along its axes, and their partial velocities, in terms of the intermediates."""
+    kin = eom.kinematics
+
+    def vector(v):
+        return "(" + ",\\ ".join(_latex(c, names) for c in v) + ")"
+
+    velocities, partial = [], []
+    for name, frame in kin.bodies.items():
+        velocities.append(f"body {name}: angular velocity along the body axes $\\omega = {vector(frame.omega)}$, "
+                          f"velocity of the mass centre along the body axes $v = {vector(frame.v)}$")
+        for u in eom.all_speeds:
+            v = [eom.chain.partial(c, u) for c in frame.v]
+            w = [eom.chain.partial(c, u) for c in frame.omega]
+            if any(c != 0 for c in v + w):
+                partial.append(f"body {name}, ${_latex_symbol(u.name)}$: $v_r = {vector(v)}$, "
+                               f"$\\omega_r = {vector(w)}$")
+    return [("Kinematics", velocities), ("Partial velocities", partial)]
 
 
 # ---------------------------------------------------------------------- constants
@@ -552,7 +575,8 @@ def equations_markdown(eom, values: dict | None = None) -> str:
     for c in eom.chain.coordinates:
         qd = eom.chain.qdot[c.q]
         law = f" (driven: {'$' + sp.latex(c.law) + '$'} {c.driver})" if c.driver else ""
-        out.append(f"| ${_latex_symbol(c.q.name)}$ | ${_latex_symbol(c.u.name)}${law} | "
+        speed = f"${_latex_symbol(c.u.name)}$" if c.u is not None else "(none: an Euler parameter)"
+        out.append(f"| ${_latex_symbol(c.q.name)}$ | {speed}{law} | "
                    f"$\\dot {_latex_symbol(c.q.name)} = {_latex(qd, names)}$ |")
     for heading, items in _kinematics(eom, names):
         out += ["", f"## {heading}", ""] + [f"* {item}" for item in items]

@@ -100,8 +100,9 @@ def numbers_of(eom, model, fields, spins) -> dict:
     return out
 
 
-_UNITS = {"x": "m", "y": "m", "angle": "rad", "slide": "m", "mode": "m", "axial": "m"}
-_RATE = {"m": "m/s", "rad": "rad/s"}
+_UNITS = {"x": "m", "y": "m", "z": "m", "angle": "rad", "angle_1": "rad", "angle_2": "rad", "slide": "m",
+          "mode": "m", "axial": "m", "e0": "-", "e1": "-", "e2": "-", "e3": "-"}
+_RATE = {"m": "m/s", "rad": "rad/s", "-": "rad/s"}   # an Euler parameter's speed is an angular velocity
 
 
 def _sensor_unit(eom, name: str) -> str:
@@ -120,12 +121,17 @@ def units(eom) -> dict[str, str]:
     for c in eom.chain.coordinates:
         unit = _UNITS[c.role]
         out[c.q.name] = unit
-        out[c.u.name] = _RATE[unit]
+        if c.u is not None:
+            out[c.u.name] = _RATE[unit]
     for name in eom.output_names:
-        if name.startswith(("x_", "y_", "tip_")):
+        if name.startswith(("x_", "y_", "z_", "tip_")):
             out[name] = "m"
-        elif name.startswith("theta_"):
+        elif name.startswith(("theta_", "yaw_", "pitch_", "roll_")):
             out[name] = "rad"
+        elif name.startswith(("e0_", "e1_", "e2_", "e3_", "quaternion_norm_")):
+            out[name] = "-"
+        elif name in ("H_x", "H_y", "H_z"):
+            out[name] = "kg m^2/s"
         elif name in ("kinetic", "potential_gravity", "strain", "potential_springs", "energy"):
             out[name] = "J"
         elif name.startswith("effort_"):

@@ -13,6 +13,10 @@ Two assumptions of the chapter's formulation can fail silently during a run:
   when the angular velocity of a beam's root frame exceeds ``simulation.spin_warning`` (default 10 %)
   of the beam's first bending frequency.
 
+And one of the integration: the Euler parameters of a spherical or free joint keep unit norm only to
+the solver's tolerance (their kinematic equations preserve it exactly); a run warns when
+``|e0^2 + e1^2 + e2^2 + e3^2 - 1|`` exceeds :data:`QUATERNION_NORM_WARNING`.
+
 The first bending frequency is that of the beam's shape family on its own boundary conditions
 (eq. 8.7, with the tip body of ``clamped-free-tip-mass``), or, for families without eigenvalues,
 the lowest Rayleigh-Ritz frequency ``sqrt(eig(H, G))`` of its modal constants (eqs. 8.22, 8.32).
@@ -24,8 +28,11 @@ import math
 
 import numpy as np
 
-__all__ = ["beam_checks", "first_bending_frequency", "run_warnings", "spin_expressions", "validity_warnings"]
+__all__ = ["QUATERNION_NORM_WARNING", "beam_checks", "first_bending_frequency", "run_warnings", "spin_expressions",
+           "validity_warnings"]
 
+#: Largest departure of a joint's Euler parameters from unit norm before a run warns [-].
+QUATERNION_NORM_WARNING = 1e-6
 #: Stations per beam at which the deflection is sampled, as fractions of its length.
 _STATIONS = np.linspace(0.0, 1.0, 41)
 
@@ -86,7 +93,8 @@ def spin_expressions(eom) -> dict:
 
 
 def beam_checks(eom, model, spins) -> list[dict]:
-    """The numbers the validity checks of a run need, one entry per beam with modes.
+    """The numbers the validity checks of a run need, one entry per beam with modes (and one per
+    spherical or free joint, ``{"euler": joint, "indices": state indices of e0 .. e3}``).
 
     Parameters
     ----------
@@ -121,6 +129,10 @@ def beam_checks(eom, model, spins) -> list[dict]:
         p1 = first_bending_frequency(family, len(modes), L, EI, rho) if name in spins else None
         checks.append({"beam": name, "modes": [names.index(m) for m in modes], "L": L,
                        "phi": np.asarray(family.phi(_STATIONS, len(modes)), dtype=float).tolist(), "p1": p1})
+    for joint in eom.chain.joints:
+        euler = [c.q.name for c in eom.chain.of(joint.name) if c.role in ("e0", "e1", "e2", "e3")]
+        if euler:
+            checks.append({"euler": joint.name, "indices": [names.index(e) for e in euler]})
     return checks
 
 
@@ -149,6 +161,17 @@ def run_warnings(checks: list[dict], simulation, t: np.ndarray, state: np.ndarra
         return []
     warnings = []
     for check in checks:
+        if "euler" in check:
+            with np.errstate(all="ignore"):
+                drift = np.abs(np.sum(state[:, check["indices"]] ** 2, axis=1) - 1.0)
+            over = np.flatnonzero(~(drift <= QUATERNION_NORM_WARNING))
+            if over.size:
+                warnings.append(
+                    f"joint {check['euler']!r}: the norm of its Euler parameters departed from 1 by "
+                    f"{float(np.nanmax(np.where(np.isfinite(drift), drift, np.inf))):.3g} (first at t = "
+                    f"{t[over[0]]:.4g} s), more than {QUATERNION_NORM_WARNING:g}: the orientation is no longer "
+                    "accurate; tighten rtol and atol")
+            continue
         name, L = check["beam"], check["L"]
         q = state[:, check["modes"]]
         with np.errstate(all="ignore"):

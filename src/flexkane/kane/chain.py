@@ -8,7 +8,11 @@ parts does not matter), each beam's modal coordinates right after the joint that
   u1, u2 = components of its velocity relative to that frame along the child frame's axes,
   u3 = angle rate; so ``x' = u1 cos(a) - u2 sin(a)``, ``y' = u1 sin(a) + u2 cos(a)``, ``a' = u3``;
 * revolute and prismatic joints: one coordinate, u = q';
-* beam shape functions (eq. 8.16): ``u_{i} = q_{i}'``; axial shape functions likewise.
+* beam shape functions (eq. 8.16): ``u_{i} = q_{i}'``; axial shape functions likewise;
+* in a spatial chain (``dimensions = 3``) the kinematic equations of each joint type are those of
+  :mod:`flexkane.kane.spatial_joints`: spherical and free joints have four Euler parameters and
+  three angular speeds, so the chain has more coordinates than speeds (``Coordinate.u`` is None
+  for e0; :attr:`Chain.u` lists the speeds).
 
 A driven joint coordinate is not free: with a coordinate law q(t), q and u leave the state; with a
 speed law, q stays in the state with q' = law(t) and u leaves it.
@@ -25,6 +29,7 @@ from ..model.coordinates import coordinate_names, tree_order
 from ..model.parts import Joint
 from ..model.values import TIME, FieldSymbols, GeneratedSymbol
 from .intermediates import NAME_ABOVE, Intermediates
+from .spatial_joints import kinematic_equations
 
 __all__ = ["Chain", "Coordinate", "build_chain"]
 
@@ -36,7 +41,8 @@ class Coordinate:
     Attributes
     ----------
     q, u : sympy.Symbol
-        Coordinate and speed.
+        Coordinate and speed; ``u`` is None for a coordinate without a speed of its own (the
+        scalar Euler parameter e0 of a spherical or free joint in 3D).
     owner : str
         Joint or beam name.
     role : str
@@ -113,7 +119,21 @@ class Chain:
 
     @property
     def u(self) -> list[sp.Symbol]:
-        return [c.u for c in self.coordinates]
+        return [c.u for c in self.coordinates if c.u is not None]
+
+    @property
+    def speed_coordinates(self) -> list[Coordinate]:
+        """The coordinates that carry a speed, in the order of :attr:`u`."""
+        return [c for c in self.coordinates if c.u is not None]
+
+    @property
+    def dimensions(self) -> int:
+        """2 for a planar chain, 3 for a spatial one."""
+        return getattr(self.model, "dimensions", 2)
+
+    def joint_of(self, link: str) -> Joint:
+        """The joint that carries a link."""
+        return next(j for j in self.joints if j.child == link)
 
     def beam_modes(self, beam: str) -> list[sp.Symbol]:
         return [c.q for c in self.of(beam, "mode")]
@@ -165,13 +185,15 @@ def build_chain(model: Model) -> Chain:
     chain.joints = _tree_order(model)
     names = coordinate_names(model)   # names checked, initial conditions too
     for c in names:
-        chain.coordinates.append(Coordinate(GeneratedSymbol(c.q, real=True), GeneratedSymbol(c.u, real=True),
-                                            c.owner, c.role, c.index))
-    for coord in chain.coordinates:
+        u = GeneratedSymbol(c.u, real=True) if c.u is not None else None
+        chain.coordinates.append(Coordinate(GeneratedSymbol(c.q, real=True), u, c.owner, c.role, c.index))
+    for coord in chain.speed_coordinates:
         chain.ud[coord.u] = GeneratedSymbol(f"{coord.u.name}'", real=True)
     for joint in chain.joints:
         coords = chain.of(joint.name)
-        if joint.type == "free":
+        if chain.dimensions == 3:
+            chain.qdot.update(kinematic_equations(joint, coords))
+        elif joint.type == "free":
             cx, cy, ca = coords
             angle = ca.q + chain.symbols.value(f"joints.{joint.name}.angle", joint.angle,
                                                f"theta_{joint.name}")

@@ -25,6 +25,10 @@ from .controllers import control_signals
 from .inertia import InertiaForces, generalized_inertia_forces
 from .kinematics import Kinematics
 from .outputs import output_expressions
+from .spatial_active import spatial_active_forces
+from .spatial_inertia import spatial_inertia_forces
+from .spatial_kinematics import SpatialKinematics
+from .spatial_outputs import spatial_output_expressions
 
 __all__ = ["EquationsOfMotion", "derive"]
 
@@ -111,6 +115,7 @@ class EquationsOfMotion:
         self.F_r = active
         self._inertia = inertia
         coords = chain.coordinates
+        speed_coords = chain.speed_coordinates     # rows and columns of M (a 3D chain's e0 has none)
         subs = {}
         for c in coords:   # drivers' laws are differentiated branch by branch (no impulses)
             path = f"joints.{c.owner}.driver.{c.driver}"
@@ -123,17 +128,17 @@ class EquationsOfMotion:
                 subs[chain.ud[c.u]] = time_derivative(c.law, chain.t, path=path)
         self.substitutions = subs
         sub = (lambda e: e.xreplace(subs)) if subs else (lambda e: e)
-        free = [r for r, c in enumerate(coords) if c.driver is None]
-        driven = [r for r, c in enumerate(coords) if c.driver is not None]
+        free = [r for r, c in enumerate(speed_coords) if c.driver is None]
+        driven = [r for r, c in enumerate(speed_coords) if c.driver is not None]
         self.q = [c.q for c in coords if c.driver != "coordinate"]
-        self.u = [coords[r].u for r in free]
+        self.u = [speed_coords[r].u for r in free]
         self.ud = [chain.ud[u] for u in self.u]
         self.qdot = sp.Matrix([sub(chain.qdot[q]) for q in self.q])
         self.z = list(chain.controller_states)
         self.zdot = sp.Matrix(len(self.z), 1, [sub(chain.controller_rates[z]) for z in self.z])
         Mfull = inertia.mass_matrix
-        F_total = [sp.Add(*[part[r] for part in active.values()]) for r in range(len(coords))]
-        ud_driven = [sub(chain.ud[coords[d].u]) for d in driven]
+        F_total = [sp.Add(*[part[r] for part in active.values()]) for r in range(len(speed_coords))]
+        ud_driven = [sub(chain.ud[speed_coords[d].u]) for d in driven]
         self.mass_matrix = sp.Matrix(len(free), len(free),
                                      lambda i, j: sub(Mfull[free[i], free[j]]))
         self.forcing = sp.Matrix([sub(F_total[r] - inertia.remainder[r]
@@ -142,14 +147,15 @@ class EquationsOfMotion:
         #: generalized force each driver supplies [N m or N], as expressions of q, u, u', t
         self.driver_efforts = {}
         for d, a_d in zip(driven, ud_driven):
-            expr = (sp.Add(*[Mfull[d, s] * chain.ud[coords[s].u] for s in free]) + Mfull[d, d] * a_d
+            expr = (sp.Add(*[Mfull[d, s] * chain.ud[speed_coords[s].u] for s in free]) + Mfull[d, d] * a_d
                     + sum((Mfull[d, e] * a for e, a in zip(driven, ud_driven) if e != d), sp.Integer(0))
                     + inertia.remainder[d] - F_total[d])
-            self.driver_efforts[coords[d].owner] = sub(expr)
+            self.driver_efforts[speed_coords[d].owner] = sub(expr)
         #: dependent speeds and their expressions in the state (loop constraints)
         self.dependent_speeds: dict = {}
         self.constraint_set = None
-        self.outputs = {k: sub(v) for k, v in output_expressions(self).items()}
+        outputs = spatial_output_expressions if chain.dimensions == 3 else output_expressions
+        self.outputs = {k: sub(v) for k, v in outputs(self).items()}
         dependent_subs: dict = {}
         if chain.model.constraints:
             dependent_subs = self._reduce_by_constraints(sub)
@@ -363,12 +369,14 @@ def derive(model: Model) -> EquationsOfMotion:
     model.validate()
     budget = DerivationBudget()   # bounded time and size (see flexkane.kane.budget)
     chain = build_chain(model)
-    kin = Kinematics(chain)
+    spatial = chain.dimensions == 3
+    kin = SpatialKinematics(chain) if spatial else Kinematics(chain)
     budget.check_time("the kinematics")
-    inertia = generalized_inertia_forces(kin)
+    inertia = spatial_inertia_forces(kin) if spatial else generalized_inertia_forces(kin)
     budget.check_size(list(inertia.mass_matrix) + list(inertia.remainder), "the inertia forces")
-    control_signals(kin)   # sensors, controller states and outputs: the names efforts may use
-    active = generalized_active_forces(kin)
+    if not spatial:
+        control_signals(kin)   # sensors, controller states and outputs: the names efforts may use
+    active = spatial_active_forces(kin) if spatial else generalized_active_forces(kin)
     budget.check_time("the active forces")
     eom = EquationsOfMotion(chain, kin, inertia, active)
     budget.check_size(eom.compact.expressions(), "the equations")

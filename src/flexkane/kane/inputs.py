@@ -64,6 +64,11 @@ def with_control_inputs(model):
     """
     if getattr(model, "control_inputs", False) is True:
         return model
+    if getattr(model, "dimensions", 2) == 3:
+        from ..errors import ModelError
+
+        raise ModelError("controller", "a planar model (control inputs of spatial models are not yet "
+                         "supported)", f"model {model.name!r} with dimensions = 3")
     new = model.copy()
     new.control_inputs = True
     return new

@@ -107,6 +107,7 @@ class Intermediates:
         self._partial: dict[tuple, sp.Expr] = {}
         self._rate: dict[Intermediate, sp.Expr] = {}
         self._names: set[str] = set()
+        self._created: dict[Intermediate, int] = {}     # creation index of each intermediate
         self._written: dict[Intermediate, sp.Expr] = {}   # definitions written out so far
 
     # ------------------------------------------------------------------ naming
@@ -144,11 +145,16 @@ class Intermediates:
             return expr
         symbol = Intermediate(self._unique(label), real=True)
         self.definitions[symbol] = expr
+        self._created[symbol] = len(self._created)
         self.depends[symbol] = self.dependencies(expr)
         return symbol
 
     def _among(self, expr) -> list:
-        return [s for s in expr.free_symbols if s in self.definitions]
+        """The intermediates ``expr`` refers to, in creation order: derivatives through them are then
+        created (and named) in the same order whatever the order of a set of symbols, which depends
+        on the process's string hashing."""
+        found = [s for s in expr.free_symbols if s in self.definitions]
+        return sorted(found, key=self._created.__getitem__) if len(found) > 1 else found
 
     # ------------------------------------------------------------------ calculus
     def partial(self, expr, u: sp.Symbol) -> sp.Expr:

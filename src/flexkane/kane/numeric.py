@@ -24,6 +24,7 @@ import sympy as sp
 from ..errors import ModelError
 from ..expressions import to_float
 from ..model.field_values import FieldValues
+from ..model.initial import initial_values
 from ..model.paths import get_value
 from ..modes.from_spec import shape_family
 from .distributed_loads import load_profile
@@ -118,14 +119,14 @@ def initial_guess(eom, model=None) -> dict:
         The derived model (default) or one that differs from it in its numbers only.
     """
     model = model or eom.model
-    fields = FieldValues(model)
-    return {s: fields.value_or(model.initial, s.name, "initial")
-            for c in eom.chain.coordinates for s in (c.q, c.u)}
+    values = initial_values(model, FieldValues(model)).values
+    return {s: values[s.name] for c in eom.chain.coordinates for s in (c.q, c.u) if s is not None}
 
 
 def initial_state(eom, model=None) -> np.ndarray:
-    """Initial state ``[q, u, z]`` from the model's ``[initial]`` table (others 0) and the controllers'
-    ``initial`` tables (controller states z, others 0), shape (n,).
+    """Initial state ``[q, u, z]`` from the model's ``[initial]`` table (others 0, Euler parameters the
+    identity; :func:`flexkane.model.initial.initial_values`) and the controllers' ``initial`` tables
+    (controller states z, others 0), shape (n,).
 
     With loop constraints the dependent coordinates are solved for (:func:`project_coordinates`)
     and a dependent speed may not be given.
@@ -144,7 +145,8 @@ def initial_state(eom, model=None) -> np.ndarray:
     """
     model = model or eom.model
     fields = FieldValues(model)
-    state = np.array([fields.value_or(model.initial, s.name, "initial") for s in eom.q + eom.u], dtype=float)
+    values = initial_values(model, fields).values    # Euler parameters: identity by default
+    state = np.array([values[s.name] for s in eom.q + eom.u], dtype=float)
     if eom.dependent_speeds:
         for u in eom.dependent_speeds:
             if u.name in model.initial:

@@ -1,0 +1,141 @@
+"""Generalized active forces F_r of a spatial chain, by source.
+
+A force ``F`` at a point P and a torque ``T`` on a link contribute ``F_r = v_P,r . F + w_r . T``
+(partial velocity and partial angular velocity, eq. 8.24 in three dimensions); both are taken in the
+axes of the frame at P, where the velocities are expressed.
+
+* ``gravity``: ``m g`` at each mass centre, ``g`` a 3D vector in N;
+* ``joints``: springs ``-k (q - rest)`` and dampers ``-c u`` on the coordinates of revolute,
+  prismatic, cylindrical, universal and planar joints (their speeds are the coordinates' rates);
+* ``loads``: applied forces and torques (ground or local components, expressions of t) and
+  actuator torques or forces of joints along their coordinates;
+* ``springs``: linear springs and dampers between points.
+
+``elastic`` and ``damping`` (beams) are empty lists in a rigid chain. Each source is a list of n
+expressions (one per speed).
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from .spatial_frame import dot
+from .spatial_joints import direction
+
+__all__ = ["joint_coordinate_values", "spatial_active_forces", "spatial_gravity_vector"]
+
+
+def spatial_gravity_vector(kin):
+    """Gravity acceleration in N, (g_x, g_y, g_z) [m/s^2]; None without gravity."""
+    grav = kin.chain.model.gravity
+    if grav is None:
+        return None
+    g = kin.value("gravity.g", grav.g, "g")
+    n = direction(kin.symbols, "gravity.direction", grav.direction, "g_direction")
+    return tuple(g * c for c in n)
+
+
+def joint_coordinate_values(kin, joint, field: str, name: str) -> list:
+    """Per coordinate of a joint, the expression of a field given for one coordinate (a value)
+    or for each (a list); None where not given."""
+    coords = kin.chain.of(joint.name)
+    value = getattr(joint, field, None)
+    path = f"joints.{joint.name}.{field}"
+    if value is None:
+        return [None] * len(coords)
+    if isinstance(value, (list, tuple)):
+        return [None if v is None else kin.value(f"{path}[{k}]", v, f"{name}_{c.q.name}")
+                for k, (v, c) in enumerate(zip(value, coords))]
+    return [kin.value(path, value, f"{name}_{joint.name}")] + [None] * (len(coords) - 1)
+
+
+def _joint_time_functions(kin, joint, field: str) -> list:
+    coords = kin.chain.of(joint.name)
+    value = getattr(joint, field, None)
+    path = f"joints.{joint.name}.{field}"
+    if value is None:
+        return [None] * len(coords)
+    if isinstance(value, (list, tuple)):
+        return [None if v is None else kin.symbols.time_function(f"{path}[{k}]", v) for k, v in enumerate(value)]
+    return [kin.symbols.time_function(path, value)] + [None] * (len(coords) - 1)
+
+
+def spatial_active_forces(kin) -> dict[str, list]:
+    """F_r by source (module docstring).
+
+    Parameters
+    ----------
+    kin : SpatialKinematics
+
+    Returns
+    -------
+    dict of str to list of sympy.Expr
+    """
+    chain = kin.chain
+    model = chain.model
+    speeds = chain.u
+    n = len(speeds)
+    index = {u: r for r, u in enumerate(speeds)}
+    parts = {kind: [sp.Integer(0)] * n for kind in ("elastic", "gravity", "damping", "joints", "loads", "springs")}
+
+    def add(kind, frame, force=None, torque=None):
+        """Contributions of a force (frame axes) at the frame's origin and a torque on it."""
+        for r, u in enumerate(speeds):
+            term = sp.Integer(0)
+            if force is not None:
+                term += dot(tuple(chain.partial(c, u) for c in frame.v), force)
+            if torque is not None:
+                term += dot(tuple(chain.partial(c, u) for c in frame.omega), torque)
+            if term != 0:
+                parts[kind][r] += term
+
+    g = spatial_gravity_vector(kin)
+    if g is not None:
+        for name, frame in kin.bodies.items():
+            m = kin.mass(name)
+            add("gravity", frame, tuple(m * c for c in frame.rotation.inverse_apply(g)))
+
+    for joint in chain.joints:
+        coords = chain.of(joint.name)
+        stiffness = joint_coordinate_values(kin, joint, "stiffness", "k")
+        damping = joint_coordinate_values(kin, joint, "damping", "c")
+        rest = joint_coordinate_values(kin, joint, "rest", "rest") if joint.stiffness is not None else []
+        torque = _joint_time_functions(kin, joint, "torque")
+        for k, c in enumerate(coords):
+            if c.u is None:
+                continue
+            r = index[c.u]
+            if stiffness[k] is not None:
+                parts["joints"][r] += -stiffness[k] * (c.q - (rest[k] if rest and rest[k] is not None else 0))
+            if damping[k] is not None:
+                parts["joints"][r] += -damping[k] * c.u
+            if torque[k] is not None:
+                parts["loads"][r] += torque[k]
+
+    for load in model.loads.values():
+        path = f"loads.{load.name}"
+        frame = kin.point_frame(load.body, load.point)
+
+        def components(values, what):
+            vec = tuple(kin.symbols.time_function(f"{path}.{what}[{k}]", v) for k, v in enumerate(values))
+            return vec if load.frame == "local" else frame.rotation.inverse_apply(vec)
+
+        add("loads", frame, components(load.force, "force") if load.force is not None else None,
+            components(load.torque, "torque") if load.torque is not None else None)
+
+    for spring in model.springs.values():
+        path = f"springs.{spring.name}"
+        a, b = kin.end_frame(spring, "a", path), kin.end_frame(spring, "b", path)
+        d = tuple(y - x for x, y in zip(a.r, b.r))
+        length = sp.sqrt(dot(d, d))
+        e = tuple(c / length for c in d)
+        va, vb = a.rotation.apply(a.v), b.rotation.apply(b.v)
+        rate = dot(e, tuple(y - x for x, y in zip(va, vb)))
+        k = kin.value(f"{path}.stiffness", spring.stiffness, f"k_{spring.name}")
+        c = kin.value(f"{path}.damping", spring.damping, f"c_{spring.name}")
+        l0 = kin.value(f"{path}.rest_length", spring.rest_length, f"l0_{spring.name}")
+        tension = k * (length - l0) + c * rate
+        fb = tuple(-tension * x for x in e)             # on b, in N
+        add("springs", b, b.rotation.inverse_apply(fb))
+        add("springs", a, a.rotation.inverse_apply(tuple(-x for x in fb)))
+    return parts

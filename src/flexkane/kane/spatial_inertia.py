@@ -1,0 +1,159 @@
+"""Generalized inertia forces F*_r of a spatial chain, by composite bodies.
+
+For a rigid body, ``F*_r = v_r . (-m a) + w_r . (-(I alpha + w x I w))`` (Kane and Levinson), with
+``a = sum_s v_s u_s' + a_rem`` and ``alpha = sum_s w_s u_s' + alpha_rem``; so
+``F*_r = -sum_s M_rs u_s' - Fhat_r``.
+
+A speed moves every link beyond its joint rigidly: at the frame F of the first such link its
+partial velocity field is a twist ``(A_r, W_r)`` (partial velocity of F's origin and partial angular
+velocity, F's axes), and a point at ``rho`` from F's origin has ``v_P,r = A_r + W_r x rho``. The links
+beyond F then enter only through their composite mass ``m``, first moment ``S = sum m rho``, inertia
+tensor ``J`` about F's origin, resultant ``R = sum m a_rem`` and moment ``K`` about F's origin of the
+inertia forces without u' (``rho x m a_rem`` and each body's ``I alpha_rem + w x I w``):
+
+    M_rs = m A_r . A_s + A_r . (W_s x S) + A_s . (W_r x S) + W_r . J W_s,
+    Fhat_r = A_r . R + W_r . K,
+
+at the frame of the deeper of the two speeds. Composites are formed from the tips inwards, each
+child's moved to its parent's frame by the parallel-axis theorem with the rotation ``Lambda`` and
+offset ``s`` of the child's frame in the parent's (:meth:`SpatialRigidProperties.moved`), and named.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from .inertia import InertiaForces
+from .spatial_frame import acceleration_remainder, add, cross, dot
+
+__all__ = ["SpatialRigidProperties", "spatial_inertia_forces"]
+
+
+def _matvec(A: sp.Matrix, v) -> tuple:
+    return tuple(sum((A[i, j] * v[j] for j in range(3)), sp.Integer(0)) for i in range(3))
+
+
+@dataclass
+class SpatialRigidProperties:
+    """Rigid-body properties about a frame's origin, components along its axes.
+
+    ``m`` mass [kg], ``S`` first moment (3,) [kg m], ``J`` inertia tensor about the origin (3, 3)
+    [kg m^2], ``R`` resultant of ``m a_rem`` (3,) [N], ``K`` moment about the origin of the inertia
+    forces without u' (3,) [N m].
+    """
+
+    m: sp.Expr
+    S: tuple
+    J: sp.Matrix
+    R: tuple
+    K: tuple
+
+    def __add__(self, other: "SpatialRigidProperties") -> "SpatialRigidProperties":
+        return SpatialRigidProperties(self.m + other.m, add(self.S, other.S), self.J + other.J,
+                                      add(self.R, other.R), add(self.K, other.K))
+
+    def moved(self, s: tuple, rotation) -> "SpatialRigidProperties":
+        """The same properties about a frame in which this one's origin is at ``s`` and this one's
+        orientation is ``rotation`` (parallel-axis theorem with a rotation)."""
+        L = rotation.matrix
+        S = _matvec(L, self.S)
+        R = _matvec(L, self.R)
+        J = L * self.J * L.T if not rotation.is_identity() else self.J
+        ss, sS = dot(s, s), dot(s, S)
+        J = J + sp.Matrix(3, 3, lambda i, j: (self.m * ss + 2 * sS if i == j else 0)
+                          - self.m * s[i] * s[j] - s[i] * S[j] - S[i] * s[j])
+        return SpatialRigidProperties(self.m, add(tuple(self.m * c for c in s), S), J, R,
+                                      add(_matvec(L, self.K), cross(s, R)))
+
+    def named(self, chain, label: str) -> "SpatialRigidProperties":
+        J = sp.zeros(3, 3)
+        for i in range(3):
+            for j in range(i, 3):
+                J[i, j] = J[j, i] = chain.name(self.J[i, j], f"J{'xyz'[i]}{'xyz'[j]}_{label}")
+        return SpatialRigidProperties(self.m, tuple(chain.name(c, f"S{a}_{label}") for c, a in zip(self.S, "xyz")),
+                                      J, tuple(chain.name(c, f"R{a}_{label}") for c, a in zip(self.R, "xyz")),
+                                      tuple(chain.name(c, f"K{a}_{label}") for c, a in zip(self.K, "xyz")))
+
+
+def own_properties(kin, body: str) -> SpatialRigidProperties:
+    """Properties of one rigid body about its link frame."""
+    chain = kin.chain
+    m = kin.mass(body)
+    I = kin.inertia_tensor(body)
+    c = kin.link_point(body, None)                # mass centre in the link frame
+    frame = kin.bodies[body]
+    a = acceleration_remainder(frame, chain)
+    w = frame.omega
+    alpha = tuple(chain.dt(x) for x in w)
+    euler = add(_matvec(I, alpha), cross(w, _matvec(I, w)))
+    cc = dot(c, c)
+    J = I + sp.Matrix(3, 3, lambda i, j: (m * cc if i == j else 0) - m * c[i] * c[j])
+    ma = tuple(m * x for x in a)
+    return SpatialRigidProperties(m, tuple(m * x for x in c), J, ma, add(cross(c, ma), euler))
+
+
+def spatial_inertia_forces(kin) -> InertiaForces:
+    """Mass matrix and remainder of F*_r of a spatial chain (module docstring).
+
+    Parameters
+    ----------
+    kin : SpatialKinematics
+
+    Returns
+    -------
+    InertiaForces
+    """
+    chain = kin.chain
+    speeds = chain.u
+    n = len(speeds)
+    joints = chain.joints
+    joint_of = {j.child: j.name for j in joints}
+    children: dict[str, list] = {}
+    for j in joints:
+        children.setdefault(j.parent, []).append(j.child)
+    beyond: dict[str, set] = {}
+    for j in reversed(joints):
+        beyond[j.child] = {j.child}.union(*(beyond[c] for c in children.get(j.child, [])))
+    composite: dict[str, SpatialRigidProperties] = {}
+    for j in reversed(joints):
+        link = j.child
+        total = own_properties(kin, link)
+        for child in children.get(link, []):
+            s, rotation = kin.link_offsets[joint_of[child]]
+            total = total + composite[child].moved(s, rotation)
+        composite[link] = total.named(chain, f"{link}_composite" if children.get(link) else link)
+    root = {c.u: next(j.child for j in joints if j.name == c.owner) for c in chain.coordinates if c.u is not None}
+    twist: dict = {}
+
+    def twist_at(u, link):
+        key = (u, link)
+        if key not in twist:
+            F = kin.links[link]
+            twist[key] = (tuple(chain.partial(x, u) for x in F.v), tuple(chain.partial(x, u) for x in F.omega))
+        return twist[key]
+
+    M = [[sp.Integer(0)] * n for _ in range(n)]
+    rem = [sp.Integer(0)] * n
+    for r in range(n):
+        A, W = twist_at(speeds[r], root[speeds[r]])
+        P = composite[root[speeds[r]]]
+        rem[r] = dot(A, P.R) + dot(W, P.K)
+        for s in range(r, n):
+            root_r, root_s = root[speeds[r]], root[speeds[s]]
+            if root_s in beyond[root_r]:
+                F = root_s
+            elif root_r in beyond[root_s]:
+                F = root_r
+            else:
+                continue
+            Ar, Wr = twist_at(speeds[r], F)
+            As, Ws = twist_at(speeds[s], F)
+            P = composite[F]
+            M[r][s] = (P.m * dot(Ar, As) + dot(Ar, cross(Ws, P.S)) + dot(As, cross(Wr, P.S))
+                       + dot(Wr, _matvec(P.J, Ws)))
+    for r in range(n):
+        for s in range(r):
+            M[r][s] = M[s][r]
+    return InertiaForces(sp.Matrix(M), rem, speeds)

@@ -1,0 +1,143 @@
+"""Kinematics of a spatial chain: every link's frame built from its parent's, as named intermediates.
+
+For a joint whose parent link frame is P (the ground, or the parent body's link frame), attached at
+``p`` (P's axes) with the constant orientation ``O_p`` of J_p in P, and whose child frame J_c has the
+constant orientation ``O_c`` in the child link's frame L, the joint's relative motion (``d``, ``C``,
+``w_rel``, ``v_rel`` of :mod:`flexkane.kane.spatial_joints`) gives
+
+    s = p + O_p d                            (L's origin in P)
+    Lambda = O_p C O_c^T                     (L's orientation in P)
+    w_L = Lambda^T w_P + O_c w_rel
+    v_L = Lambda^T (v_P + w_P x s) + O_c v_rel
+
+and ``R_L = R_P Lambda``, ``r_L = r_P + R_P s``: the spatial form of eq. 8.17. A body's link frame has
+the body's axes and its origin at the joint (the body's ``child_point``); its mass-centre frame is the
+link frame moved to the mass centre. Each quantity is named (:meth:`SpatialFrame.named`), so a link's
+expressions refer to its parent's symbols and never re-expand.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from ..errors import ModelError
+from .rotation import Rotation
+from .spatial_frame import GROUND, SpatialFrame, add, cross, ground_frame
+from .spatial_joints import joint_motion, orientation, vector
+
+__all__ = ["SpatialKinematics"]
+
+
+class SpatialKinematics:
+    """Frames of every link and body mass centre of a spatial chain.
+
+    Attributes
+    ----------
+    links : dict of str to SpatialFrame
+        Each link's frame (origin at its joint, the link's axes).
+    bodies : dict of str to SpatialFrame
+        Each body's mass-centre frame (body axes).
+    joint_frames : dict of str to (SpatialFrame, SpatialFrame)
+        J_p and the child link's frame of each joint.
+    link_offsets : dict of str to (tuple, Rotation)
+        Per joint with a link as parent: the child link frame's origin ``s`` in the parent link's
+        frame [m] and its orientation ``Lambda`` there (local quantities only).
+    beams : dict
+        Empty: spatial beams are not part of this engine yet.
+    """
+
+    dimensions = 3
+
+    def __init__(self, chain):
+        self.chain = chain
+        self.symbols = chain.symbols
+        model = chain.model
+        if model.beams:
+            raise ModelError(f"beams.{next(iter(model.beams))}", "no beams in a model with dimensions = 3 "
+                             "(spatial beams are not yet supported)", "a beam")
+        self.links: dict[str, SpatialFrame] = {}
+        self.bodies: dict[str, SpatialFrame] = {}
+        self.beams: dict = {}
+        self.constants: dict = {}
+        self.joint_frames: dict[str, tuple[SpatialFrame, SpatialFrame]] = {}
+        self.link_offsets: dict[str, tuple[tuple, Rotation]] = {}
+        for joint in chain.joints:
+            self._add_joint(joint)
+
+    # ------------------------------------------------------------------ values
+    def value(self, path: str, value, name: str) -> sp.Expr:
+        return self.symbols.value(path, value, name)
+
+    def body_point(self, body: str, point: str | None) -> tuple:
+        """Local position of a named point of a body from its mass centre, body axes [m]."""
+        if point is None:
+            return (sp.Integer(0),) * 3
+        return vector(self.symbols, f"bodies.{body}.points.{point}", self.chain.model.bodies[body].points[point],
+                      f"{body}_{point}")
+
+    def link_point(self, body: str, point: str | None) -> tuple:
+        """Position of a body's point in the body's link frame [m]."""
+        joint = self.chain.joint_of(body)
+        origin = self.body_point(body, joint.child_point)
+        return tuple(a - b for a, b in zip(self.body_point(body, point), origin))
+
+    def point_frame(self, body: str, point: str | None) -> SpatialFrame:
+        """The body's frame moved to one of its points (the mass centre for None)."""
+        return self.bodies[body].point(self.body_point(body, point), self.chain)
+
+    def end_frame(self, part, end: str, path: str) -> SpatialFrame:
+        """Frame at one end of a two-ended part (``body_<end>``, ``point_<end>``, ``position_<end>``)."""
+        body = getattr(part, f"body_{end}")
+        if body == "ground":
+            pos = getattr(part, f"position_{end}", None)
+            return ground_frame(vector(self.symbols, f"{path}.position_{end}", pos, f"{part.name}_{end}"))
+        return self.point_frame(body, getattr(part, f"point_{end}", None))
+
+    def inertia_tensor(self, body: str) -> sp.Matrix:
+        """Inertia tensor of a body about its mass centre, body axes (3, 3) [kg m^2]."""
+        given = self.chain.model.bodies[body]
+        rows = given.inertia_tensor()
+        principal = not isinstance(given.inertia[0], (list, tuple))    # [Ixx, Iyy, Izz]
+        path = f"bodies.{body}.inertia"
+        out = sp.zeros(3, 3)
+        for i in range(3):
+            for j in range(i, 3):
+                if principal and i != j:
+                    continue
+                where = f"{path}[{i}]" if principal else f"{path}[{i}][{j}]"
+                out[i, j] = out[j, i] = self.value(where, rows[i][j], f"I_{body}_{'xyz'[i]}{'xyz'[j]}")
+        return out
+
+    def mass(self, body: str) -> sp.Expr:
+        return self.value(f"bodies.{body}.mass", self.chain.model.bodies[body].mass, f"m_{body}")
+
+    # ------------------------------------------------------------------ joints
+    def _parent(self, joint) -> tuple[SpatialFrame, tuple]:
+        """The parent link's frame and the attachment's position in it."""
+        if joint.parent == "ground":
+            return GROUND, vector(self.symbols, f"joints.{joint.name}.parent_position", joint.parent_position,
+                                  f"p_{joint.name}")
+        return self.links[joint.parent], self.link_point(joint.parent, joint.parent_point)
+
+    def _add_joint(self, joint) -> None:
+        chain = self.chain
+        path = f"joints.{joint.name}"
+        motion = joint_motion(joint, chain.of(joint.name), self.symbols)
+        Op = orientation(self.symbols, f"{path}.orientation", getattr(joint, "orientation", None),
+                         f"Op_{joint.name}")
+        Oc = orientation(self.symbols, f"{path}.child_orientation", getattr(joint, "child_orientation", None),
+                         f"Oc_{joint.name}")
+        P, p = self._parent(joint)
+        s = add(p, Op.apply(motion.d))
+        local = Op * motion.rotation * Oc.transpose()
+        local = local.map(lambda e: chain.name(e, f"L_{joint.child}"))
+        if joint.parent != "ground":
+            self.link_offsets[joint.name] = (s, local)
+        w = add(local.inverse_apply(P.omega), Oc.apply(motion.w_rel))
+        v = add(local.inverse_apply(add(P.v, cross(P.omega, s))), Oc.apply(motion.v_rel))
+        r = add(P.r, P.rotation.apply(s))
+        link = SpatialFrame(P.rotation * local, w, r, v).named(chain, joint.child)
+        self.joint_frames[joint.name] = (P.point(p, chain).turned(Op), link)
+        self.links[joint.child] = link
+        cp = self.body_point(joint.child, joint.child_point)
+        self.bodies[joint.child] = link.point(tuple(-c for c in cp), chain).named(chain, f"{joint.child}_cm")

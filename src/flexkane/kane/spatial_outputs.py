@@ -1,0 +1,107 @@
+"""Quantities computed along the trajectory of a spatial chain.
+
+Names of the outputs (columns of results files):
+
+* ``kinetic``, ``potential_gravity``, ``strain`` (0 for rigid chains), ``potential_springs``,
+  ``energy`` [J]: ``1/2 sum (m v.v + w.I w)``, ``-sum m g.r``, joint and point springs;
+* ``power_nonconservative`` [W]: power of drivers, loads, actuators and dampers (integrated into
+  ``work`` and ``energy_balance`` by :func:`flexkane.simulate`, as for planar chains);
+* per body: ``x_<b>, y_<b>, z_<b>`` [m] of the mass centre in N, the Euler parameters
+  ``e0_<b> .. e3_<b>`` [-] of the body frame in N (the product of the joints' quaternions along the
+  chain: continuous, no branches) and its 3-2-1 angles ``yaw_<b>, pitch_<b>, roll_<b>`` [rad];
+* ``x_cm, y_cm, z_cm`` [m], ``p_x, p_y, p_z`` [kg m/s]: centre of mass and linear momentum of the
+  system; ``H_x, H_y, H_z`` [kg m^2/s]: angular momentum about the centre of mass, components in N;
+* ``quaternion_norm_<j>`` [-]: ``e0^2 + ... + e3^2 - 1`` of each spherical and free joint;
+* ``effort_<joint>`` [N m or N]: generalized force supplied by each driver.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from .rotation import yaw_pitch_roll
+from .spatial_active import joint_coordinate_values, spatial_gravity_vector
+from .spatial_frame import add, cross, dot
+
+__all__ = ["spatial_output_expressions"]
+
+
+def spatial_output_expressions(eom) -> dict:
+    """Output expressions of spatial :class:`~flexkane.kane.equations.EquationsOfMotion`."""
+    kin = eom.kinematics
+    chain = eom.chain
+    model = chain.model
+    out: dict = {}
+    kinetic, masses = [], []
+    first = (sp.Integer(0),) * 3
+    momentum = (sp.Integer(0),) * 3
+    h_origin = (sp.Integer(0),) * 3
+    for name, frame in kin.bodies.items():
+        m = kin.mass(name)
+        I = kin.inertia_tensor(name)
+        Iw = tuple(I * sp.Matrix(frame.omega))
+        kinetic.append((m * dot(frame.v, frame.v) + dot(frame.omega, Iw)) / 2)
+        masses.append(m)
+        vN = frame.rotation.apply(frame.v)
+        first = add(first, tuple(m * c for c in frame.r))
+        momentum = add(momentum, tuple(m * c for c in vN))
+        h_origin = add(h_origin, add(cross(frame.r, tuple(m * c for c in vN)), frame.rotation.apply(Iw)))
+        for axis, c in zip("xyz", frame.r):
+            out[f"{axis}_{name}"] = c
+        for k, c in enumerate(frame.rotation.quaternion):
+            out[f"e{k}_{name}"] = c
+        out[f"yaw_{name}"], out[f"pitch_{name}"], out[f"roll_{name}"] = yaw_pitch_roll(frame.R)
+    M = sp.Add(*masses)
+    cm = tuple(c / M for c in first)
+    for axis, c, p in zip("xyz", cm, momentum):
+        out[f"{axis}_cm"] = c
+        out[f"p_{axis}"] = p
+    for axis, c in zip("xyz", tuple(h - x for h, x in zip(h_origin, cross(cm, momentum)))):
+        out[f"H_{axis}"] = c
+    for joint in chain.joints:
+        if joint.type in ("spherical", "free"):
+            e = [c.q for c in chain.of(joint.name)][-4:]
+            out[f"quaternion_norm_{joint.name}"] = sp.Add(*[x ** 2 for x in e]) - 1
+    # ---------------------------------------------------------------- potential energy
+    gravity = []
+    g = spatial_gravity_vector(kin)
+    if g is not None:
+        for name, frame in kin.bodies.items():
+            gravity.append(-kin.mass(name) * dot(g, frame.r))
+    springs = []
+    power = []
+    for joint in chain.joints:
+        coords = chain.of(joint.name)
+        stiffness = joint_coordinate_values(kin, joint, "stiffness", "k")
+        rest = joint_coordinate_values(kin, joint, "rest", "rest") if joint.stiffness is not None else []
+        damping = joint_coordinate_values(kin, joint, "damping", "c")
+        for k, c in enumerate(coords):
+            if stiffness[k] is not None:
+                springs.append(stiffness[k] * (c.q - (rest[k] if rest and rest[k] is not None else 0)) ** 2 / 2)
+            if damping[k] is not None and c.u is not None:
+                power.append(-damping[k] * c.u ** 2)
+    point_springs = []
+    for spring in model.springs.values():
+        path = f"springs.{spring.name}"
+        a, b = (kin.end_frame(spring, end, path).r for end in ("a", "b"))
+        d = tuple(y - x for x, y in zip(a, b))
+        k = kin.value(f"{path}.stiffness", spring.stiffness, f"k_{spring.name}")
+        l0 = kin.value(f"{path}.rest_length", spring.rest_length, f"l0_{spring.name}")
+        point_springs.append(k * (sp.sqrt(dot(d, d)) - l0) ** 2 / 2)
+    out["kinetic"] = sp.Add(*kinetic)
+    out["potential_gravity"] = sp.Add(*gravity)
+    out["strain"] = sp.Integer(0)
+    out["potential_springs"] = sp.Add(*springs, *point_springs)
+    out["energy"] = out["kinetic"] + out["potential_gravity"] + out["strain"] + out["potential_springs"]
+    # ---------------------------------------------------------------- power of non-conservative forces
+    speeds = chain.u
+    power += [u * f for u, f in zip(speeds, eom.F_r["loads"]) if f != 0]
+    if model.springs:   # the spring forces' power minus the rate of their energy: the dampers'
+        power.append(sp.Add(*[u * f for u, f in zip(speeds, eom.F_r["springs"]) if f != 0])
+                     + chain.dt(sp.Add(*point_springs)))
+    for owner, effort in eom.driver_efforts.items():
+        power.append(effort * chain.of(owner)[0].u)
+    out["power_nonconservative"] = sp.Add(*power)
+    for owner, effort in eom.driver_efforts.items():
+        out[f"effort_{owner}"] = effort
+    return out
