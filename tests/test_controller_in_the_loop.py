@@ -54,7 +54,7 @@ def test_numba_controller_gives_the_python_controllers_numbers(free_hub):
 
 
 def test_controlled_runs_are_reproducible_and_a_zero_controller_changes_nothing(free_hub):
-    first = flexkane.simulate(free_hub, controller=lambda t, y: {"effort_hub": -KP * (y[0] - Q_REF)}, **RUN)
+    first = flexkane.simulate(free_hub, controller=lambda t, y: {"input_effort_hub": -KP * (y[0] - Q_REF)}, **RUN)
     again = flexkane.simulate(free_hub, controller=p_law, **RUN)
     np.testing.assert_array_equal(first.state, again.state)           # a dict by name = the array
     plain = flexkane.simulate(free_hub, **RUN)
@@ -64,10 +64,10 @@ def test_controlled_runs_are_reproducible_and_a_zero_controller_changes_nothing(
 
 
 @pytest.mark.parametrize("law, match", [
-    (lambda t, y: [1.0, 2.0], r"1 efforts \(effort_hub\).*shape \(2,\)"),
+    (lambda t, y: [1.0, 2.0], r"1 efforts \(input_effort_hub\).*shape \(2,\)"),
     (lambda t, y: [np.nan], "finite efforts"),
-    (lambda t, y: [1.0] if t < 0.1 else [np.inf], r"finite efforts.*effort_hub = inf at t = 0\.1"),
-    (lambda t, y: {"effort_elbow": 1.0}, "input channels"),
+    (lambda t, y: [1.0] if t < 0.1 else [np.inf], r"finite efforts.*input_effort_hub = inf at t = 0\.1"),
+    (lambda t, y: {"input_effort_elbow": 1.0}, "input channels"),
     (lambda t, y: "torque", "1 efforts"),
 ])
 def test_bad_controller_output_is_a_clear_error(free_hub, law, match):

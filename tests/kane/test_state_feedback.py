@@ -321,7 +321,7 @@ def test_linear_model_with_a_controller_state_is_the_open_loop_closed_by_the_pid
     open_model.controllers = {}
     opened = linearize(open_model.validate())
     A_o, B_o = opened.state_space()
-    b = B_o[:, opened.input_names.index("effort_shoulder")]
+    b = B_o[:, opened.input_names.index("input_effort_shoulder")]
     n = opened.n
     expected = np.zeros((2 * n + 1, 2 * n + 1))
     expected[:2 * n, :2 * n] = A_o - np.outer(b, 8.0 * np.eye(2 * n)[opened.state_names.index("q_shoulder")]
@@ -331,7 +331,7 @@ def test_linear_model_with_a_controller_state_is_the_open_loop_closed_by_the_pid
     A, B = closed.state_space()
     assert closed.state_names[:2 * n] == opened.state_names
     np.testing.assert_allclose(A, expected, rtol=0, atol=1e-12 * np.abs(expected).max())
-    np.testing.assert_allclose(B[:, closed.input_names.index("effort_shoulder")], np.append(b, 0.0),
+    np.testing.assert_allclose(B[:, closed.input_names.index("input_effort_shoulder")], np.append(b, 0.0),
                                rtol=0, atol=1e-12 * np.abs(b).max())
 
 

@@ -67,7 +67,7 @@ def test_state_matrix_matches_central_differences_in_q_u_and_z(pid):
     e = np.zeros(len(p))
     e[k] = h
     column = -(_rhs(compiled, x0, p + e) - _rhs(compiled, x0, p - e)) / (2 * h)
-    b = B[:, linear.input_names.index("load_disturbance_torque")]
+    b = B[:, linear.input_names.index("input_load_disturbance_torque")]
     np.testing.assert_allclose(b, column, rtol=0, atol=1e-6 * np.abs(b).max())
 
 

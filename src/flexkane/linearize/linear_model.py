@@ -5,8 +5,8 @@ Second-order form (velocity coordinates), about the operating point ``(q0, u0 = 
     M du' + C du + K dq = B dr,        dq' = W du + V dq.
 
 State-space form, with the state ``x = (dq, du)`` of length 2n (named after the coordinates and
-speeds), the inputs ``dr`` (the control inputs of :mod:`flexkane.kane.inputs`: ``effort_<joint>``,
-``load_<name>_fx`` ...) and the outputs ``dy = y - y0`` (the model's outputs, named as in the
+speeds), the inputs ``dr`` (the control inputs of :mod:`flexkane.kane.inputs`: ``input_effort_<joint>``,
+``input_load_<name>_fx`` ...) and the outputs ``dy = y - y0`` (the model's outputs, named as in the
 results files, :func:`linear_outputs`)::
 
     x' = A x + B_ss dr,     A = [[V, W], [-M^-1 K, -M^-1 C]],     B_ss = [[0], [M^-1 B]],

@@ -1,7 +1,7 @@
 """A controller in the loop: the control inputs set from the state before every right-hand-side evaluation.
 
 A model derived with its control inputs (:mod:`flexkane.kane.inputs`) has one constant of the
-constants vector p per input channel (``effort_<joint>``, ``load_<name>_fx`` ...). With a controller
+constants vector p per input channel (``input_effort_<joint>``, ``input_load_<name>_fx`` ...). With a controller
 ``f(t, y) -> efforts`` the integrated right-hand side becomes::
 
     controlled(t, y, p, dy):  p[inputs] = f(t, [q, u]);  return system_rhs(t, y, p, dy)
@@ -290,7 +290,7 @@ class ControlLoop:
                          for ti, row in zip(t, state)]).reshape(len(t), len(self.index))
 
     def outputs(self, t: np.ndarray, state: np.ndarray, p: np.ndarray) -> dict:
-        """The module's outputs at the output rows with each row's efforts, and ``input_<channel>``.
+        """The module's outputs at the output rows with each row's efforts, and the efforts by channel name.
 
         Parameters
         ----------
@@ -314,5 +314,5 @@ class ControlLoop:
             values[i] = self.module.outputs(np.ascontiguousarray(t[i:i + 1], dtype=np.float64),
                                             np.ascontiguousarray(state[i:i + 1], dtype=np.float64), prepared)[0]
         out = {name: values[:, k].copy() for k, name in enumerate(names)}
-        out.update({f"input_{name}": efforts[:, k].copy() for k, name in enumerate(self.controller.channels)})
+        out.update({name: efforts[:, k].copy() for k, name in enumerate(self.controller.channels)})
         return out
