@@ -99,3 +99,19 @@ def test_python_control_model_of_the_closed_loop_has_the_controller_state(pid):
     np.testing.assert_allclose(np.sort_complex(control.poles(system)), np.sort_complex(np.linalg.eigvals(A)))
     with pytest.raises(ValueError, match="controller states"):
         linear.second_order()
+
+
+def test_symbolic_matrices_name_the_gains_of_the_pid(pid):
+    """The Jacobians of the forcing and of z' in z, symbolic: the integral gain Ki on the hub's speed
+    equation and z' = theta_f - q_shoulder (unsaturated: Max and Min differentiate to the linear law)."""
+    import sympy as sp
+
+    _, linear, _ = pid
+    lin = linear.linearization
+    sym = lin.symbolic_matrices()
+    assert sym["Z_z"] == sp.zeros(1, 1) and sym["Z_u"] == sp.zeros(1, linear.n) and sym["Z_r"] == sp.zeros(1, 2)
+    assert sym["Z_q"][0, [q.name for q in lin.q_all].index("q_shoulder")] == -1
+    values = dict(zip(lin.parameters, lin.p)) | dict(zip(lin.q_all, linear.q0)) | {lin.z[0]: linear.z0[0], lin.t: 0.0}
+    K_z = np.array(sym["K_z"].xreplace(values).evalf(), dtype=float).ravel()
+    np.testing.assert_allclose(K_z, linear.K_z.ravel(), rtol=1e-12)
+    assert K_z[0] == pytest.approx(-lin.model.parameters["Ki"], rel=1e-12)

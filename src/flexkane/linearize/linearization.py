@@ -174,7 +174,9 @@ class Linearization:
         dict of str to sympy.Matrix
             ``M`` (n, n), ``C = -df/du`` (n, n), ``K = -df/dq`` (n, n_all), ``B = df/dr`` (n, m),
             ``W = dqdot/du`` (n_all, n), ``V = dqdot/dq`` (n_all, n_all) and, for closed loops,
-            ``Phi_q`` (constraints, n_all). Functions of q, t, the constants and r. For an open chain
+            ``Phi_q`` (constraints, n_all); with controller states also ``K_z = -df/dz`` (n, nz) and
+            the Jacobians of zdot ``Z_q`` (nz, n_all), ``Z_u`` (nz, n), ``Z_z`` (nz, nz), ``Z_r``
+            (nz, m). Functions of q, z, t, the constants and r. For an open chain
             n_all = n; a closed one is reduced numerically (``K T``, ``V T``, see
             :mod:`flexkane.linearize.reduction`). Formed on first use: for large models (many modes
             with geometric stiffening) this takes long, and the numeric matrices do not need it.
@@ -193,6 +195,14 @@ class Linearization:
             }
             if self.dependent:
                 self._symbolic["Phi_q"] = self.phi_q
+            if self.z:
+                zdot = sp.Matrix(self.zdot)
+                self._symbolic.update({
+                    "K_z": -f0.jacobian(self.z) if n else sp.zeros(0, len(self.z)),
+                    "Z_q": zdot.jacobian(self.q_all).xreplace(at_rest) if self.q_all else sp.zeros(len(self.z), 0),
+                    "Z_u": zdot.jacobian(self.u).xreplace(at_rest) if n else sp.zeros(len(self.z), 0),
+                    "Z_z": zdot.jacobian(self.z).xreplace(at_rest),
+                    "Z_r": zdot.jacobian(self.r).xreplace(at_rest) if m else sp.zeros(len(self.z), 0)})
         return self._symbolic
 
     def _appears(self, symbol) -> bool:
