@@ -54,8 +54,8 @@ class Controller:
     Parameters
     ----------
     function : callable
-        ``f(t, y)`` with t [s] and y the state ``[q, u]`` (shape (nq + nu,), in the order of
-        ``Results.state_names``), returning the efforts [N m or N]: an array of shape (m,) in the
+        ``f(t, y)`` with t [s] and y the state ``[q, u, z]`` (z: the controller states of the
+        model, none in most; shape (nq + nu + nz,), in the order of ``Results.state_names``), returning the efforts [N m or N]: an array of shape (m,) in the
         order of ``channels``, or a dict by channel name. A Numba ``@njit`` function takes the
         compiled path and must return a float64 array of shape (m,).
     channels : list of str
@@ -218,7 +218,7 @@ def controlled_system(module, controller: Controller, index) -> SystemFunction:
     entry = cache.get(key)
     if entry is None or (controller.compiled and entry[1] is not controller.function):
         system_rhs = getattr(module, "system_rhs", None) or module.rhs
-        n_state = module.NQ + module.NU
+        n_state = module.NQ + module.NU + getattr(module, "NZ", 0)    # [q, u, z], not the work W
         wrapper = (_numba_wrapper(system_rhs, controller.function, index, n_state) if controller.compiled
                    else _python_wrapper(system_rhs, index, n_state))
         entry = (SystemFunction(wrapper), controller.function if controller.compiled else None)
@@ -242,7 +242,7 @@ class ControlLoop:
     t0 : float
         Initial time [s].
     y0 : numpy.ndarray
-        Initial state ``[q, u]``, shape (nq + nu,).
+        Initial state ``[q, u, z]``, shape (nq + nu + nz,).
 
     Raises
     ------
@@ -261,7 +261,8 @@ class ControlLoop:
         self.module = module
         self.controller = Controller(function, channels)
         self.index = np.array([list(constant_names).index(name) for name in channels], dtype=np.int64)
-        self.controller.efforts(float(t0), np.array(y0[:module.NQ + module.NU], dtype=float))  # checked once here
+        self.n_state = module.NQ + module.NU + getattr(module, "NZ", 0)
+        self.controller.efforts(float(t0), np.array(y0[:self.n_state], dtype=float))  # checked once here
         self.system = controlled_system(module, self.controller, self.index)
 
     def active(self):
@@ -286,7 +287,7 @@ class ControlLoop:
 
     def efforts(self, t: np.ndarray, state: np.ndarray) -> np.ndarray:
         """The controller's efforts at the output rows, shape (N, m)."""
-        return np.array([self.controller.efforts(float(ti), np.array(row, dtype=float))
+        return np.array([self.controller.efforts(float(ti), np.array(row[:self.n_state], dtype=float))
                          for ti, row in zip(t, state)]).reshape(len(t), len(self.index))
 
     def outputs(self, t: np.ndarray, state: np.ndarray, p: np.ndarray) -> dict:
@@ -295,7 +296,7 @@ class ControlLoop:
         Parameters
         ----------
         t : numpy.ndarray, shape (N,)
-        state : numpy.ndarray, shape (N, nq + nu)
+        state : numpy.ndarray, shape (N, nq + nu + nz)
         p : numpy.ndarray, shape (n_p,)
             Constants (the inputs' entries are set row by row).
 
