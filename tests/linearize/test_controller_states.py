@@ -88,8 +88,12 @@ def test_slowest_closed_loop_mode_decays_at_the_rate_of_its_eigenvalue(pid):
     assert np.abs(run["controller_motor"]).max() < linear.y0[linear.output_names.index("controller_motor")] + 0.1
 
 
-def test_python_control_model_of_the_closed_loop_has_the_controller_state(pid):
+def test_python_control_model_of_the_closed_loop_has_the_controller_state(pid, tmp_path):
     control = pytest.importorskip("control")
+    import scipy.io
+
+    from flexkane.linearize import load_control
+
     _, linear, _ = pid
     system = linear.to_control()
     assert system.state_labels == linear.state_names and system.nstates == 2 * linear.n + 1
@@ -99,6 +103,16 @@ def test_python_control_model_of_the_closed_loop_has_the_controller_state(pid):
     np.testing.assert_allclose(np.sort_complex(control.poles(system)), np.sort_complex(np.linalg.eigvals(A)))
     with pytest.raises(ValueError, match="controller states"):
         linear.second_order()
+    linear.save_control(tmp_path / "s.npz")
+    again = load_control(tmp_path / "s.npz")
+    assert again.state_labels == linear.state_names
+    np.testing.assert_array_equal(again.B, B)
+    with np.load(tmp_path / "s.npz") as data:
+        np.testing.assert_array_equal(data["x0"], np.concatenate([linear.q0, np.zeros(linear.n), linear.z0]))
+    linear.save_mat(tmp_path / "s.mat")
+    mat = scipy.io.loadmat(tmp_path / "s.mat")
+    assert [str(c[0][0]) for c in mat["statespace"][0, 0]["StateName"]][-1] == "error_integral"
+    np.testing.assert_array_equal(mat["K_z"], linear.K_z)
 
 
 def test_symbolic_matrices_name_the_gains_of_the_pid(pid):

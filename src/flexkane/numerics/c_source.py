@@ -417,8 +417,8 @@ def c_sources(eom, prefix: str, info: CModelInfo) -> tuple[str, str]:
         " *",
         f" * State y = [q, u, z], {P}_NY = {ny} entries ({P}_NQ = {nq} coordinates, {P}_NU = {nu} speeds,",
         f" * {P}_NZ = {nz} controller states, in the order of the controllers, each one's states as listed):"]
-    header += [f" *   y[{k}] = {_comment(n)} [{_comment(u)}]" for k, (n, u) in enumerate(zip(state_names,
-                                                                                          info.state_units))]
+    header += [f" *   y[{k}] = {_comment(n)} [{_comment(u) or '?'}]"     # [?]: a unit not recorded
+               for k, (n, u) in enumerate(zip(state_names, info.state_units))]
     header += [" *",
                f" * Constants p, {P}_NP = {len(constants)} entries (name [unit]: what it is; [?]: a parameter",
                f" * whose unit the model does not fix; the model's values are {prefix}_default_p):"]
