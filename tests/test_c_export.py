@@ -5,8 +5,10 @@ as errors) and called through ctypes: the right-hand side and the outputs equal 
 module at random states to 1e-12 (relative to the largest entry), the mass matrix equals the
 symbolic one and satisfies ``M u' = f`` with the forcing. Models: the chapter's example, the
 closed-loop four-bar (also with a stabilized loop), the slider-crank (a crank driven at a
-prescribed speed closing a loop over a flexible rod) and, marked slow, spin-up (a prescribed hub
-speed, geometric stiffening). The header's orders are checked against the run manifest.
+prescribed speed closing a loop over a flexible rod), the arm under a PID law (a controller state
+z in y = [q, u, z], a torque saturated by min/max), the arm under a PD law of sensors (joint angle and
+rate, tip deflection, strain outputs) and, marked slow, spin-up (a prescribed hub speed, geometric
+stiffening). The header's orders are checked against the run manifest.
 """
 
 from __future__ import annotations
@@ -42,7 +44,7 @@ def _compile(directory, prefix: str):
                             capture_output=True, text=True, check=False)
     assert result.returncode == 0, result.stderr
     lib = ctypes.CDLL(str(library))
-    for name in ("rhs", "mass_matrix", "forcing", "kinematics", "outputs"):
+    for name in ("rhs", "mass_matrix", "forcing", "kinematics", "controller_rates", "outputs"):
         function = getattr(lib, f"{prefix}_{name}")
         function.argtypes = [ctypes.c_double, _DOUBLES, _DOUBLES, _DOUBLES]
         function.restype = ctypes.c_int
@@ -97,19 +99,24 @@ def exported(tmp_path_factory):
     return get
 
 
-def _compare_at_random_states(model, numba, lib, prefix: str, count: int = 5) -> None:
-    """rhs, M, f and the outputs of the C library against the Numba module at ``count`` random states."""
+def _compare_at_random_states(model, numba, lib, prefix: str, count: int = 5) -> dict:
+    """rhs, M, f and the outputs of the C library against the Numba module at ``count`` random states.
+
+    Returns the C outputs by name, one array of ``count`` values each.
+    """
     eom = numba.eom
     numbers = numba.derivation.numbers(model, ("p", "y0"))
     p, y0 = np.array(numbers["p"]), np.array(numbers["y0"])
-    nq, nu = len(eom.q), len(eom.u)
-    ny = nq + nu
+    nq, nu, nz = len(eom.q), len(eom.u), len(eom.z)
+    ny = nq + nu + nz
+    assert len(y0) == ny
     outputs = list(eom.compact.outputs)
     rng = np.random.default_rng(18)
     rhs, mass, forcing = (getattr(lib, f"{prefix}_{k}") for k in ("rhs", "mass_matrix", "forcing"))
+    seen: dict = {key: [] for key in outputs}
     for _ in range(count):
         t = float(rng.uniform(0.0, 0.5))
-        y = y0 + np.concatenate([0.05 * rng.standard_normal(nq), rng.standard_normal(nu)])
+        y = y0 + np.concatenate([0.05 * rng.standard_normal(nq), rng.standard_normal(nu), rng.standard_normal(nz)])
         status, dy = _call(rhs, t, y, p, ny)
         assert status == 0
         _close(dy, numba.rhs(t, y, p))
@@ -119,20 +126,26 @@ def _compare_at_random_states(model, numba, lib, prefix: str, count: int = 5) ->
         np.testing.assert_array_equal(M, M.T)
         status, f = _call(forcing, t, y, p, nu)
         assert status == 0
-        _close(M @ dy[nq:], f, rtol=1e-11)    # M u' = f with u' of the C right-hand side
+        _close(M @ dy[nq:nq + nu], f, rtol=1e-11)    # M u' = f with u' of the C right-hand side
         status, qdot = _call(getattr(lib, f"{prefix}_kinematics"), t, y, p, nq)
         assert status == 0
         np.testing.assert_array_equal(qdot, dy[:nq])
+        if nz:
+            status, zdot = _call(getattr(lib, f"{prefix}_controller_rates"), t, y, p, nz)
+            assert status == 0
+            np.testing.assert_array_equal(zdot, dy[nq + nu:])
         status, out = _call(getattr(lib, f"{prefix}_outputs"), t, y, p, len(outputs))
         assert status == 0
         numba_out = evaluate_outputs(numba.module, np.array([t]), y[None, :], p)
         for k, key in enumerate(outputs):
             _close(out[k], numba_out[key][0])
+            seen[key].append(out[k])
     # the mass matrix against the symbolic one (intermediates written out), at the last state
-    values = dict(zip(eom.constants, p)) | dict(zip([*eom.q, *eom.u], y)) | {eom.t: t}
+    values = dict(zip(eom.constants, p)) | dict(zip([*eom.q, *eom.u, *eom.z], y)) | {eom.t: t}
     symbolic = np.array(eom.mass_matrix.xreplace({s: sp.Float(v) for s, v in values.items()}).evalf(),
                         dtype=float)
     _close(M, symbolic)
+    return {key: np.array(v) for key, v in seen.items()}
 
 
 @needs_cc
@@ -141,6 +154,33 @@ def _compare_at_random_states(model, numba, lib, prefix: str, count: int = 5) ->
 def test_c_matches_numba_at_random_states(exported, name):
     model, numba, lib, prefix, _ = exported(name)
     _compare_at_random_states(model, numba, lib, prefix)
+
+
+@needs_cc
+def test_controller_state_and_saturation_match_numba(exported):
+    """flexible-arm-pid: y = [q, u, z], z' = the tracking error, the motor torque saturated at
+    +-tau_max through min/max (fmin/fmax in C); the random states reach both sides of the limit."""
+    model, numba, lib, prefix, directory = exported("flexible-arm-pid")
+    header = (directory / f"{prefix}.h").read_text()
+    assert "#define FLEXIBLE_ARM_PID_NZ 1" in header and "#define FLEXIBLE_ARM_PID_NY 9" in header
+    assert [n for _, n, _ in _documented(header, "y")][-1] == "error_integral"
+    assert "fmin(" in (directory / f"{prefix}.c").read_text()
+    seen = _compare_at_random_states(model, numba, lib, prefix, count=12)
+    tau_max = model.parameters["tau_max"]
+    torque = seen["controller_motor"]
+    assert np.isclose(torque, tau_max).any() and np.isclose(torque, -tau_max).any()
+    assert (np.abs(torque) < tau_max - 1e-3).any()
+    np.testing.assert_array_equal(seen["effort_shoulder"], torque)
+
+
+@needs_cc
+def test_sensor_feedback_matches_numba(exported):
+    """flexible-arm-pd: a torque of sensors (joint angle and rate) and a set-point of t; the sensor
+    columns (tip deflection, root strain) are outputs of the C file too."""
+    model, numba, lib, prefix, _ = exported("flexible-arm-pd")
+    seen = _compare_at_random_states(model, numba, lib, prefix)
+    assert {"sensor_tip", "sensor_root_strain", "effort_shoulder", "controller_reference"} <= set(seen)
+    assert np.all(seen["effort_shoulder"] != 0.0)
 
 
 @needs_cc

@@ -38,7 +38,7 @@ def test_lqr_notebook_slews_the_hub_and_damps_the_tip_vibration_the_open_loop_le
                 pytest.fail(f"{output['ename']}: {output['evalue']}")
             text.append(output.get("text", ""))
     text = "".join(text)
-    assert "inputs: ['effort_shoulder']" in text and "'tip_link'" in text
+    assert "inputs: ['input_effort_shoulder']" in text and "'tip_link'" in text
     opened = re.search(r"open loop: hub at ([\d.]+) rad, residual tip vibration ([\d.]+) mm", text)
     closed = re.search(r"closed loop: hub at ([\d.]+) rad, residual tip vibration ([\d.]+) mm", text)
     assert abs(float(closed.group(1)) - float(opened.group(1))) < 2e-3           # the same slew

@@ -54,7 +54,7 @@ def test_numba_controller_gives_the_python_controllers_numbers(free_hub):
 
 
 def test_controlled_runs_are_reproducible_and_a_zero_controller_changes_nothing(free_hub):
-    first = flexkane.simulate(free_hub, controller=lambda t, y: {"effort_hub": -KP * (y[0] - Q_REF)}, **RUN)
+    first = flexkane.simulate(free_hub, controller=lambda t, y: {"input_effort_hub": -KP * (y[0] - Q_REF)}, **RUN)
     again = flexkane.simulate(free_hub, controller=p_law, **RUN)
     np.testing.assert_array_equal(first.state, again.state)           # a dict by name = the array
     plain = flexkane.simulate(free_hub, **RUN)
@@ -64,10 +64,10 @@ def test_controlled_runs_are_reproducible_and_a_zero_controller_changes_nothing(
 
 
 @pytest.mark.parametrize("law, match", [
-    (lambda t, y: [1.0, 2.0], r"1 efforts \(effort_hub\).*shape \(2,\)"),
+    (lambda t, y: [1.0, 2.0], r"1 efforts \(input_effort_hub\).*shape \(2,\)"),
     (lambda t, y: [np.nan], "finite efforts"),
-    (lambda t, y: [1.0] if t < 0.1 else [np.inf], r"finite efforts.*effort_hub = inf at t = 0\.1"),
-    (lambda t, y: {"effort_elbow": 1.0}, "input channels"),
+    (lambda t, y: [1.0] if t < 0.1 else [np.inf], r"finite efforts.*input_effort_hub = inf at t = 0\.1"),
+    (lambda t, y: {"input_effort_elbow": 1.0}, "input channels"),
     (lambda t, y: "torque", "1 efforts"),
 ])
 def test_bad_controller_output_is_a_clear_error(free_hub, law, match):
@@ -113,3 +113,31 @@ def test_controlled_results_write_and_load_with_their_input_columns(free_hub, tm
     loaded = flexkane.load_results(tmp_path / "results.npz")
     np.testing.assert_array_equal(loaded["input_effort_hub"], results["input_effort_hub"])
     np.testing.assert_array_equal(loaded.state, results.state)
+
+
+@pytest.fixture(scope="module")
+def pid_arm():
+    return flexkane.builtin_model("flexible-arm-pid")
+
+
+def test_controller_sees_the_controller_states_and_can_cancel_a_disturbance(pid_arm):
+    """flexible-arm-pid: the law gets y = [q, u, z] (its integral state last) at every evaluation and
+    output row; adding +tau_d through the disturbance's input cancels the load, so the PID's integral
+    settles at 0 instead of tau_d / Ki (which it reaches with the input at 0)."""
+    tau_d, ki = pid_arm.parameters["tau_d"], pid_arm.parameters["Ki"]
+    compiled = flexkane.compile_model(flexkane.derive(pid_arm))
+    names = compiled.derivation.manifest["state_names"]
+    assert names[-1] == "error_integral"
+    sizes = set()
+
+    def cancel(t, y):
+        sizes.add(len(y))
+        return {"input_load_disturbance_torque": tau_d}
+
+    run = dict(t_end=16.0, dt_out=0.5, rtol=1e-8, atol=1e-10)
+    cancelled = flexkane.simulate(compiled, controller=cancel, **run)
+    assert sizes == {len(names)}
+    np.testing.assert_allclose(cancelled["input_load_disturbance_torque"], tau_d)
+    assert abs(cancelled["error_integral"][-1]) < 1e-3 * tau_d / ki
+    held = flexkane.simulate(compiled, controller=lambda t, y: {"input_load_disturbance_torque": 0.0}, **run)
+    assert held["error_integral"][-1] == pytest.approx(tau_d / ki, rel=1e-3)

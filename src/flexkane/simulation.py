@@ -343,14 +343,14 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
         that a run of the same model again needs no SymPy (the command line's runs do).
     controller : callable, optional
         A control law ``f(t, y) -> efforts`` in the loop (:mod:`flexkane.numerics.controller`):
-        y is the state ``[q, u]`` in the order of ``Results.state_names``; the efforts [N m or N]
+        y is the state ``[q, u, z]`` in the order of ``Results.state_names``; the efforts [N m or N]
         are an array in the order of the model's input channels (:mod:`flexkane.kane.inputs`:
-        ``effort_<joint>`` of every revolute or prismatic joint not driven, in the order of the
-        model, then ``load_<name>_fx``, ``_fy``, ``_torque`` of its loads) or a dict by channel name
-        (others 0), added to the model's own torques and loads. Evaluated at every evaluation of
-        the right-hand side; an ``@njit`` function (returning a float64 array) runs in compiled
-        code. The equations with the inputs are derived and compiled on first use (cached like any
-        structure). The efforts at the output times are the outputs ``input_<channel>``.
+        ``input_effort_<joint>`` of every revolute or prismatic joint not driven, in the order of
+        the model, then ``input_load_<name>_fx``, ``_fy``, ``_torque`` of its loads) or a dict by
+        channel name (others 0), added to the model's own torques and loads. Evaluated at every
+        evaluation of the right-hand side; an ``@njit`` function (returning a float64 array) runs in
+        compiled code. The equations with the inputs are derived and compiled on first use (cached
+        like any structure). The efforts at the output times are the outputs named by the channels.
 
     Returns
     -------

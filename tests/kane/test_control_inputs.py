@@ -30,8 +30,8 @@ def slider_with_flexible_arm():
 def test_channels_are_named_ordered_and_have_units():
     channels = input_channels(slider_with_flexible_arm())
     assert [(c.name, c.unit) for c in channels] == [
-        ("effort_slide", "N"), ("effort_hinge", "N m"), ("load_push_fx", "N"), ("load_push_fy", "N"),
-        ("load_push_torque", "N m")]
+        ("input_effort_slide", "N"), ("input_effort_hinge", "N m"), ("input_load_push_fx", "N"),
+        ("input_load_push_fy", "N"), ("input_load_push_torque", "N m")]
     assert channels[1].path == "joints.hinge.torque" and channels[3].path == "loads.push.force[1]"
 
 
@@ -41,8 +41,8 @@ def test_driven_joints_have_no_effort_input():
 
 
 def test_a_parameter_named_like_an_input_is_refused():
-    model = slider_with_flexible_arm().with_values({"parameters.effort_hinge": 1.0})
-    with pytest.raises(ModelError, match="effort_hinge"):
+    model = slider_with_flexible_arm().with_values({"parameters.input_effort_hinge": 1.0})
+    with pytest.raises(ModelError, match="input_effort_hinge"):
         input_channels(model)
 
 
@@ -64,10 +64,11 @@ def test_load_inputs_act_like_the_load_itself_and_an_effort_on_its_joint_speed()
     symbols = input_symbols(eom.chain)
     params = eom.chain.symbols.parameters
     f = eom.forcing
-    by_inputs = f.jacobian([symbols["load_push_fx"], symbols["load_push_fy"], symbols["load_push_torque"]])
+    by_inputs = f.jacobian([symbols["input_load_push_fx"], symbols["input_load_push_fy"],
+                            symbols["input_load_push_torque"]])
     by_load = f.jacobian([params["Fx"], params["Fy"], params["Tq"]])
     assert (by_inputs - by_load).applyfunc(sp.simplify) == sp.zeros(*by_load.shape)
-    efforts = f.jacobian([symbols["effort_slide"], symbols["effort_hinge"]])
+    efforts = f.jacobian([symbols["input_effort_slide"], symbols["input_effort_hinge"]])
     u = [s.name for s in eom.u]
     expected = sp.zeros(len(u), 2)
     expected[u.index("u_slide"), 0] = 1

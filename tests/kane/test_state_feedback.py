@@ -305,10 +305,34 @@ def test_signal_names_must_be_new():
     assert info.value.path == "controllers.c.states.q_axle" and "already used" in str(info.value)
 
 
-def test_controller_states_are_refused_by_linearize_with_a_message():
-    with pytest.raises(ModelError) as info:
-        linearize(flexkane.loads_model(PID_ARM), about="rest")
-    assert info.value.path == "controllers" and "integral" in str(info.value)
+def test_linear_model_with_a_controller_state_is_the_open_loop_closed_by_the_pid():
+    """The PID's integral is a state of the linear model: x = (dq, du, dz), and A equals the open-loop
+    arm's A - B K with the gains of the law (torque = 8 e + 4 z - 1.5 u, z' = e, e = ref - q) to 1e-12.
+    Its initial integral 0.01 pushes the arm at rest, which is no equilibrium; the equilibrium has z = 0."""
+    from flexkane.linearize.equilibrium import NoEquilibriumError
+
+    model = flexkane.loads_model(PID_ARM)
+    with pytest.raises(NoEquilibriumError, match="not in equilibrium at rest"):
+        linearize(model, about="rest")
+    closed = linearize(model)
+    assert closed.state_names[-1] == "integral" and closed.z0 == pytest.approx([0.0], abs=1e-12)
+    open_model = model.copy()
+    open_model.joints["shoulder"].torque = None
+    open_model.controllers = {}
+    opened = linearize(open_model.validate())
+    A_o, B_o = opened.state_space()
+    b = B_o[:, opened.input_names.index("input_effort_shoulder")]
+    n = opened.n
+    expected = np.zeros((2 * n + 1, 2 * n + 1))
+    expected[:2 * n, :2 * n] = A_o - np.outer(b, 8.0 * np.eye(2 * n)[opened.state_names.index("q_shoulder")]
+                                               + 1.5 * np.eye(2 * n)[opened.state_names.index("u_shoulder")])
+    expected[:2 * n, 2 * n] = 4.0 * b
+    expected[2 * n, opened.state_names.index("q_shoulder")] = -1.0
+    A, B = closed.state_space()
+    assert closed.state_names[:2 * n] == opened.state_names
+    np.testing.assert_allclose(A, expected, rtol=0, atol=1e-12 * np.abs(expected).max())
+    np.testing.assert_allclose(B[:, closed.input_names.index("input_effort_shoulder")], np.append(b, 0.0),
+                               rtol=0, atol=1e-12 * np.abs(b).max())
 
 
 def test_model_file_round_trip_keeps_sensors_and_controllers():

@@ -25,7 +25,7 @@ def free_hub():
 
 def test_closed_loop_of_a_p_controller_is_a_minus_b_k_of_the_open_loop(free_hub):
     sprung = linearize(hub_beam(spring=True))
-    assert free_hub.state_names == sprung.state_names and free_hub.input_names == ["effort_hub"]
+    assert free_hub.state_names == sprung.state_names and free_hub.input_names == ["input_effort_hub"]
     A, B = free_hub.state_space()
     gain = np.zeros((1, A.shape[0]))
     gain[0, free_hub.state_names.index("q_hub")] = KP
@@ -70,7 +70,7 @@ def test_state_space_for_python_control_has_the_names_and_matrices(free_hub, tmp
     np.testing.assert_array_equal(system.C, C)
     np.testing.assert_array_equal(system.D, D)
     assert system.state_labels == free_hub.state_names
-    assert system.input_labels == ["effort_hub"]
+    assert system.input_labels == ["input_effort_hub"]
     assert system.output_labels == free_hub.output_names and "tip_link" in system.output_labels
     assert "energy" not in system.output_labels
     free_hub.save_control(tmp_path / "s.npz")
@@ -81,7 +81,7 @@ def test_state_space_for_python_control_has_the_names_and_matrices(free_hub, tmp
     struct = scipy.io.loadmat(tmp_path / "s.mat")["statespace"][0, 0]
     np.testing.assert_array_equal(struct["B"], B)
     np.testing.assert_array_equal(struct["C"], C)
-    assert [str(c[0][0]) for c in struct["InputName"]] == ["effort_hub"]
+    assert [str(c[0][0]) for c in struct["InputName"]] == ["input_effort_hub"]
 
 
 def test_command_line_exports_the_state_space_for_python_control(tmp_path, capsys):
@@ -89,7 +89,7 @@ def test_command_line_exports_the_state_space_for_python_control(tmp_path, capsy
     assert main(["linearize", "flexible-arm", "--n-modes", "2", "--export", "control", "--out", str(out)]) == 0
     assert "wrote 5 files" in capsys.readouterr().out
     system = load_control(out / "statespace.npz")
-    assert system.input_labels == ["effort_shoulder"] and "tip_link" in system.output_labels
+    assert system.input_labels == ["input_effort_shoulder"] and "tip_link" in system.output_labels
     assert main(["linearize", "flexible-arm", "--export", "simulink", "--out", str(tmp_path / "x")]) == 2
     assert "--export" in capsys.readouterr().err
 
@@ -118,7 +118,7 @@ def test_output_with_accelerations_gets_its_direct_feedthrough_d():
                                   child="arm", stiffness=3.0, rest=0.4)
     model.validate()
     linear = linearize(model)
-    assert linear.input_names == ["effort_elbow"] and "effort_table" in linear.output_names
+    assert linear.input_names == ["input_effort_elbow"] and "effort_table" in linear.output_names
     C, D = linear.output_matrices()
     row = linear.output_names.index("effort_table")
     assert abs(D[row, 0]) > 1e-3
@@ -129,7 +129,7 @@ def test_output_with_accelerations_gets_its_direct_feedthrough_d():
     x0 = np.zeros(len(names))
     for name, value in zip(linear.coordinates, linear.q0):
         x0[names.index(name)] = value
-    k_in = list(module.CONSTANT_NAMES).index("effort_elbow")
+    k_in = list(module.CONSTANT_NAMES).index("input_effort_elbow")
     k_out = list(module.OUTPUT_NAMES).index("effort_table")
 
     def effort(x, r):

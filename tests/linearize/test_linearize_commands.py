@@ -54,7 +54,7 @@ def test_exported_matrices_load_in_numpy_and_matlab_format(tmp_path):
         np.testing.assert_array_equal(data["B_ss"], B)
         np.testing.assert_array_equal(data["K"], linear.K)
         assert list(data["state_names"]) == linear.state_names
-        assert list(data["input_names"]) == ["effort_shoulder"]
+        assert list(data["input_names"]) == ["input_effort_shoulder"]
     mat = scipy.io.loadmat(tmp_path / "m.mat")
     np.testing.assert_array_equal(mat["A"], A)
     np.testing.assert_array_equal(mat["M"], linear.M)

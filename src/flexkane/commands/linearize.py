@@ -82,6 +82,9 @@ def describe(linear) -> list[str]:
              f"{m} input{'s' if m != 1 else ''} ({', '.join(linear.input_names) or 'none'})"]
     if linear.n:
         lines.append("operating point: " + ", ".join(f"{c} = {v:.6g}" for c, v in zip(linear.coordinates, linear.q0)))
+    if linear.nz:
+        lines.append("controller states: " + ", ".join(f"{c} = {v:.6g}"
+                                                      for c, v in zip(linear.controller_states, linear.z0)))
     lines += [f"note: {note}" for note in linear.notes]
     return lines
 

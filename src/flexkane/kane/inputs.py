@@ -3,13 +3,20 @@
 A model derived with ``control_inputs = True`` (:func:`with_control_inputs`) has one input symbol per
 *input channel*, added to the generalized active forces (eq. 8.35) of the loads:
 
-* ``effort_<joint>`` for every revolute joint (a torque [N m] about the joint axis, between parent
-  and child) and every prismatic joint (a force [N] along the slide) whose coordinate is not
+* ``input_effort_<joint>`` for every revolute joint (a torque [N m] about the joint axis, between
+  parent and child) and every prismatic joint (a force [N] along the slide) whose coordinate is not
   prescribed by a driver (a driven joint's effort is the driver's, an output ``effort_<joint>``):
   ``F_r += (d u_joint / d u_r) effort``, which is ``effort`` on the joint's own speed;
-* ``load_<name>_fx``, ``load_<name>_fy`` [N] for every load that declares a force, in the load's
-  frame (``ground`` or ``local``, as its ``frame`` says), ``F_r += v_P,r . (fx, fy)``;
-* ``load_<name>_torque`` [N m] for every load that declares a torque, ``F_r += w_r . torque``.
+* ``input_load_<name>_fx``, ``input_load_<name>_fy`` [N] for every load that declares a force, in
+  the load's frame (``ground`` or ``local``, as its ``frame`` says), ``F_r += v_P,r . (fx, fy)``;
+* ``input_load_<name>_torque`` [N m] for every load that declares a torque, ``F_r += w_r . torque``.
+
+**Names.** A channel's name is the name of the input signal everywhere: the controller's dict keys,
+the results column of its values (``simulate(..., controller=f)``), the inputs of a linear model
+and of its python-control ``StateSpace``. The ``input_`` prefix keeps it apart from the output
+columns of the model's own efforts (``effort_<joint>``, ``load_<name>_fx`` ..., the values of the
+fields the inputs add to), which are outputs of the same linear model: python-control connects
+signals by name, so an input and an output must never share one.
 
 The order of the channels is: joints in the order of the model, then loads in the order of the model
 (fx, fy, torque). Each input adds to what the model's own field gives (a joint's ``torque``, a
@@ -28,7 +35,10 @@ from dataclasses import dataclass
 
 from ..errors import ModelError
 
-__all__ = ["InputChannel", "input_channels", "input_forces", "input_symbols", "with_control_inputs"]
+__all__ = ["INPUT_PREFIX", "InputChannel", "input_channels", "input_forces", "input_symbols", "with_control_inputs"]
+
+#: Prefix of the input channels' names before the name of the output column of the field they add to.
+INPUT_PREFIX = "input_"
 
 
 @dataclass(frozen=True)
@@ -38,7 +48,8 @@ class InputChannel:
     Attributes
     ----------
     name : str
-        ``effort_<joint>``, ``load_<name>_fx``, ``load_<name>_fy`` or ``load_<name>_torque``.
+        ``input_effort_<joint>``, ``input_load_<name>_fx``, ``input_load_<name>_fy`` or
+        ``input_load_<name>_torque`` (:data:`INPUT_PREFIX` and the name of the field's output column).
     path : str
         Key path of the model field it adds to (``joints.shoulder.torque``, ``loads.push.force[0]``).
     unit : str
@@ -94,14 +105,14 @@ def input_channels(model) -> list[InputChannel]:
     channels = []
     for name, joint in model.joints.items():
         if joint.type in ("revolute", "prismatic") and joint.driver is None:
-            channels.append(InputChannel(f"effort_{name}", f"joints.{name}.torque",
+            channels.append(InputChannel(f"{INPUT_PREFIX}effort_{name}", f"joints.{name}.torque",
                                          "N m" if joint.type == "revolute" else "N"))
     for name, load in model.loads.items():
         if load.force is not None:
-            channels += [InputChannel(f"load_{name}_f{axis}", f"loads.{name}.force[{k}]", "N")
+            channels += [InputChannel(f"{INPUT_PREFIX}load_{name}_f{axis}", f"loads.{name}.force[{k}]", "N")
                          for k, axis in enumerate("xy")]
         if load.torque is not None:
-            channels.append(InputChannel(f"load_{name}_torque", f"loads.{name}.torque", "N m"))
+            channels.append(InputChannel(f"{INPUT_PREFIX}load_{name}_torque", f"loads.{name}.torque", "N m"))
     for channel in channels:
         if channel.name in model.parameters:
             raise ModelError(f"parameters.{channel.name}", "a parameter name other than those of the input "
@@ -157,19 +168,19 @@ def input_forces(kin) -> list:
     if not symbols:
         return forces
     for name, joint in chain.model.joints.items():
-        symbol = symbols.get(f"effort_{name}")
+        symbol = symbols.get(f"{INPUT_PREFIX}effort_{name}")
         if symbol is not None:
             coord = chain.of(name)[0]
             forces[speeds.index(coord.u)] += symbol
     for name, load in chain.model.loads.items():
         frame = kin.load_frame(load)
         if load.force is not None:
-            fx, fy = symbols[f"load_{name}_fx"], symbols[f"load_{name}_fy"]
+            fx, fy = symbols[f"{INPUT_PREFIX}load_{name}_fx"], symbols[f"{INPUT_PREFIX}load_{name}_fy"]
             force = (fx, fy) if load.frame == "local" else rot(-frame.theta, (fx, fy))
             for r, u in enumerate(speeds):
                 forces[r] += chain.partial(frame.v[0], u) * force[0] + chain.partial(frame.v[1], u) * force[1]
         if load.torque is not None:
-            torque = symbols[f"load_{name}_torque"]
+            torque = symbols[f"{INPUT_PREFIX}load_{name}_torque"]
             for r, u in enumerate(speeds):
                 forces[r] += chain.partial(frame.omega, u) * torque
     return forces

@@ -5,8 +5,8 @@ Second-order form (velocity coordinates), about the operating point ``(q0, u0 = 
     M du' + C du + K dq = B dr,        dq' = W du + V dq.
 
 State-space form, with the state ``x = (dq, du)`` of length 2n (named after the coordinates and
-speeds), the inputs ``dr`` (the control inputs of :mod:`flexkane.kane.inputs`: ``effort_<joint>``,
-``load_<name>_fx`` ...) and the outputs ``dy = y - y0`` (the model's outputs, named as in the
+speeds), the inputs ``dr`` (the control inputs of :mod:`flexkane.kane.inputs`: ``input_effort_<joint>``,
+``input_load_<name>_fx`` ...) and the outputs ``dy = y - y0`` (the model's outputs, named as in the
 results files, :func:`linear_outputs`)::
 
     x' = A x + B_ss dr,     A = [[V, W], [-M^-1 K, -M^-1 C]],     B_ss = [[0], [M^-1 B]],
@@ -14,6 +14,15 @@ results files, :func:`linear_outputs`)::
 
 where ``C_out`` and ``D_out`` are the outputs' derivatives with respect to (dq, du) and dr and
 ``C_acc`` with respect to du' (outputs with accelerations, such as a driver's effort).
+
+With controller states z (``[controllers]`` with ``states``), the state is ``x = (dq, du, dz)`` of
+length 2n + nz, the forcing depends on dz through ``K_z = -df/dz`` and the states' rates are
+``dz' = Z_x x + Z_r dr``::
+
+    M du' + C du + K dq + K_z dz = B dr,
+    A = [[V, W, 0], [-M^-1 K, -M^-1 C, -M^-1 K_z], Z_x],     B_ss = [[0], [M^-1 B], [Z_r]],
+
+and ``C_out`` has the outputs' derivatives with respect to dz as its last nz columns.
 
 When ``W`` is invertible and ``V = 0`` (every operating point of a chain at rest), ``du = W^-1 dq'``
 and premultiplying by ``W^-T`` (which turns generalized forces along the speeds into forces along the
@@ -110,6 +119,15 @@ class LinearModel:
         Derivatives of the outputs with respect to dr, shape (k, m).
     output_units : dict of str to str
         Unit of each output (``m``, ``rad``, ``N m`` ...).
+    controller_states : list of str
+        Names of the controller states dz, nz of them (empty without controller states).
+    z0 : numpy.ndarray
+        The controller states at the operating point, shape (nz,).
+    K_z : numpy.ndarray
+        ``-df/dz``, shape (n, nz).
+    Z_x, Z_r : numpy.ndarray
+        Derivatives of the controller states' rates with respect to x = (dq, du, dz) and dr, shapes
+        (nz, 2n + nz) and (nz, m).
     """
 
     name: str
@@ -141,6 +159,11 @@ class LinearModel:
     D_out: np.ndarray | None = None
 
     output_units: dict = field(default_factory=dict)
+    controller_states: list = field(default_factory=list)
+    z0: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    K_z: np.ndarray | None = None
+    Z_x: np.ndarray | None = None
+    Z_r: np.ndarray | None = None
 
     # ------------------------------------------------------------------ sizes and names
     @property
@@ -153,20 +176,31 @@ class LinearModel:
         return [ch.name for ch in self.inputs]
 
     @property
+    def nz(self) -> int:
+        """Number of controller states."""
+        return len(self.controller_states)
+
+    @property
     def state_names(self) -> list[str]:
-        """Names of the state x = (dq, du)."""
-        return list(self.coordinates) + list(self.speeds)
+        """Names of the state x = (dq, du, dz)."""
+        return list(self.coordinates) + list(self.speeds) + list(self.controller_states)
 
     # ------------------------------------------------------------------ forms
     def state_space(self) -> tuple[np.ndarray, np.ndarray]:
-        """``(A, B_ss)`` of ``x' = A x + B_ss dr``, shapes (2n, 2n) and (2n, m)."""
-        n, m = self.n, self.B.shape[1]
-        if n == 0:
+        """``(A, B_ss)`` of ``x' = A x + B_ss dr``, shapes (2n + nz, 2n + nz) and (2n + nz, m)."""
+        n, m, nz = self.n, self.B.shape[1], self.nz
+        if n == 0 and nz == 0:
             return np.zeros((0, 0)), np.zeros((0, m))
+        if n == 0:
+            return np.array(self.Z_x, dtype=float).reshape(nz, nz), np.array(self.Z_r, dtype=float).reshape(nz, m)
         lu = scipy.linalg.lu_factor(self.M)
         A = np.block([[self.V, self.W],
                       [-scipy.linalg.lu_solve(lu, self.K), -scipy.linalg.lu_solve(lu, self.C)]])
         Bss = np.vstack([np.zeros((n, m)), scipy.linalg.lu_solve(lu, self.B) if m else np.zeros((n, 0))])
+        if nz:
+            coupling = np.vstack([np.zeros((n, nz)), -scipy.linalg.lu_solve(lu, self.K_z)])
+            A = np.vstack([np.hstack([A, coupling]), self.Z_x])
+            Bss = np.vstack([Bss, np.array(self.Z_r, dtype=float).reshape(nz, m)])
         return A, Bss
 
     def output_matrices(self) -> tuple[np.ndarray, np.ndarray]:
@@ -176,8 +210,8 @@ class LinearModel:
         D = np.zeros((k, m)) if self.D_out is None else np.array(self.D_out, dtype=float).reshape(k, m)
         if self.C_acc is not None and n and np.any(self.C_acc != 0):
             A, Bss = self.state_space()
-            C = C + self.C_acc @ A[n:]
-            D = D + self.C_acc @ Bss[n:]
+            C = C + self.C_acc @ A[n:2 * n]
+            D = D + self.C_acc @ Bss[n:2 * n]
         return C, D
 
     def to_control(self):
@@ -213,8 +247,11 @@ class LinearModel:
         Raises
         ------
         ValueError
-            If ``V`` is not zero (the form needs ``du = W^-1 dq'``).
+            If ``V`` is not zero (the form needs ``du = W^-1 dq'``) or the model has controller
+            states (their first-order equations are not part of this form: use :meth:`state_space`).
         """
+        if self.nz:
+            raise ValueError("the coordinate form has no controller states: use state_space()")
         if np.any(self.V != 0):
             raise ValueError("the coordinate form needs V = 0 (dq' = W du)")
         if self.n == 0:
@@ -229,7 +266,8 @@ class LinearModel:
         Keys: ``M, C, K, B, W, V`` (second-order form), ``A, B_ss, C_ss, D_ss`` (state space),
         ``q0, r0, y0``, ``spin`` (NaN unless about a spin), ``t0``, and the names ``state_names``,
         ``coordinates``, ``speeds``, ``input_names``, ``input_units``, ``output_names``,
-        ``output_units``, ``about``, ``name``.
+        ``output_units``, ``about``, ``name``; with controller states also ``K_z, Z_x, Z_r``, ``z0``
+        and their names ``controller_states``.
         """
         A, Bss = self.state_space()
         Css, Dss = self.output_matrices()
@@ -243,7 +281,8 @@ class LinearModel:
             "input_units": [ch.unit for ch in self.inputs], "output_names": list(self.output_names),
             "output_units": [self.output_units.get(k, "") for k in self.output_names],
             "about": self.about, "name": self.name,
-        }
+        } | ({"K_z": self.K_z, "Z_x": self.Z_x, "Z_r": self.Z_r, "z0": self.z0,
+              "controller_states": list(self.controller_states)} if self.nz else {})
 
     def save_npz(self, path) -> None:
         """Write :meth:`arrays` to a NumPy ``.npz`` file (names as Unicode arrays, no pickles)."""
@@ -295,7 +334,7 @@ class LinearModel:
         data = {"A": A, "B": B, "C": C, "D": D, "states": names(self.state_names),
                 "inputs": names(self.input_names), "outputs": names(self.output_names),
                 "name": np.array(self.name), "dt": np.array(0.0),
-                "x0": np.concatenate([self.q0, np.zeros(self.n)]), "r0": np.asarray(self.r0, dtype=float),
+                "x0": np.concatenate([self.q0, np.zeros(self.n), self.z0]), "r0": np.asarray(self.r0, dtype=float),
                 "y0": np.asarray(self.y0, dtype=float), "input_units": names([ch.unit for ch in self.inputs]),
                 "output_units": names([self.output_units.get(k, "") for k in self.output_names])}
         with atomic_writer(path, "path") as temporary:

@@ -13,6 +13,13 @@ with, all evaluated at the operating point,
 equations ``q' = W(q) u + k(q, t)``: the identity for revolute, prismatic and modal coordinates, a
 rotation for the translation of a free joint (eq. 8.14). The state-space form is
 ``x = (dq, du)``, ``x' = A x + B_ss dr`` (:class:`~flexkane.linearize.linear_model.LinearModel`).
+
+Controller states z (``[controllers.NAME]`` with ``states``, ``z' = zdot(q, u, z, t, r)``) are part
+of the operating point and of the state, ``x = (dq, du, dz)``: the forcing's Jacobian with respect to
+z gives ``K_z = -df/dz`` (``M du' + C du + K dq + K_z dz = B dr``) and the rates' Jacobians the rows
+``dz' = Z_q dq + Z_u du + Z_z dz + Z_r dr``. An equilibrium solves ``f = 0`` and ``zdot = 0``
+together over ``(q, z)`` (an integral state settles where it cancels a constant load: a PID's at
+``z0 = tau_d / Ki``); the controllers' outputs and the sensors are outputs with their ``dz`` columns.
 Chains with closed loops are linearized in their independent coordinates
 (:mod:`flexkane.linearize.reduction`).
 
@@ -38,6 +45,7 @@ rates).
 from __future__ import annotations
 
 import numpy as np
+import scipy.linalg
 import sympy as sp
 
 from ..errors import ModelError
@@ -85,6 +93,9 @@ class Linearization:
         Coordinates prescribed by drivers, not in the linear model.
     r : list of sympy.Symbol
         Inputs (actuator efforts and load components, :mod:`flexkane.kane.inputs`), m of them.
+    z : list of sympy.Symbol
+        Controller states (empty without ``[controllers]`` states), nz of them; their rates
+        ``zdot`` (list of sympy.Expr, nz).
     M, W, V : sympy.Matrix
         Mass matrix M(q) (n, n) and kinematic Jacobians ``dqdot/du`` (n_all, n), ``dqdot/dq``
         (n_all, n_all) at u = 0; the Jacobians of the forcing are in :meth:`symbolic_matrices`.
@@ -109,11 +120,9 @@ class Linearization:
         self.model = self.prepared.model
         self.notes = list(self.prepared.notes)
         eom = derive(self.model)
-        if getattr(eom, "z", None):
-            raise ModelError("controllers", "a model without controller states to linearize (the linear model's "
-                             "state is (dq, du); feedback written directly in the efforts, from coordinates, "
-                             "speeds and sensors, is linearized)", ", ".join(z.name for z in eom.z))
         self.eom = eom
+        self.z = list(getattr(eom, "z", None) or [])      # controller states: x = (dq, du, dz)
+        self.zdot = list(eom.zdot) if self.z else []
         self.t = eom.t
         self._coordinate = {c.q: c for c in eom.chain.coordinates}
         self.dropped = [q for q in eom.q if self._coordinate[q].driver == "speed"]
@@ -151,9 +160,9 @@ class Linearization:
 
         self._units = units(eom)
         self.ud = [eom.chain.ud[u] for u in self.u]
-        # f and its Jacobian with respect to (q_all, u, r), in factored form for the numbers (the
-        # outputs' with respect to (q_all, u, u', r) on first use, :meth:`_output_numbers`)
-        self._forward = forward_jacobian(list(eom.forcing), [*self.q_all, *self.u, *self.r])
+        # f and zdot and their Jacobian with respect to (q_all, u, z, r), in factored form for the
+        # numbers (the outputs' with respect to (q_all, u, u', z, r) on first use, :meth:`_output_numbers`)
+        self._forward = forward_jacobian(list(eom.forcing) + self.zdot, [*self.q_all, *self.u, *self.z, *self.r])
         self._f_outputs = None
         self._symbolic = None
 
@@ -165,7 +174,9 @@ class Linearization:
         dict of str to sympy.Matrix
             ``M`` (n, n), ``C = -df/du`` (n, n), ``K = -df/dq`` (n, n_all), ``B = df/dr`` (n, m),
             ``W = dqdot/du`` (n_all, n), ``V = dqdot/dq`` (n_all, n_all) and, for closed loops,
-            ``Phi_q`` (constraints, n_all). Functions of q, t, the constants and r. For an open chain
+            ``Phi_q`` (constraints, n_all); with controller states also ``K_z = -df/dz`` (n, nz) and
+            the Jacobians of zdot ``Z_q`` (nz, n_all), ``Z_u`` (nz, n), ``Z_z`` (nz, nz), ``Z_r``
+            (nz, m). Functions of q, z, t, the constants and r. For an open chain
             n_all = n; a closed one is reduced numerically (``K T``, ``V T``, see
             :mod:`flexkane.linearize.reduction`). Formed on first use: for large models (many modes
             with geometric stiffening) this takes long, and the numeric matrices do not need it.
@@ -184,10 +195,18 @@ class Linearization:
             }
             if self.dependent:
                 self._symbolic["Phi_q"] = self.phi_q
+            if self.z:
+                zdot = sp.Matrix(self.zdot)
+                self._symbolic.update({
+                    "K_z": -f0.jacobian(self.z) if n else sp.zeros(0, len(self.z)),
+                    "Z_q": zdot.jacobian(self.q_all).xreplace(at_rest) if self.q_all else sp.zeros(len(self.z), 0),
+                    "Z_u": zdot.jacobian(self.u).xreplace(at_rest) if n else sp.zeros(len(self.z), 0),
+                    "Z_z": zdot.jacobian(self.z).xreplace(at_rest),
+                    "Z_r": zdot.jacobian(self.r).xreplace(at_rest) if m else sp.zeros(len(self.z), 0)})
         return self._symbolic
 
     def _appears(self, symbol) -> bool:
-        exprs = list(self.M) + list(self.eom.forcing) + list(self.qdot0) + list(self.W) + list(self.phi)
+        exprs = list(self.M) + list(self.eom.forcing) + list(self.qdot0) + list(self.W) + list(self.phi) + self.zdot
         return any(symbol in e.free_symbols for e in exprs)
 
     def _check_dropped(self) -> None:
@@ -208,7 +227,7 @@ class Linearization:
         if self.dependent:
             self.notes.append("closed loops: " + ", ".join(q.name for q in self.dependent)
                               + " follow the independent coordinates (dq = T dq_i)")
-        exprs = list(self.M) + list(self.eom.forcing) + list(self.qdot0) + list(self.phi)
+        exprs = list(self.M) + list(self.eom.forcing) + list(self.qdot0) + list(self.phi) + self.zdot
         if any(self.t in e.free_symbols for e in exprs):
             self.notes.append(f"the equations depend explicitly on time (drivers, loads): frozen at t0 = {self.t0:g} s")
 
@@ -241,8 +260,10 @@ class Linearization:
         state0 = eom.initial_state(self.model)
         index = {q: k for k, q in enumerate(eom.q)}
         self.q_initial = np.array([state0[index[q]] for q in self.q_all], dtype=float)
+        nq, nu = len(eom.q), len(eom.u)
+        self.z_initial = np.array(state0[nq + nu:nq + nu + len(self.z)], dtype=float)
         self.dropped_values = np.array([self._dropped_value(q, state0[index[q]]) for q in self.dropped])
-        args = [*self.q_all, *self.dropped, *self.u, self.t, *self.parameters]
+        args = [*self.q_all, *self.dropped, *self.u, *self.z, self.t, *self.parameters]
         fj = self._forward
         self._f_forcing = sp.lambdify(args, [fj.values, fj.jacobian], modules="numpy", cse=fj.cse)
         self._f_mass = sp.lambdify(args, self.M, modules="numpy", cse=True)
@@ -261,42 +282,50 @@ class Linearization:
         rate = sp.lambdify([self.t], law, "numpy")
         return float(initial + quad(lambda s: float(rate(s)), 0.0, self.t0, limit=200)[0])
 
-    def _args(self, q_all: np.ndarray, p: np.ndarray) -> list:
-        return [*np.asarray(q_all, dtype=float), *self.dropped_values, *np.zeros(len(self.u)), self.t0, *p]
+    def _args(self, w: np.ndarray, p: np.ndarray) -> list:
+        """Arguments of the numeric functions at ``w = (q_all, z)``, u = 0, t0."""
+        w = np.asarray(w, dtype=float)
+        n_all = len(self.q_all)
+        return [*w[:n_all], *self.dropped_values, *np.zeros(len(self.u)), *w[n_all:], self.t0, *p]
 
-    def _numbers(self, q_all: np.ndarray, p: np.ndarray) -> dict:
-        """Every numeric matrix at ``(q_all, u = 0, t0)`` for constants p (cached for the last point)."""
-        key = (np.asarray(q_all, dtype=float).tobytes(), np.asarray(p, dtype=float).tobytes())
+    def _numbers(self, w: np.ndarray, p: np.ndarray) -> dict:
+        """Every numeric matrix at ``w = (q_all, z)``, u = 0, t0 for constants p (cached for the last point)."""
+        key = (np.asarray(w, dtype=float).tobytes(), np.asarray(p, dtype=float).tobytes())
         if self._cache[0] != key:
-            n, n_all, m = len(self.u), len(self.q_all), len(self.r)
+            n, n_all, m, nz = len(self.u), len(self.q_all), len(self.r), len(self.z)
             c = self.phi.shape[0]
-            args = self._args(q_all, p)
+            args = self._args(w, p)
             as_array = lambda v, shape: np.array(v, dtype=float).reshape(shape)  # noqa: E731
             with np.errstate(all="ignore"):
                 values, jacobian = self._f_forcing(*args)
                 kin = self._f_kinematic(*args)
                 M = self._f_mass(*args)
-            J = as_array(jacobian, (n, n_all + n + m))
-            out = {"f": as_array(values, (n,)), "F_q": J[:, :n_all], "F_u": J[:, n_all:n_all + n],
-                   "F_r": J[:, n_all + n:], "M": as_array(M, (n, n)), "qdot": as_array(kin[0], (n_all,)),
+            J = as_array(jacobian, (n + nz, n_all + n + nz + m))
+            values = as_array(values, (n + nz,))
+            z_at, r_at = n_all + n, n_all + n + nz
+            out = {"f": values[:n], "F_q": J[:n, :n_all], "F_u": J[:n, n_all:z_at], "F_z": J[:n, z_at:r_at],
+                   "F_r": J[:n, r_at:], "M": as_array(M, (n, n)), "qdot": as_array(kin[0], (n_all,)),
                    "W": as_array(kin[1], (n_all, n)), "V": as_array(kin[2], (n_all, n_all)),
-                   "phi": as_array(kin[3], (c,)), "phi_q": as_array(kin[4], (c, n_all))}
+                   "phi": as_array(kin[3], (c,)), "phi_q": as_array(kin[4], (c, n_all)),
+                   "zdot": values[n:], "Z_q": J[n:, :n_all], "Z_u": J[n:, n_all:z_at], "Z_z": J[n:, z_at:r_at],
+                   "Z_r": J[n:, r_at:]}
             self._cache = (key, out)
         return self._cache[1]
 
-    def _output_numbers(self, q_all: np.ndarray, p: np.ndarray) -> dict:
-        """The outputs and their Jacobians at ``(q_all, u = 0, u' = 0, t0)`` for constants p."""
-        n, n_all, m, k = len(self.u), len(self.q_all), len(self.r), len(self.output_names)
+    def _output_numbers(self, w: np.ndarray, p: np.ndarray) -> dict:
+        """The outputs and their Jacobians at ``w = (q_all, z)``, u = 0, u' = 0, t0 for constants p."""
+        n, n_all, m, k, nz = len(self.u), len(self.q_all), len(self.r), len(self.output_names), len(self.z)
         if self._f_outputs is None:   # formed once, on first use (campbell diagrams need no outputs)
             fy = forward_jacobian([self.eom.outputs[name] for name in self.output_names],
-                                  [*self.q_all, *self.u, *self.ud, *self.r], prefix="_fy")
+                                  [*self.q_all, *self.u, *self.ud, *self.z, *self.r], prefix="_fy")
             self._f_outputs = sp.lambdify([*self._args_symbols, *self.ud], [fy.values, fy.jacobian],
                                           modules="numpy", cse=fy.cse)
         with np.errstate(all="ignore"):
-            values, jacobian = self._f_outputs(*self._args(q_all, p), *np.zeros(n))
-        J = np.array(jacobian, dtype=float).reshape(k, n_all + 2 * n + m)
+            values, jacobian = self._f_outputs(*self._args(w, p), *np.zeros(n))
+        J = np.array(jacobian, dtype=float).reshape(k, n_all + 2 * n + nz + m)
+        z_at = n_all + 2 * n
         return {"y": np.array(values, dtype=float).reshape(k), "Y_q": J[:, :n_all], "Y_u": J[:, n_all:n_all + n],
-                "Y_ud": J[:, n_all + n:n_all + 2 * n], "Y_r": J[:, n_all + 2 * n:]}
+                "Y_ud": J[:, n_all + n:z_at], "Y_z": J[:, z_at:z_at + nz], "Y_r": J[:, z_at + nz:]}
 
     def parameter_values(self, spin: float | None = None) -> np.ndarray:
         """The constants vector p, with the spin rate ``spin`` [rad/s] if given, shape (len(parameters),)."""
@@ -328,13 +357,32 @@ class Linearization:
         return abs(size)
 
     def _evaluators(self, p: np.ndarray) -> dict:
-        ev = {"forcing": lambda q: self._numbers(q, p)["f"],
-              "stiffness": lambda q: -self._numbers(q, p)["F_q"],
-              "mass": lambda q: self._numbers(q, p)["M"],
-              "rates": lambda q: self._numbers(q, p)["qdot"]}
+        """The functions of :func:`find_equilibrium` of ``w = (q_all, z)``: with controller states, the
+        residual is ``(f, zdot)`` and its Jacobian ``[[F_q, F_z], [Z_q, Z_z]]`` (M extended by the
+        identity, so that the controller states' rates are judged as the accelerations)."""
+        if not self.z:
+            ev = {"forcing": lambda q: self._numbers(q, p)["f"],
+                  "stiffness": lambda q: -self._numbers(q, p)["F_q"],
+                  "mass": lambda q: self._numbers(q, p)["M"],
+                  "rates": lambda q: self._numbers(q, p)["qdot"]}
+            if self.dependent:
+                ev["constraints"] = lambda q: self._numbers(q, p)["phi"]
+                ev["constraint_jacobian"] = lambda q: self._numbers(q, p)["phi_q"]
+            return ev
+        nz = len(self.z)
+
+        def stiffness(w):
+            x = self._numbers(w, p)
+            return -np.block([[x["F_q"], x["F_z"]], [x["Z_q"], x["Z_z"]]])
+
+        ev = {"forcing": lambda w: np.concatenate([self._numbers(w, p)["f"], self._numbers(w, p)["zdot"]]),
+              "stiffness": stiffness,
+              "mass": lambda w: scipy.linalg.block_diag(self._numbers(w, p)["M"], np.eye(nz)),
+              "rates": lambda w: self._numbers(w, p)["qdot"]}
         if self.dependent:
-            ev["constraints"] = lambda q: self._numbers(q, p)["phi"]
-            ev["constraint_jacobian"] = lambda q: self._numbers(q, p)["phi_q"]
+            ev["constraints"] = lambda w: self._numbers(w, p)["phi"]
+            ev["constraint_jacobian"] = lambda w: np.hstack([self._numbers(w, p)["phi_q"],
+                                                             np.zeros((self.phi.shape[0], nz))])
         return ev
 
     def _project(self, q_all: np.ndarray) -> np.ndarray:
@@ -387,11 +435,11 @@ class Linearization:
                 start = self._project(start)
             else:
                 raise ModelError("q_start", f"{len(self.q)} or {n_all} coordinates [m or rad]", given.size)
-        loads = self._load_accelerations(start, p)
+        loads = self._load_accelerations(np.concatenate([start, self.z_initial]), p)
         if self.about == "rest":
             elastic = np.array([self._coordinate[q].role in ("mode", "axial") for q in self.q_all], dtype=bool)
-            check = check_equilibrium(self._project(np.where(elastic, 0.0, start)), **ev,
-                                      load_accelerations=loads)
+            check = check_equilibrium(np.concatenate([self._project(np.where(elastic, 0.0, start)), self.z_initial]),
+                                      **ev, load_accelerations=loads)
             if not check.ok:
                 raise NoEquilibriumError(
                     "rest", f"{self.model.name} is not in equilibrium at rest (undeformed, speeds zero): "
@@ -399,7 +447,7 @@ class Linearization:
                     "it moves under gravity or loads (--set g=0 removes gravity; --about equilibrium searches "
                     "for an equilibrium)")
             return check
-        check = find_equilibrium(start, **ev, load_accelerations=loads)
+        check = find_equilibrium(np.concatenate([start, self.z_initial]), **ev, load_accelerations=loads)
         if not check.ok:
             names = ", ".join(f"{q.name} = {v:.6g}" for q, v in zip(self.q_all, start)) or "none"
             where = "in the rotating frame of the hub" if self.about == "spin" else "with all speeds zero"
@@ -432,11 +480,11 @@ class Linearization:
         check = self.operating_point(spin, q_start)
         p = self.parameter_values(spin)
         x = self._numbers(check.q, p)
-        n = len(self.u)
+        n, nz = len(self.u), len(self.z)
         names = list(self.output_names) if outputs else []
         y = self._output_numbers(check.q, p) if outputs else \
             {"y": np.zeros(0), "Y_q": np.zeros((0, len(self.q_all))), "Y_u": np.zeros((0, n)),
-             "Y_ud": np.zeros((0, n)), "Y_r": np.zeros((0, len(self.r)))}
+             "Y_ud": np.zeros((0, n)), "Y_z": np.zeros((0, nz)), "Y_r": np.zeros((0, len(self.r)))}
         independent = [k for k, q in enumerate(self.q_all) if q not in self.dependent]
         dependent = [k for k, q in enumerate(self.q_all) if q in self.dependent]
         T = closure_map(x["phi_q"], independent, dependent)
@@ -456,10 +504,13 @@ class Linearization:
             q0=check.q[independent].copy(), r0=np.array(self.prepared.nominal, dtype=float),
             M=x["M"], C=-x["F_u"], K=-x["F_q"] @ T, B=x["F_r"].reshape(n, len(self.r)),
             W=x["W"][independent], V=(x["V"] @ T)[independent],
-            C_out=np.hstack([y["Y_q"] @ T, y["Y_u"]]), C_acc=y["Y_ud"], D_out=y["Y_r"], y0=y["y"],
+            C_out=np.hstack([y["Y_q"] @ T, y["Y_u"], y["Y_z"]]), C_acc=y["Y_ud"], D_out=y["Y_r"], y0=y["y"],
             dropped=dropped, fixed=fixed,
             dependent_map=T[dependent], notes=list(self.notes), residual=check.residual, linearization=self,
-            output_units={k: self._units.get(k, "") for k in names})
+            output_units={k: self._units.get(k, "") for k in names},
+            controller_states=[z.name for z in self.z], z0=check.q[len(self.q_all):].copy(),
+            K_z=-x["F_z"], Z_x=np.hstack([x["Z_q"] @ T, x["Z_u"], x["Z_z"]]),
+            Z_r=x["Z_r"].reshape(nz, len(self.r)))
 
     def to_control(self, spin: float | None = None, q_start=None):
         """The linear model at the operating point (:meth:`at`) as a python-control ``StateSpace``

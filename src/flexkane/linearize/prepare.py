@@ -3,8 +3,8 @@
 Two changes turn a model into one whose Kane's equations give the linear model directly:
 
 * **Inputs.** The copy is derived with its control inputs (:mod:`flexkane.kane.inputs`): one symbol
-  per actuator effort (``effort_<joint>`` of every revolute or prismatic joint not driven) and per
-  load component (``load_<name>_fx``, ``load_<name>_fy``, ``load_<name>_torque``), added to the
+  per actuator effort (``input_effort_<joint>`` of every revolute or prismatic joint not driven) and per
+  load component (``input_load_<name>_fx``, ``_fy``, ``_torque``), added to the
   generalized active forces, so that the input matrix ``B`` is the Jacobian of the forcing with
   respect to them. The inputs r are these channels, in their order (joints in the order of the
   model, then loads); a model with none has no inputs (``B`` with zero columns). The nominal input

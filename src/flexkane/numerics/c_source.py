@@ -31,6 +31,7 @@ from flexkane.numerics.codegen import (
     _INTEGER_EXPONENT_MAX,
     _needed_definitions,
     _safe_names,
+    _state_names,
     _symbol_table,
 )
 from flexkane.numerics.large_rhs import Statement
@@ -39,7 +40,7 @@ from flexkane.numerics.linear_algebra import PIVOT_RTOL
 __all__ = ["C_FUNCTIONS", "C_RESERVED", "PREFIX_RULE", "CModelInfo", "c_identifier", "c_sources", "check_prefix"]
 
 #: Functions of the generated file, by suffix of ``<prefix>_``.
-C_FUNCTIONS = ("rhs", "mass_matrix", "forcing", "kinematics", "outputs", "solve")
+C_FUNCTIONS = ("rhs", "mass_matrix", "forcing", "kinematics", "controller_rates", "outputs", "solve")
 #: Global data of the generated file, by suffix of ``<prefix>_``.
 _C_DATA = ("default_p", "default_y0", "state_names", "state_units", "constant_names", "constant_units",
            "output_names", "output_units")
@@ -51,7 +52,7 @@ C_RESERVED = frozenset("""
 auto break case char const continue default do double else enum extern float for goto if inline int
 long register restrict return short signed sizeof static struct switch typedef union unsigned void
 volatile while _Bool _Complex _Imaginary bool true false complex imaginary NULL main errno entry
-t y p dy M f qdot out b
+t y p dy M f qdot zdot out b
 acos acosh asin asinh atan atan2 atanh cbrt ceil copysign cos cosh erf erfc exp exp2 expm1 fabs fdim
 floor fma fmax fmin fmod frexp hypot ilogb ldexp lgamma llrint llround log log10 log1p log2 logb lrint
 lround modf nan nearbyint nextafter nexttoward pow remainder remquo rint round scalbln scalbn sin sinh
@@ -223,6 +224,7 @@ class _Generator:
         self.prefix = prefix
         self.nq, self.nu = len(eom.q), len(eom.u)
         self.compact = getattr(eom, "compact", None) or eom
+        self.zdot = list(getattr(self.compact, "zdot", None) or [])   # controller states: y = [q, u, z]
         self.reserved = C_RESERVED | {f"{prefix}_{s}" for s in (*C_FUNCTIONS, *_C_DATA)}
         self.printer = _CPrinter()
 
@@ -247,11 +249,12 @@ class _Generator:
         values = [v.xreplace(subs) for v in values]
         _check_free_symbols(values + [e.xreplace(subs) for _, e in definitions], subs, "the equations")
         statements = _assignments(values, definitions, subs, self.printer, list(targets))
-        names = [*q_names, *u_names, *c_names, *ud_names, t_name]
+        y_names = _state_names(eom, subs, q_names, u_names)
+        names = [*y_names, *c_names, *ud_names, t_name]
         bad = [n for n in names if not _IDENTIFIER.fullmatch(n)]
         if bad:   # validated models have ASCII names; a hand-made equation set may not
             raise ValueError(f"names that are not C identifiers: {', '.join(bad)}")
-        loads = {n: f"y[{k}]" for k, n in enumerate([*q_names, *u_names])}
+        loads = {n: f"y[{k}]" for k, n in enumerate(y_names)}
         loads.update({n: f"p[{k}]" for k, n in enumerate(c_names)})
         loads.update({n: f"_dy[{self.nq + k}]" for k, n in enumerate(ud_names)})
         if t_name != "t":
@@ -375,12 +378,16 @@ def c_sources(eom, prefix: str, info: CModelInfo) -> tuple[str, str]:
     gen = _Generator(eom, prefix)
     P = prefix.upper()
     nq, nu = gen.nq, gen.nu
-    ny = nq + nu
+    zdot = gen.zdot
+    nz = len(zdot)
+    ny = nq + nu + nz
     constants = list(eom.constants)
     compact = gen.compact
     outputs = dict(compact.outputs)
     output_names = list(outputs)
-    state_names = [str(s) for s in [*eom.q, *eom.u]]
+    state_names = [str(s) for s in [*eom.q, *eom.u, *(getattr(eom, "z", None) or [])]]
+    if len(state_names) != ny:
+        raise ValueError(f"{nz} controller state rates (zdot) for {len(state_names) - nq - nu} controller states (z)")
     qdot = sympy.Matrix(compact.qdot)
     mass = sympy.Matrix(compact.mass_matrix)
     forcing = sympy.Matrix(compact.forcing)
@@ -389,25 +396,29 @@ def c_sources(eom, prefix: str, info: CModelInfo) -> tuple[str, str]:
     kin_targets = {f"dy[{i}]": f"qdot[{i}]" for i in range(nq)}
     mass_targets = {f"_M[{i * nu + j}]": f"M[{i * nu + j}]" for i, j in upper}
     force_targets = {f"dy[{nq + i}]": f"f[{i}]" for i in range(nu)}
-    rhs_targets = [*kin_targets, *mass_targets, *force_targets]
+    rate_targets = {f"dy[{nq + nu + k}]": f"zdot[{k}]" for k in range(nz)}
+    rhs_targets = [*kin_targets, *mass_targets, *force_targets, *rate_targets]
     statements, loads, _ = gen.statements([qdot[i] for i in range(nq)] + [mass[i, j] for i, j in upper]
-                                          + [forcing[i] for i in range(nu)], rhs_targets)
+                                          + [forcing[i] for i in range(nu)] + zdot, rhs_targets)
     rhs_body = gen.lines(statements, loads, [], rhs_targets)
-    kin_body, mass_body, force_body = (gen.lines(gen.select(statements, targets), loads, [], list(targets.values()))
-                                       for targets in (kin_targets, mass_targets, force_targets))
+    kin_body, mass_body, force_body, rate_body = (
+        gen.lines(gen.select(statements, targets), loads, [], list(targets.values()))
+        for targets in (kin_targets, mass_targets, force_targets, rate_targets))
     mass_body += [f"    M[{j * nu + i}] = M[{i * nu + j}];" for i, j in upper if i != j]
     out_body, out_ud = gen.body([outputs[k] for k in output_names], [f"out[{k}]" for k in range(len(outputs))])
 
     model = _comment(info.model_name)
     head = [f"/* {prefix}: the equations of motion of the flexkane model \"{model}\", in C99.",
             f" * Generated by flexkane {_comment(info.version)}; do not edit (export the model again).",
-            " * Kane's equations of a planar chain: q' = qdot(t, q, u) and M(t, q) u' = f(t, q, u).",
+            " * Kane's equations of a planar chain: q' = qdot(t, q, u) and M(t, q) u' = f(t, q, u)"
+            + (",\n * and the controller states' rates z' = zdot(t, q, u, z) (f may depend on z)." if nz else "."),
             " * Needs math.h only (link with -lm). No function keeps state: every one is reentrant."]
     header = head + [
         " *",
-        f" * State y = [q, u], {P}_NY = {ny} entries ({P}_NQ = {nq} coordinates, {P}_NU = {nu} speeds):"]
-    header += [f" *   y[{k}] = {_comment(n)} [{_comment(u)}]" for k, (n, u) in enumerate(zip(state_names,
-                                                                                          info.state_units))]
+        f" * State y = [q, u, z], {P}_NY = {ny} entries ({P}_NQ = {nq} coordinates, {P}_NU = {nu} speeds,",
+        f" * {P}_NZ = {nz} controller states, in the order of the controllers, each one's states as listed):"]
+    header += [f" *   y[{k}] = {_comment(n)} [{_comment(u) or '?'}]"     # [?]: a unit not recorded
+               for k, (n, u) in enumerate(zip(state_names, info.state_units))]
     header += [" *",
                f" * Constants p, {P}_NP = {len(constants)} entries (name [unit]: what it is; [?]: a parameter",
                f" * whose unit the model does not fix; the model's values are {prefix}_default_p):"]
@@ -433,11 +444,12 @@ def c_sources(eom, prefix: str, info: CModelInfo) -> tuple[str, str]:
         "",
         f"#define {P}_NQ {nq}",
         f"#define {P}_NU {nu}",
+        f"#define {P}_NZ {nz}",
         f"#define {P}_NY {ny}",
         f"#define {P}_NP {len(constants)}",
         f"#define {P}_NOUT {len(output_names)}",
         "",
-        "/* The model's constants (order above) and initial state y(0) = [q, u] (loops closed). */",
+        "/* The model's constants (order above) and initial state y(0) = [q, u, z] (loops closed). */",
         f"extern const double {prefix}_default_p[{_dim(len(constants))}];",
         f"extern const double {prefix}_default_y0[{_dim(ny)}];",
         "/* Names and units of the state entries, the constants and the outputs, in their order. */",
@@ -448,7 +460,7 @@ def c_sources(eom, prefix: str, info: CModelInfo) -> tuple[str, str]:
         f"extern const char *const {prefix}_output_names[{_dim(len(output_names))}];",
         f"extern const char *const {prefix}_output_units[{_dim(len(output_names))}];",
         "",
-        f"/* dy/dt = [q', u'] ({P}_NY) at time t [s], state y ({P}_NY), constants p ({P}_NP);",
+        f"/* dy/dt = [q', u', z'] ({P}_NY) at time t [s], state y ({P}_NY), constants p ({P}_NP);",
         " * u' by solving M u' = f. Returns 0, 2 or 4 (dy then all NaN). */",
         f"int {prefix}_rhs(double t, const double *y, const double *p, double *dy);",
         "",
@@ -461,6 +473,10 @@ def c_sources(eom, prefix: str, info: CModelInfo) -> tuple[str, str]:
         "",
         f"/* The kinematic equations q' = qdot ({P}_NQ). Returns 0, or 2 if an entry is not finite. */",
         f"int {prefix}_kinematics(double t, const double *y, const double *p, double *qdot);",
+        "",
+        f"/* The rates z' = zdot ({P}_NZ; nothing is written without controller states) of the controller",
+        " * states. Returns 0, or 2 if an entry is not finite. */",
+        f"int {prefix}_controller_rates(double t, const double *y, const double *p, double *zdot);",
         "",
         f"/* The outputs ({P}_NOUT, order above) at t, y." + (
             f" Outputs with u' call {prefix}_rhs; returns its status." if out_ud else " Returns 0.") + " */",
@@ -500,6 +516,7 @@ def c_sources(eom, prefix: str, info: CModelInfo) -> tuple[str, str]:
                 "{", "    (void)t; (void)y; (void)p;", *body, *tail, "}", ""]
 
     source += function("kinematics", "qdot", kin_body, _finite_check("qdot", f"{P}_NQ") + ["    return 0;"])
+    source += function("controller_rates", "zdot", rate_body, _finite_check("zdot", f"{P}_NZ") + ["    return 0;"])
     source += function("mass_matrix", "M", mass_body,
                        _finite_check("M", f"{P}_NU * {P}_NU") + ["    return 0;"])
     source += function("forcing", "f", force_body, _finite_check("f", f"{P}_NU") + ["    return 0;"])
@@ -508,6 +525,7 @@ def c_sources(eom, prefix: str, info: CModelInfo) -> tuple[str, str]:
                         "    if (_status != 0) {",
                         "        int _i;",
                         f"        for (_i = 0; _i < {P}_NQ; ++_i) dy[_i] = NAN;",
+                        f"        for (_i = {P}_NQ + {P}_NU; _i < {P}_NY; ++_i) dy[_i] = NAN;",
                         "    }",
                         "    return _status;"])
     source += function("outputs", "out", out_body, ["    return _status;" if out_ud else "    return 0;"])

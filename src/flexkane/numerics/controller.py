@@ -1,7 +1,7 @@
 """A controller in the loop: the control inputs set from the state before every right-hand-side evaluation.
 
 A model derived with its control inputs (:mod:`flexkane.kane.inputs`) has one constant of the
-constants vector p per input channel (``effort_<joint>``, ``load_<name>_fx`` ...). With a controller
+constants vector p per input channel (``input_effort_<joint>``, ``input_load_<name>_fx`` ...). With a controller
 ``f(t, y) -> efforts`` the integrated right-hand side becomes::
 
     controlled(t, y, p, dy):  p[inputs] = f(t, [q, u]);  return system_rhs(t, y, p, dy)
@@ -54,8 +54,8 @@ class Controller:
     Parameters
     ----------
     function : callable
-        ``f(t, y)`` with t [s] and y the state ``[q, u]`` (shape (nq + nu,), in the order of
-        ``Results.state_names``), returning the efforts [N m or N]: an array of shape (m,) in the
+        ``f(t, y)`` with t [s] and y the state ``[q, u, z]`` (z: the controller states of the
+        model, none in most; shape (nq + nu + nz,), in the order of ``Results.state_names``), returning the efforts [N m or N]: an array of shape (m,) in the
         order of ``channels``, or a dict by channel name. A Numba ``@njit`` function takes the
         compiled path and must return a float64 array of shape (m,).
     channels : list of str
@@ -218,7 +218,7 @@ def controlled_system(module, controller: Controller, index) -> SystemFunction:
     entry = cache.get(key)
     if entry is None or (controller.compiled and entry[1] is not controller.function):
         system_rhs = getattr(module, "system_rhs", None) or module.rhs
-        n_state = module.NQ + module.NU
+        n_state = module.NQ + module.NU + getattr(module, "NZ", 0)    # [q, u, z], not the work W
         wrapper = (_numba_wrapper(system_rhs, controller.function, index, n_state) if controller.compiled
                    else _python_wrapper(system_rhs, index, n_state))
         entry = (SystemFunction(wrapper), controller.function if controller.compiled else None)
@@ -242,7 +242,7 @@ class ControlLoop:
     t0 : float
         Initial time [s].
     y0 : numpy.ndarray
-        Initial state ``[q, u]``, shape (nq + nu,).
+        Initial state ``[q, u, z]``, shape (nq + nu + nz,).
 
     Raises
     ------
@@ -261,7 +261,8 @@ class ControlLoop:
         self.module = module
         self.controller = Controller(function, channels)
         self.index = np.array([list(constant_names).index(name) for name in channels], dtype=np.int64)
-        self.controller.efforts(float(t0), np.array(y0[:module.NQ + module.NU], dtype=float))  # checked once here
+        self.n_state = module.NQ + module.NU + getattr(module, "NZ", 0)
+        self.controller.efforts(float(t0), np.array(y0[:self.n_state], dtype=float))  # checked once here
         self.system = controlled_system(module, self.controller, self.index)
 
     def active(self):
@@ -286,16 +287,16 @@ class ControlLoop:
 
     def efforts(self, t: np.ndarray, state: np.ndarray) -> np.ndarray:
         """The controller's efforts at the output rows, shape (N, m)."""
-        return np.array([self.controller.efforts(float(ti), np.array(row, dtype=float))
+        return np.array([self.controller.efforts(float(ti), np.array(row[:self.n_state], dtype=float))
                          for ti, row in zip(t, state)]).reshape(len(t), len(self.index))
 
     def outputs(self, t: np.ndarray, state: np.ndarray, p: np.ndarray) -> dict:
-        """The module's outputs at the output rows with each row's efforts, and ``input_<channel>``.
+        """The module's outputs at the output rows with each row's efforts, and the efforts by channel name.
 
         Parameters
         ----------
         t : numpy.ndarray, shape (N,)
-        state : numpy.ndarray, shape (N, nq + nu)
+        state : numpy.ndarray, shape (N, nq + nu + nz)
         p : numpy.ndarray, shape (n_p,)
             Constants (the inputs' entries are set row by row).
 
@@ -314,5 +315,5 @@ class ControlLoop:
             values[i] = self.module.outputs(np.ascontiguousarray(t[i:i + 1], dtype=np.float64),
                                             np.ascontiguousarray(state[i:i + 1], dtype=np.float64), prepared)[0]
         out = {name: values[:, k].copy() for k, name in enumerate(names)}
-        out.update({f"input_{name}": efforts[:, k].copy() for k, name in enumerate(self.controller.channels)})
+        out.update({name: efforts[:, k].copy() for k, name in enumerate(self.controller.channels)})
         return out
