@@ -5,7 +5,7 @@ Usage: ``python examples/flexible_arm_lqr_gains.py``; needs python-control (``pi
 
 The design, as in ``examples/flexible-arm-lqr.ipynb``: the plant is ``flexible-arm`` with its torque
 profile switched off (``T0 = 0``), linearized about rest by :func:`flexkane.linearize.linearize`
-(state ``x = [q_shoulder, q_link_1..3, u_shoulder, u_link_1..3]``, input ``effort_shoulder`` [N m]).
+(state ``x = [q_shoulder, q_link_1..3, u_shoulder, u_link_1..3]``, input ``input_effort_shoulder`` [N m]).
 python-control's ``lqr`` minimises the integral of ``x' Q x + u' R u`` with
 
 * ``Q = diag(400 on q_shoulder, 1 on u_shoulder) + 1e4 c' c``, ``c`` the row of the output
@@ -26,7 +26,7 @@ import numpy as np
 HUB_ANGLE_WEIGHT = 400.0        # on q_shoulder
 HUB_RATE_WEIGHT = 1.0           # on u_shoulder
 TIP_WEIGHT = 1e4                # on tip_link
-TORQUE_WEIGHT = 1.0             # R, on effort_shoulder
+TORQUE_WEIGHT = 1.0             # R, on input_effort_shoulder
 
 
 def lqr_gains() -> dict[str, float]:

@@ -70,7 +70,7 @@ def test_gains_script_prints_the_gains_of_the_file(model, capsys):
 
 def test_linear_model_of_the_closed_loop_is_a_minus_b_k_and_stable(model, open_loop, closed_loop):
     assert closed_loop.state_names == open_loop.state_names
-    assert closed_loop.input_names == ["effort_shoulder"]
+    assert closed_loop.input_names == ["input_effort_shoulder"]
     # the equilibrium is the set-point: the hub at theta_ref, the link undeformed
     np.testing.assert_allclose(closed_loop.q0, [model.parameters["theta_ref"], 0, 0, 0], rtol=0, atol=1e-12)
     A, B = open_loop.state_space()
