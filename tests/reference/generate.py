@@ -133,7 +133,11 @@ def state_scales(eom) -> tuple[np.ndarray, np.ndarray]:
     for c in eom.chain.coordinates:
         if c.role == "angle":
             by_symbol[c.q], by_symbol[c.u] = 0.5, 1.0
-        elif c.role in ("x", "y", "slide"):
+        elif c.role in ("e0", "e1", "e2", "e3"):     # Euler parameters: kept unit, angular speeds 1 rad/s
+            by_symbol[c.q] = 0.0
+            if c.u is not None:
+                by_symbol[c.u] = 1.0
+        elif c.role in ("x", "y", "z", "slide"):
             by_symbol[c.q], by_symbol[c.u] = 0.2 * length, 1.0
         elif c.role == "mode":
             L, EI, rho, _ = beams[c.owner]
