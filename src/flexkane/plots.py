@@ -216,5 +216,5 @@ def write_plots(results: Results, unit: dict, directory: Path, title: str) -> li
     norms = [k for k in results.outputs if k.startswith("quaternion_norm_")]
     if norms:
         paths.append(plot_series(results, norms, "-", directory / "quaternion_norm.png",
-                                 f"{title}: norm of the Euler parameters"))
+                                 f"{title}: norm of the Euler parameters minus 1"))
     return paths
