@@ -209,4 +209,12 @@ def write_plots(results: Results, unit: dict, directory: Path, title: str) -> li
                                  f"{title}: driver effort"))
     if "energy" in results.outputs and len(results.t) > 1:
         paths.append(plot_energy(results, directory / "energy.png", title))
+    momentum = [k for k in ("H_x", "H_y", "H_z") if k in results.outputs]
+    if momentum:
+        paths.append(plot_series(results, momentum, "kg m^2/s", directory / "angular_momentum.png",
+                                 f"{title}: angular momentum about the mass centre, ground axes"))
+    norms = [k for k in results.outputs if k.startswith("quaternion_norm_")]
+    if norms:
+        paths.append(plot_series(results, norms, "-", directory / "quaternion_norm.png",
+                                 f"{title}: norm of the Euler parameters minus 1"))
     return paths

@@ -24,8 +24,11 @@ __all__ = ["Results", "load_results", "csv_text"]
 
 #: Output columns written to results.csv after the state, when present.
 CSV_OUTPUTS_PREFIXES = ("tip_", "effort_", "load_", "sensor_", "controller_")
-CSV_OUTPUTS = ("kinetic", "potential_gravity", "strain", "potential_springs", "energy", "work",
-               "energy_balance")
+#: Outputs of spatial models written after those: each body's 3-2-1 angles, each spherical or free
+#: joint's quaternion norm, then the angular momentum vector about the mass centre.
+CSV_SPATIAL_PREFIXES = ("yaw_", "pitch_", "roll_", "quaternion_norm_")
+CSV_OUTPUTS = ("H_x", "H_y", "H_z", "kinetic", "potential_gravity", "strain", "potential_springs", "energy",
+               "work", "energy_balance")
 #: Entries of ``Results.solver`` that measure time: the only ones that vary between identical runs.
 #: results.npz keeps them apart, in the array ``timing``.
 TIMING_FIELDS = ("wall_time", "compile_time", "derive_time", "run_time")
@@ -131,6 +134,7 @@ class Results:
     def csv_columns(self) -> list[str]:
         """Column names of results.csv."""
         extra = [k for k in self.outputs if k.startswith(CSV_OUTPUTS_PREFIXES)]
+        extra += [k for k in self.outputs if k.startswith(CSV_SPATIAL_PREFIXES)]
         extra += [k for k in CSV_OUTPUTS if k in self.outputs]
         return ["t"] + list(self.state_names) + extra
 

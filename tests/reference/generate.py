@@ -73,12 +73,12 @@ TRAJ_METHOD = "dop853"
 #: Length [s] and number of output intervals of the stored trajectory (shorter when the model's
 #: own run is shorter, or stiff: see TRAJ_T_END).
 TRAJ_T_END_DEFAULT = 0.2
-TRAJ_T_END = {"slider-crank": 0.01, "spin-up": 4.0, "spin-up-linear": 4.0}
+TRAJ_T_END = {"slider-crank": 0.01, "spin-up": 4.0, "spin-up-linear": 4.0, "spacecraft-slew": 2.0, "robot-arm-3d": 1.0}
 TRAJ_INTERVALS = 10
 #: Outputs stored with the trajectory: the physical ones (positions of frame origins, angles and loop
 #: residuals are left out).
 ENERGY_OUTPUTS = ("kinetic", "potential_gravity", "strain", "potential_springs", "energy")
-OTHER_OUTPUTS = ("x_cm", "y_cm", "p_x", "p_y", "h_o")
+OTHER_OUTPUTS = ("x_cm", "y_cm", "p_x", "p_y", "h_o", "z_cm", "p_z", "H_x", "H_y", "H_z")
 OUTPUT_PREFIXES = ("tip_", "effort_")
 #: Largest Jacobi-scaled condition number of M accepted at a random state (keeps the states away
 #: from singular configurations, where the comparison of two engines would measure round-off).
@@ -133,7 +133,11 @@ def state_scales(eom) -> tuple[np.ndarray, np.ndarray]:
     for c in eom.chain.coordinates:
         if c.role == "angle":
             by_symbol[c.q], by_symbol[c.u] = 0.5, 1.0
-        elif c.role in ("x", "y", "slide"):
+        elif c.role in ("e0", "e1", "e2", "e3"):     # Euler parameters: kept unit, angular speeds 1 rad/s
+            by_symbol[c.q] = 0.0
+            if c.u is not None:
+                by_symbol[c.u] = 1.0
+        elif c.role in ("x", "y", "z", "slide"):
             by_symbol[c.q], by_symbol[c.u] = 0.2 * length, 1.0
         elif c.role == "mode":
             L, EI, rho, _ = beams[c.owner]

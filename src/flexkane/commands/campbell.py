@@ -36,12 +36,13 @@ def register(subparsers) -> None:
 
 def _handle(args) -> int:
     from ..atomic import atomic_write_text
-    from ._common import default_out, prepare_out
+    from ._common import default_out, prepare_out, refuse_spatial
     from ..linearize import campbell_diagram
     from ..linearize.campbell import parse_spin_range
 
     spins = parse_spin_range(args.spin)
     model = model_from_args(args)
+    refuse_spatial(model, "flexkane campbell")
     out = prepare_out(Path(args.out) if args.out else default_out(model.name, "-campbell"), force=args.force)
     diagram = campbell_diagram(model, spins, hub=args.hub)
     atomic_write_text(out / "campbell.csv", diagram.csv_text())

@@ -93,9 +93,10 @@ def _handle(args) -> int:
     from ..atomic import atomic_write_text
     from ..errors import ModelError
     from ..linearize import Linearization, modal_analysis, plot_mode_shapes
-    from ._common import default_out, prepare_out
+    from ._common import default_out, prepare_out, refuse_spatial
 
     model = model_from_args(args)
+    refuse_spatial(model, "flexkane linearize")
     about, spin = operating_point(args)
     if args.plot_modes < 1:
         raise ModelError("--plot-modes", "a positive number of modes", args.plot_modes)
