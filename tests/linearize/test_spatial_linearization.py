@@ -1,0 +1,254 @@
+"""Linearization of spatial (dimensions = 3) rigid chains: rotation coordinates for Euler parameters.
+
+Physics is the oracle: a torque-free rigid body spinning about each principal axis (the intermediate
+axis unstable at the classical rate, the others oscillating at the classical frequency), a spherical
+pendulum hanging at rest (two pairs sqrt(m g l / I_pivot)), a heavy symmetric top spinning upright
+(stable above the Maxwell-Klein speed I_3^2 Omega^2 = 4 I_1 m g l, unstable below, with the
+precession and nutation frequencies of the classical theory), and a planar chain run through the
+spatial engine (the planar engine's eigenvalues).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from flexkane.errors import ModelError
+from flexkane.linearize import Linearization, NoEquilibriumError, modal_analysis
+from flexkane.linearize.rotation_reduction import RotationReduction, euler_matrix, turn
+from flexkane.model import as_spatial, loads_model
+
+G = 9.81
+I1, I2, I3 = 1.0, 2.0, 2.5          # principal moments of the torque-free body [kg m^2]
+OMEGA = 2.0                         # its spin rate [rad/s]
+
+TORQUE_FREE = f"""
+name = "torque-free"
+dimensions = 3
+[bodies.box]
+mass = 2.0
+inertia = [{I1}, {I2}, {I3}]
+[joints.pivot]
+type = "spherical"
+parent = "ground"
+parent_position = [0, 0, 0]
+child = "box"
+"""
+
+PEND_M, PEND_L, PEND_IC = 2.0, 0.5, 0.01      # mass [kg], pivot to mass centre [m], I about the centre [kg m^2]
+PENDULUM = f"""
+name = "spherical-pendulum"
+dimensions = 3
+[bodies.bob]
+mass = {PEND_M}
+inertia = [{PEND_IC}, {PEND_IC}, 0.004]
+points = {{ top = [0, 0, {PEND_L}] }}
+[joints.socket]
+type = "spherical"
+parent = "ground"
+parent_position = [0, 0, 0]
+child = "bob"
+child_point = "top"
+[gravity]
+g = {G}
+direction = [0, 0, -1]
+[initial]
+q_socket = {{ axis = [1, 1, 0], angle = 0.4 }}
+"""
+
+TOP_M, TOP_L, TOP_IC, TOP_I3 = 0.8, 0.07, 0.012, 0.02   # kg, m (pivot to centre), kg m^2, kg m^2
+TOP = f"""
+name = "heavy-top"
+dimensions = 3
+[bodies.top]
+mass = {TOP_M}
+inertia = [{TOP_IC}, {TOP_IC}, {TOP_I3}]
+points = {{ tip = [0, 0, {-TOP_L}] }}
+[joints.pivot]
+type = "spherical"
+parent = "ground"
+parent_position = [0, 0, 0]
+child = "top"
+child_point = "tip"
+[gravity]
+g = {G}
+direction = [0, 0, -1]
+"""
+
+PLANAR = """
+name = "planar-pendulum-chain"
+[bodies.upper]
+mass = 1.5
+inertia = 0.05
+points = { top = [-0.3, 0.0], bottom = [0.3, 0.02] }
+[bodies.lower]
+mass = 0.8
+inertia = 0.02
+points = { top = [-0.2, 0.0], end = [0.2, 0.0] }
+[bodies.slider]
+mass = 0.3
+inertia = 0.001
+[joints.shoulder]
+type = "revolute"
+parent = "ground"
+child = "upper"
+parent_position = [0.0, 0.0]
+child_point = "top"
+angle = -1.2
+stiffness = 3.0
+damping = 0.2
+[joints.elbow]
+type = "revolute"
+parent = "upper"
+child = "lower"
+parent_point = "bottom"
+child_point = "top"
+stiffness = 2.0
+rest = 0.3
+damping = 0.1
+[joints.rail]
+type = "prismatic"
+parent = "lower"
+child = "slider"
+parent_point = "end"
+axis = 0.0
+stiffness = 40.0
+damping = 0.5
+[gravity]
+g = 9.81
+direction = [0, -1]
+"""
+
+
+@pytest.fixture(scope="module")
+def torque_free():
+    model = loads_model(TORQUE_FREE)
+    return {axis: Linearization(model, about="spin", spin=OMEGA, spin_axis=np.eye(3)[axis]) for axis in range(3)}
+
+
+@pytest.fixture(scope="module")
+def top():
+    return Linearization(loads_model(TOP), about="spin", spin=1.0, spin_axis=(0, 0, 1))
+
+
+def _eigenvalues(linear) -> np.ndarray:
+    return np.linalg.eigvals(linear.state_space()[0])
+
+
+def test_rotation_map_is_the_tangent_of_the_turn_and_its_pseudo_inverse():
+    e = turn(np.array([1.0, 0.0, 0.0, 0.0]), np.array([0.3, -0.7, 1.1]))
+    E = euler_matrix(e)
+    np.testing.assert_allclose(E.T @ E, np.eye(3), atol=1e-15)
+    np.testing.assert_allclose(E.T @ e, np.zeros(3), atol=1e-15)
+    h = 1e-6
+    for k in range(3):      # de/dtheta_k of the exact turn = 1/2 E(e) e_k
+        d = (turn(e, h * np.eye(3)[k]) - turn(e, -h * np.eye(3)[k])) / (2 * h)
+        np.testing.assert_allclose(d, 0.5 * E[:, k], atol=1e-9)
+
+
+def test_reduced_states_are_named_after_the_joint(torque_free):
+    linear = torque_free[1].at()
+    assert linear.coordinates == ["rx_pivot", "ry_pivot", "rz_pivot"]
+    assert linear.speeds == ["u_pivot_wx", "u_pivot_wy", "u_pivot_wz"]
+    assert linear.state_names[:3] == ["rx_pivot", "ry_pivot", "rz_pivot"]
+    np.testing.assert_array_equal(linear.q0, np.zeros(3))
+
+
+def test_spinning_body_kinematics_in_rotation_coordinates(torque_free):
+    """dtheta' = dtheta x w0 + dw about a steady spin w0 (constant coefficients though e turns)."""
+    linear = torque_free[1].at()
+    w0 = OMEGA * np.eye(3)[1]
+    cross = np.array([[0, -w0[2], w0[1]], [w0[2], 0, -w0[0]], [-w0[1], w0[0], 0]])
+    np.testing.assert_allclose(linear.V, -cross, atol=1e-14)
+    np.testing.assert_allclose(linear.W, np.eye(3), atol=1e-14)
+
+
+def test_torque_free_body_intermediate_axis_is_unstable(torque_free):
+    linear = torque_free[1].at()
+    values = _eigenvalues(linear)
+    expected = OMEGA * np.sqrt((I2 - I1) * (I3 - I2) / (I1 * I3))
+    assert np.max(values.real) == pytest.approx(expected, rel=1e-8)
+    growing = values[np.argmax(values.real)]
+    assert abs(growing.imag) <= 1e-12
+    assert not modal_analysis(linear).stable
+
+
+@pytest.mark.parametrize("axis", [0, 2], ids=["minor", "major"])
+def test_torque_free_body_spin_about_the_extreme_axes_is_stable(torque_free, axis):
+    linear = torque_free[axis].at()
+    values = _eigenvalues(linear)
+    I = np.array([I1, I2, I3])
+    a, b = [k for k in range(3) if k != axis]
+    classical = OMEGA * np.sqrt((I[axis] - I[a]) * (I[axis] - I[b]) / (I[a] * I[b]))
+    assert np.max(np.abs(values.real)) <= 1e-12
+    # Euler's equations: 0, +-i classical; the attitude seen from the spinning frame: 0, +-i Omega
+    expected = np.sort(np.array([0.0, 0.0, classical, classical, OMEGA, OMEGA]))
+    np.testing.assert_allclose(np.sort(np.abs(values.imag)), expected, rtol=1e-8, atol=1e-12)
+
+
+def test_spherical_pendulum_hanging_at_rest():
+    """Searched from a tilted start in rotation coordinates; two pairs sqrt(m g l / I_pivot)."""
+    lin = Linearization(loads_model(PENDULUM), about="equilibrium")
+    linear = lin.at()
+    q = lin.full_operating_point(linear)
+    R = euler_matrix(q[:4])       # the bob hangs: its mass centre straight below the pivot
+    e0, e1, e2, e3 = q[:4]
+    z_axis = np.array([2 * (e1 * e3 + e0 * e2), 2 * (e2 * e3 - e0 * e1), e0 ** 2 - e1 ** 2 - e2 ** 2 + e3 ** 2])
+    assert z_axis[2] == pytest.approx(1.0, abs=1e-10) and R.shape == (4, 3)
+    frequency = np.sqrt(PEND_M * G * PEND_L / (PEND_IC + PEND_M * PEND_L ** 2))
+    modes = modal_analysis(linear)
+    oscillating = sorted(m.omega for m in modes.modes if m.kind == "oscillatory")
+    np.testing.assert_allclose(oscillating, [frequency, frequency], rtol=1e-10)
+    assert len(modes.rigid) == 1       # the turn about the vertical
+
+
+def test_heavy_top_is_stable_above_the_critical_speed_and_unstable_below(top):
+    I1_pivot = TOP_IC + TOP_M * TOP_L ** 2
+    critical = np.sqrt(4 * I1_pivot * TOP_M * G * TOP_L) / TOP_I3
+    for factor in (0.5, 0.95):
+        values = _eigenvalues(top.at(spin=factor * critical))
+        assert np.max(values.real) > 1e-3 * critical
+    for factor in (1.05, 3.0):
+        spin = factor * critical
+        values = _eigenvalues(top.at(spin=spin))
+        assert np.max(np.abs(values.real)) <= 1e-10 * spin
+        # nutation and precession in space: I_1 w^2 - I_3 Omega w + m g l = 0; seen from the top, w - Omega
+        root = np.sqrt((TOP_I3 * spin) ** 2 - 4 * I1_pivot * TOP_M * G * TOP_L)
+        space = np.array([TOP_I3 * spin + root, TOP_I3 * spin - root]) / (2 * I1_pivot)
+        expected = np.sort(np.abs(np.concatenate([space - spin, space - spin, [0.0, 0.0]])))
+        np.testing.assert_allclose(np.sort(np.abs(values.imag)), expected, rtol=1e-8, atol=1e-10)
+
+
+def test_spin_about_an_axis_that_turns_gravity_is_not_a_steady_spin():
+    """A hanging pendulum spun about a horizontal body axis: balanced at t0, but gravity's moment
+    changes as it turns, so the linear model would be periodic: refused."""
+    text = PENDULUM.split("[initial]")[0]
+    lin = Linearization(loads_model(text), about="spin", spin=3.0, spin_axis=(1, 0, 0))
+    with pytest.raises(NoEquilibriumError, match="no steady spin of joint socket"):
+        lin.at()
+
+
+def test_planar_chain_through_the_spatial_engine_has_the_planar_eigenvalues():
+    planar = loads_model(PLANAR)
+    values = [np.sort_complex(_eigenvalues(Linearization(m, about="equilibrium").at()))
+              for m in (planar, as_spatial(planar))]
+    assert values[0].size == 6
+    np.testing.assert_allclose(values[1], values[0], rtol=1e-8, atol=1e-10)
+
+
+def test_spin_axis_refusals():
+    with pytest.raises(ModelError, match="spin-axis"):
+        Linearization(loads_model(PLANAR), about="spin", spin=1.0, spin_axis=(0, 0, 1))
+    with pytest.raises(ModelError, match="spin-axis"):
+        Linearization(loads_model(TORQUE_FREE), about="spin", spin=1.0, spin_axis=(0, 0, 0))
+    with pytest.raises(ModelError, match="spin-axis"):
+        Linearization(loads_model(TORQUE_FREE), about="equilibrium", spin_axis=(0, 0, 1))
+    with pytest.raises(ModelError, match="--hub"):
+        Linearization(loads_model(TORQUE_FREE), about="spin", spin=1.0, hub="box", spin_axis=(0, 0, 1))
+
+
+def test_rotation_reduction_of_a_planar_chain_is_none():
+    from flexkane.kane import derive
+
+    eom = derive(loads_model(PLANAR))
+    assert RotationReduction.of(eom.chain.coordinates, [q.name for q in eom.q]) is None
