@@ -252,3 +252,49 @@ def test_rotation_reduction_of_a_planar_chain_is_none():
 
     eom = derive(loads_model(PLANAR))
     assert RotationReduction.of(eom.chain.coordinates, [q.name for q in eom.q]) is None
+
+
+FREE_BODY = TORQUE_FREE.replace('name = "torque-free"', 'name = "free-body"').replace(
+    'type = "spherical"', 'type = "free"').replace("[joints.pivot]", "[joints.float]") + \
+    "[initial]\nq_float_x = 0.3\nq_float_z = -0.2\n"
+
+
+def test_free_body_spinning_about_the_intermediate_axis_translations_in_the_turning_frame():
+    """A free joint spinning freely: translations measured along the spinning frame (sx, sy, sz),
+    dxi' = dv - w0 x dxi, and the same instability as on a spherical joint."""
+    lin = Linearization(loads_model(FREE_BODY), about="spin", spin=OMEGA, spin_axis=(0, 1, 0))
+    linear = lin.at()
+    assert linear.coordinates == ["sx_float", "sy_float", "sz_float", "rx_float", "ry_float", "rz_float"]
+    w0 = np.array([0.0, OMEGA, 0.0])
+    cross = np.array([[0, -w0[2], w0[1]], [w0[2], 0, -w0[0]], [-w0[1], w0[0], 0]])
+    np.testing.assert_allclose(linear.V[:3, :3], -cross, atol=1e-14)
+    np.testing.assert_allclose(linear.W, np.eye(6), atol=1e-14)
+    expected = OMEGA * np.sqrt((I2 - I1) * (I3 - I2) / (I1 * I3))
+    assert np.max(_eigenvalues(linear).real) == pytest.approx(expected, rel=1e-8)
+    # the operating point keeps the body where it is; a shift along the body's x moves it there
+    moved = lin.configuration(linear, np.array([0.1, 0, 0, 0, 0, 0]))
+    assert [moved[s] for s in lin.q_all[:3]] == pytest.approx([0.4, 0.0, -0.2], abs=1e-15)
+
+
+def test_linearize_and_campbell_commands_on_a_spatial_model(tmp_path):
+    from flexkane.cli import main
+
+    path = tmp_path / "torque-free.toml"
+    path.write_text(TORQUE_FREE)
+    out = tmp_path / "lin"
+    assert main(["linearize", str(path), "--about", "spin", "--spin", str(OMEGA), "--spin-axis", "0,1,0",
+                 "--out", str(out), "--quiet", "--export", "control"]) == 0
+    data = np.load(out / "linear_model.npz")
+    assert list(data["state_names"][:3]) == ["rx_pivot", "ry_pivot", "rz_pivot"]
+    assert (out / "modes.csv").exists() and not (out / "mode_shapes.png").exists()
+    assert main(["campbell", str(path), "--spin", "0:4:3", "--spin-axis", "1,0,0", "--out", str(tmp_path / "c"),
+                 "--quiet"]) == 0
+    lines = (tmp_path / "c" / "campbell.csv").read_text().splitlines()
+    assert len(lines) == 4
+    last = [float(v) for v in lines[-1].split(",")]      # Omega = 4 about the minor axis
+    assert last[1] == pytest.approx(4.0 * np.sqrt((I2 - I1) * (I3 - I1) / (I2 * I3)), rel=1e-8)
+    with pytest.raises(SystemExit) as exit_info:
+        main(["linearize", str(path), "--about", "spin", "--spin", "1", "--spin-axis", "0,1", "--out",
+              str(tmp_path / "bad")])
+    assert exit_info.value.code == 2
+    assert main(["linearize", str(path), "--about", "spin", "--spin", "1", "--out", str(tmp_path / "bad2")]) == 2

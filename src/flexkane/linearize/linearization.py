@@ -54,7 +54,6 @@ from .linear_model import LinearModel, linear_outputs
 from .prepare import ABOUT, prepare_model
 from .reduction import closure_map
 from .rotation_reduction import RotationReduction
-from ..model.coordinates import EULER_ROLES
 
 __all__ = ["Linearization", "linearize", "ABOUT"]
 
@@ -132,7 +131,8 @@ class Linearization:
         self.q = [q for q in self.q_all if q not in self.dependent]
         self.u = list(eom.u)
         # spatial orientations: three rotation coordinates per set of Euler parameters
-        self.reduction = RotationReduction.of(eom.chain.coordinates, [q.name for q in self.q])
+        self.reduction = RotationReduction.of(eom.chain.coordinates, [q.name for q in self.q],
+                                              self.prepared.hub if self.prepared.spin_axis is not None else None)
         n_independent = self.reduction.n if self.reduction is not None else len(self.q)
         if n_independent != len(self.u):  # pragma: no cover - the chain gives one speed per coordinate
             raise ModelError("model", "as many independent speeds as coordinates",
@@ -505,8 +505,9 @@ class Linearization:
         if self.reduction is not None:      # rotation coordinates (rotation_reduction); no loops in 3D
             T, back = self.reduction.tangent(check.q)
             W, V = back @ x["W"], back @ (x["V"] @ T - self.reduction.tangent(check.q, x["qdot"])[0])
-            coordinates, q0 = list(self.reduction.names), back @ np.where(self._euler_rows(), 0.0, check.q)
-            fixed.update({self.q_all[k].name: float(check.q[k]) for k in np.flatnonzero(self._euler_rows())})
+            held = self.reduction.reference_rows()
+            coordinates, q0 = list(self.reduction.names), back @ np.where(held, 0.0, check.q)
+            fixed.update({self.q_all[k].name: float(check.q[k]) for k in np.flatnonzero(held)})
             self._check_steady(-x["F_q"] @ T, x["F_u"] @ u0, u0)
         spin_value = None
         if self.prepared.spin_axis is not None:
@@ -526,10 +527,6 @@ class Linearization:
             dropped=dropped, fixed=fixed,
             dependent_map=T[dependent], notes=list(self.notes), residual=check.residual, linearization=self,
             output_units={k: self._units.get(k, "") for k in names})
-
-    def _euler_rows(self) -> np.ndarray:
-        """Whether each of q_all is an Euler parameter, shape (n_all,)."""
-        return np.array([self._coordinate[q].role in EULER_ROLES for q in self.q_all], dtype=bool)
 
     def _check_steady(self, K: np.ndarray, gyroscopic: np.ndarray, u0: np.ndarray) -> None:
         """A free spin is a steady motion only if the forces do not change as the joint turns:

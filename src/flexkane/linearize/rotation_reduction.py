@@ -23,6 +23,12 @@ where ``T' = dT/dt`` along the reference motion (``P' = 1/2 E(e_ref')``, zero at
 steady spin of the joint with angular velocity ``w0``, ``V_r`` of its block is ``-[w0 x]``
 (``dtheta' = dtheta x w0 + dw``), so the linear model of a body spinning about a principal axis has
 constant coefficients though its Euler parameters turn.
+
+The translations ``x = (x, y, z)`` of a free joint that spins freely are measured along the turning
+frame J_c too: ``dx = C(e_ref) dxi`` (``C`` the direction cosines of J_c in J_p), so that with
+``x' = C(e) v``, ``dxi' = dv - w0 x dxi``, again with constant coefficients (in J_p's axes the row
+``dx' = C(e_ref(t)) dv`` would turn with the body). They are named ``sx_<joint>, sy_<joint>,
+sz_<joint>``; at rest (``w0 = 0``) the translations keep their names and J_p's axes.
 """
 
 from __future__ import annotations
@@ -37,6 +43,18 @@ __all__ = ["RotationReduction", "AXES", "euler_matrix", "turn"]
 
 #: Name prefixes of the three rotation coordinates of a joint, about J_c's x, y, z axes.
 AXES = ("rx", "ry", "rz")
+#: Name prefixes of a freely spinning free joint's translations along J_c's axes.
+SHIFTS = ("sx", "sy", "sz")
+
+
+def direction_cosines(e: np.ndarray) -> np.ndarray:
+    """Direction cosines ``C(e)`` (``v_A = C v_B``) of Euler parameters e, shape (3, 3)
+    (:func:`flexkane.kane.rotation.euler_parameter_matrix`)."""
+    e0, e1, e2, e3 = e
+    return np.array([
+        [e0 ** 2 + e1 ** 2 - e2 ** 2 - e3 ** 2, 2 * (e1 * e2 - e0 * e3), 2 * (e1 * e3 + e0 * e2)],
+        [2 * (e1 * e2 + e0 * e3), e0 ** 2 - e1 ** 2 + e2 ** 2 - e3 ** 2, 2 * (e2 * e3 - e0 * e1)],
+        [2 * (e1 * e3 - e0 * e2), 2 * (e2 * e3 + e0 * e1), e0 ** 2 - e1 ** 2 - e2 ** 2 + e3 ** 2]], dtype=float)
 
 
 def euler_matrix(e: np.ndarray) -> np.ndarray:
@@ -78,26 +96,36 @@ class RotationReduction:
         Names of the reduced coordinates, length ``n_full - len(blocks)``.
     plain : list of (int, int)
         (position in q, position in the reduced coordinates) of every other coordinate.
+    shifts : list of (list of int, list of int, list of int)
+        Per freely spinning free joint: the positions of its Euler parameters and of its x, y, z in q
+        and of ``sx, sy, sz`` in the reduced coordinates.
     """
 
     n_full: int
     blocks: list
     names: list
     plain: list
+    shifts: list = ()
 
     @classmethod
-    def of(cls, coordinates: list, q_names: list[str]) -> "RotationReduction | None":
+    def of(cls, coordinates: list, q_names: list[str], spinning: str | None = None) -> "RotationReduction | None":
         """The reduction of the coordinates ``q_names`` (names of ``coordinates``, the chain's
         :class:`~flexkane.kane.chain.Coordinate` objects with ``role`` and ``owner``); None when none
-        of them is an Euler parameter."""
+        of them is an Euler parameter. ``spinning``: a joint spinning freely (its translations, if
+        it is a free joint, are measured along its child frame)."""
         by_name = {c.q.name: c for c in coordinates}
         roles = [by_name[name].role for name in q_names]
         if not any(role in EULER_ROLES for role in roles):
             return None
         blocks, names, plain, seen = [], [], [], {}
+        moving: dict = {}
         for k, name in enumerate(q_names):
             c = by_name[name]
-            if c.role in EULER_ROLES:
+            if c.owner == spinning and c.role in ("x", "y", "z"):
+                moving.setdefault("rows", []).append(k)
+                moving.setdefault("cols", []).append(len(names))
+                names.append(f"{SHIFTS['xyz'.index(c.role)]}_{c.owner}")
+            elif c.role in EULER_ROLES:
                 if c.owner not in seen:
                     seen[c.owner] = (c.owner, [None] * 4, list(range(len(names), len(names) + 3)))
                     blocks.append(seen[c.owner])
@@ -106,7 +134,8 @@ class RotationReduction:
             else:
                 plain.append((k, len(names)))
                 names.append(name)
-        return cls(len(q_names), blocks, names, plain)
+        shifts = [(seen[spinning][1], moving["rows"], moving["cols"])] if moving else []
+        return cls(len(q_names), blocks, names, plain, shifts)
 
     @property
     def n(self) -> int:
@@ -116,7 +145,7 @@ class RotationReduction:
     def tangent(self, q: np.ndarray, rate: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """``(T, T^+)`` at the configuration q, shapes (n_full, n) and (n, n_full); with ``rate`` =
         ``q'`` along the reference motion, ``(T', T^+')`` instead (zero for every plain coordinate)."""
-        derivative = rate is not None
+        derivative = rate is not None     # (T^+' is not used: T^+ T = I gives T^+' T = -T^+ T')
         source = np.asarray(rate if derivative else q, dtype=float)
         T, T_plus = np.zeros((self.n_full, self.n)), np.zeros((self.n, self.n_full))
         if not derivative:
@@ -126,6 +155,15 @@ class RotationReduction:
             E = euler_matrix(source[rows])
             T[np.ix_(rows, cols)] = 0.5 * E
             T_plus[np.ix_(cols, rows)] = 2.0 * E.T
+        for euler, rows, cols in self.shifts:
+            e = np.asarray(q, dtype=float)[euler]
+            if derivative:      # C is quadratic in e: its rate is the central difference exactly
+                d = source[euler]
+                C = 0.5 * (direction_cosines(e + d) - direction_cosines(e - d))
+            else:
+                C = direction_cosines(e)
+            T[np.ix_(rows, cols)] = C
+            T_plus[np.ix_(cols, rows)] = C.T
         return T, T_plus
 
     def retract(self, q_ref: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -135,6 +173,8 @@ class RotationReduction:
         x = np.asarray(x, dtype=float)
         for k, j in self.plain:
             q[k] = q_ref[k] + x[j]
+        for euler, rows, cols in self.shifts:
+            q[rows] = q_ref[rows] + direction_cosines(q_ref[euler]) @ x[cols]
         for _, rows, cols in self.blocks:
             q[rows] = turn(q_ref[rows], x[cols])
         return q
@@ -155,6 +195,14 @@ class RotationReduction:
                 "mass": lambda x: evaluators["mass"](at(x)),
                 "stiffness": lambda x: evaluators["stiffness"](at(x)) @ self.tangent(at(x))[0],
                 "rates": lambda x: keep * (self.tangent(at(x))[1] @ evaluators["rates"](at(x)))}
+
+    def reference_rows(self) -> np.ndarray:
+        """Whether each coordinate of q is held by the reference of a reduced block (Euler parameters,
+        a spinning joint's translations) rather than mapped to itself, shape (n_full,)."""
+        held = np.zeros(self.n_full, dtype=bool)
+        for _, rows, _ in [*self.blocks, *self.shifts]:
+            held[rows] = True
+        return held
 
     def normalize(self, q: np.ndarray) -> np.ndarray:
         """q with each joint's Euler parameters scaled to unit norm."""
