@@ -298,3 +298,42 @@ def test_linearize_and_campbell_commands_on_a_spatial_model(tmp_path):
               str(tmp_path / "bad")])
     assert exit_info.value.code == 2
     assert main(["linearize", str(path), "--about", "spin", "--spin", "1", "--out", str(tmp_path / "bad2")]) == 2
+
+
+HUB_ARM = """
+name = "hub-arm"
+[bodies.hub]
+mass = 5.0
+inertia = 0.5
+points = { tip = [0.2, 0.0] }
+[bodies.arm]
+mass = 1.0
+inertia = 0.03
+points = { root = [-0.3, 0.0] }
+[joints.spin]
+type = "revolute"
+parent = "ground"
+child = "hub"
+parent_position = [0, 0]
+torque = 1.0
+[joints.hinge]
+type = "revolute"
+parent = "hub"
+child = "arm"
+parent_point = "tip"
+child_point = "root"
+stiffness = 10.0
+damping = 0.1
+"""
+
+
+def test_planar_hub_through_the_spatial_engine_has_the_planar_campbell_diagram():
+    """A driven revolute hub (the planar steady spin) in 3D: same frequencies and growth rates."""
+    from flexkane.linearize import campbell_diagram
+
+    planar = loads_model(HUB_ARM)
+    diagrams = [campbell_diagram(m, [0.0, 2.0, 4.0]) for m in (planar, as_spatial(planar))]
+    assert diagrams[1].hub == "spin"
+    np.testing.assert_allclose(diagrams[1].frequencies, diagrams[0].frequencies, rtol=1e-8)
+    np.testing.assert_allclose(diagrams[1].growth_rates, diagrams[0].growth_rates, rtol=1e-8)
+    assert diagrams[0].frequencies[2, 0] > diagrams[0].frequencies[0, 0]     # centrifugal stiffening
