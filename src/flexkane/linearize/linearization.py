@@ -84,7 +84,11 @@ class Linearization:
     eom : EquationsOfMotion
         Of the prepared model (:mod:`flexkane.linearize.prepare`).
     q, u : list of sympy.Symbol
-        Coordinates and speeds of the linear model, n of each.
+        Coordinates and speeds of the linear model, n of each; in 3D, q holds the Euler parameters,
+        which the linear model replaces by rotation coordinates (``reduction``).
+    reduction : RotationReduction or None
+        The map to the independent coordinates of a spatial chain with spherical or free joints
+        (:mod:`flexkane.linearize.rotation_reduction`); None otherwise.
     q_all : list of sympy.Symbol
         The coordinates searched for the operating point: ``q`` and the dependent coordinates of
         closed loops.
@@ -179,7 +183,8 @@ class Linearization:
             ``M`` (n, n), ``C = -df/du`` (n, n), ``K = -df/dq`` (n, n_all), ``B = df/dr`` (n, m),
             ``W = dqdot/du`` (n_all, n), ``V = dqdot/dq`` (n_all, n_all) and, for closed loops,
             ``Phi_q`` (constraints, n_all). Functions of q, t, the constants and r. For an open chain
-            n_all = n; a closed one is reduced numerically (``K T``, ``V T``, see
+            n_all = n but with Euler parameters (3D: reduced numerically, ``reduction``); a closed one
+            is reduced numerically (``K T``, ``V T``, see
             :mod:`flexkane.linearize.reduction`). Formed on first use: for large models (many modes
             with geometric stiffening) this takes long, and the numeric matrices do not need it.
         """
