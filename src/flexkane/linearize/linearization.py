@@ -440,6 +440,11 @@ class Linearization:
         if self.reduction is not None:  # searched in rotation coordinates x about the start (q = origin at x = 0)
             origin = self.reduction.normalize(np.where(elastic, 0.0, start) if self.about == "rest" else start)
             steady = self.reduction.columns(self.prepared.hub) if self.prepared.spin_axis is not None else []
+            if self.about != "rest":
+                settled = self.reduction.settle(origin, ev, steady)
+                if check_equilibrium(np.zeros(self.reduction.n), **self.reduction.wrap(settled, ev, steady),
+                                     load_accelerations=loads).ok:
+                    origin = settled
             ev = self.reduction.wrap(origin, ev, steady)
             start, elastic = np.zeros(self.reduction.n), np.zeros(self.reduction.n, dtype=bool)
         if self.about == "rest":

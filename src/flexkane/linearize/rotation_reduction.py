@@ -196,6 +196,33 @@ class RotationReduction:
                 "stiffness": lambda x: evaluators["stiffness"](at(x)) @ self.tangent(at(x))[0],
                 "rates": lambda x: keep * (self.tangent(at(x))[1] @ evaluators["rates"](at(x)))}
 
+    def settle(self, q_start: np.ndarray, evaluators: dict, steady: list[int] = (), iterations: int = 100) -> np.ndarray:
+        """A configuration near ``q_start`` where the forcing vanishes, by Gauss-Newton steps in the
+        reduced coordinates re-centred at every step (where ``K T`` is the exact Jacobian), each the
+        least-norm step (so that neutral directions, such as turns about the vertical, are not
+        wandered along) halved until the forcing decreases; shape (n_full,). The caller checks it."""
+        q = self.normalize(q_start)
+        zero = np.zeros(self.n)
+        for _ in range(iterations):
+            wrapped = self.wrap(q, evaluators, steady)
+            f = wrapped["forcing"](zero)
+            size = float(np.linalg.norm(f))
+            if size == 0.0 or not np.isfinite(size):
+                break
+            step = np.linalg.lstsq(-wrapped["stiffness"](zero), -f, rcond=1e-10)[0]
+            fraction = 1.0
+            while fraction > 1e-6:
+                trial = self.retract(q, fraction * step)
+                if float(np.linalg.norm(wrapped["forcing"](fraction * step))) < size:
+                    break
+                fraction /= 2
+            else:
+                break
+            q = trial
+            if float(np.max(np.abs(fraction * step), initial=0.0)) < 1e-15:
+                break
+        return q
+
     def reference_rows(self) -> np.ndarray:
         """Whether each coordinate of q is held by the reference of a reduced block (Euler parameters,
         a spinning joint's translations) rather than mapped to itself, shape (n_full,)."""
