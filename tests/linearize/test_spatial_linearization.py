@@ -400,13 +400,28 @@ q_j2 = { axis = [1, 1, 1], angle = 0.4 }
 """
 
 
-def test_reduced_state_matrix_matches_finite_differences_of_the_compiled_rhs():
-    """Off-axis points and full inertia tensors, equilibrium searched from a tilted start: A equals
-    central differences of the compiled nonlinear rhs in (rotation coordinates, speeds)."""
+@pytest.fixture(scope="module")
+def skew_double():
+    lin = Linearization(loads_model(DOUBLE_SKEW), about="equilibrium")
+    return lin, lin.at()
+
+
+def test_tilted_double_spherical_pendulum_settles_hanging(skew_double):
+    """Off-axis points and full inertia tensors, searched from a tilted start: a stable equilibrium
+    (symmetric, positive semi-definite K; two neutral turns about the vertical)."""
+    lin, linear = skew_double
+    assert linear.residual <= 1e-9 * 9.81
+    assert np.max(np.abs(linear.K - linear.K.T)) <= 1e-9 * np.abs(linear.K).max()     # conservative
+    assert np.min(np.linalg.eigvalsh(0.5 * (linear.K + linear.K.T))) > -1e-9 * np.abs(linear.K).max()  # hanging
+    assert modal_analysis(linear).stable
+
+
+@pytest.mark.slow
+def test_reduced_state_matrix_matches_finite_differences_of_the_compiled_rhs(skew_double):
+    """A equals central differences of the compiled nonlinear rhs in (rotation coordinates, speeds)."""
     import flexkane
 
-    lin = Linearization(loads_model(DOUBLE_SKEW), about="equilibrium")
-    linear = lin.at()
+    lin, linear = skew_double
     A, _ = linear.state_space()
     eom = lin.eom
     compiled = flexkane.compile_model(eom)
@@ -424,5 +439,3 @@ def test_reduced_state_matrix_matches_finite_differences_of_the_compiled_rhs():
     h = 1e-6
     A_fd = np.column_stack([(reduced_rhs(h * e) - reduced_rhs(-h * e)) / (2 * h) for e in np.eye(2 * linear.n)])
     np.testing.assert_allclose(A, A_fd, atol=1e-6 * np.abs(A).max())
-    assert np.max(np.abs(linear.K - linear.K.T)) <= 1e-9 * np.abs(linear.K).max()     # conservative
-    assert np.min(np.linalg.eigvalsh(0.5 * (linear.K + linear.K.T))) > -1e-9 * np.abs(linear.K).max()  # hanging
