@@ -439,3 +439,23 @@ def test_reduced_state_matrix_matches_finite_differences_of_the_compiled_rhs(ske
     h = 1e-6
     A_fd = np.column_stack([(reduced_rhs(h * e) - reduced_rhs(-h * e)) / (2 * h) for e in np.eye(2 * linear.n)])
     np.testing.assert_allclose(A, A_fd, atol=1e-6 * np.abs(A).max())
+
+
+def test_spatial_model_has_no_input_channels_yet_and_says_so():
+    """The spatial engine does not derive control inputs: no inputs (rather than a zero B), with a
+    note; a 3D load with a torque vector and an actuator torque stay in the equations."""
+    text = PENDULUM + """[loads.push]
+body = "bob"
+force = [0.0, 0.0, -1.0]
+torque = [0.2, 0.0, 0.0]
+frame = "ground"
+"""
+    linear = Linearization(loads_model(text), about="equilibrium").at()
+    assert linear.input_names == [] and linear.B.shape == (3, 0)
+    frequency = np.sqrt((PEND_M * G + 1.0) * PEND_L / (PEND_IC + PEND_M * PEND_L ** 2))   # the push adds to m g
+    tilt = np.arcsin(0.2 / ((PEND_M * G + 1.0) * PEND_L))                                  # the torque tilts it
+    swings = sorted(m.omega for m in modal_analysis(linear).modes if m.kind == "oscillatory")
+    assert swings[0] == pytest.approx(frequency * np.sqrt(np.cos(tilt)), rel=1e-8)
+    assert any("control inputs of spatial models are not yet supported" in note for note in linear.notes)
+    planar_as_3d = Linearization(as_spatial(loads_model(PLANAR)), about="equilibrium").at()
+    assert planar_as_3d.input_names == []
