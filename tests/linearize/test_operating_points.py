@@ -22,8 +22,6 @@ def without_gravity(name):
 @pytest.mark.parametrize("name", flexkane.builtin_names())
 def test_every_builtin_example_linearizes_or_reports_that_it_has_no_equilibrium(name):
     model = flexkane.builtin_model(name)
-    if model.dimensions == 3:
-        pytest.skip("linearizing spatial models is not on this branch yet (the command refuses it, exit 2)")
     # models with controller states (flexible-arm-pid) linearize too, about an equilibrium of (q, z):
     # their state (dq, du, dz) has nz more eigenvalues, each real one counted 1/2 below
     if name in EXPECTED_WITHOUT_EQUILIBRIUM:

@@ -147,19 +147,6 @@ def model_from_args(args) -> Model:
     return model.validate()
 
 
-def refuse_spatial(model: Model, command: str) -> None:
-    """Refuse a spatial model (``dimensions = 3``) for a command that handles planar models only.
-
-    Raises
-    ------
-    ModelError
-        Naming ``dimensions`` and the command (exit 2).
-    """
-    if model.dimensions == 3:
-        raise ModelError("dimensions", f"a planar model (dimensions = 2): '{command}' of spatial models is not "
-                         "yet supported", model.dimensions)
-
-
 def _check_bare_names(model: Model, bare: set[str]) -> None:
     """Report a ``--set NAME=...`` whose name is neither a parameter nor a coordinate or speed."""
     from ..model.coordinates import coordinate_names, initial_keys

@@ -14,6 +14,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ._common import add_model_arguments, add_out_arguments, model_from_args
+from .linearize import spin_axis_argument
 
 __all__ = ["register"]
 
@@ -28,7 +29,10 @@ def register(subparsers) -> None:
     p.add_argument("--spin", required=True, metavar="START:STOP:COUNT",
                    help="spin rates [rad/s]: COUNT values from START to STOP (e.g. 0:8:33), or a list A,B,C")
     p.add_argument("--hub", default=None, metavar="JOINT",
-                   help="revolute joint that spins [default: the driven one, else the one on the ground]")
+                   help="revolute joint that spins [default: the driven one, else the one on the ground]; "
+                        "with --spin-axis, the spherical or free joint that spins freely")
+    p.add_argument("--spin-axis", default=None, metavar="X,Y,Z", type=spin_axis_argument,
+                   help="3D models: spin freely about this axis of the child frame of a spherical or free joint")
     add_out_arguments(p, "out/MODEL_NAME-campbell")
     p.add_argument("--quiet", action="store_true", help="print nothing but errors")
     p.set_defaults(handler=_handle)
@@ -36,15 +40,14 @@ def register(subparsers) -> None:
 
 def _handle(args) -> int:
     from ..atomic import atomic_write_text
-    from ._common import default_out, prepare_out, refuse_spatial
+    from ._common import default_out, prepare_out
     from ..linearize import campbell_diagram
     from ..linearize.campbell import parse_spin_range
 
     spins = parse_spin_range(args.spin)
     model = model_from_args(args)
-    refuse_spatial(model, "flexkane campbell")
     out = prepare_out(Path(args.out) if args.out else default_out(model.name, "-campbell"), force=args.force)
-    diagram = campbell_diagram(model, spins, hub=args.hub)
+    diagram = campbell_diagram(model, spins, hub=args.hub, spin_axis=args.spin_axis)
     atomic_write_text(out / "campbell.csv", diagram.csv_text())
     diagram.plot(out / "campbell.png")
     if not args.quiet:

@@ -29,8 +29,8 @@ __all__ = ["register", "add_operating_point_arguments", "EXPORTS"]
 EXPORTS = {"control": "statespace.npz"}
 
 
-def add_operating_point_arguments(parser, *, spin: bool = True) -> None:
-    """--about, --spin (unless ``spin`` is false), --hub."""
+def add_operating_point_arguments(parser, *, spin: bool = True, spin_axis: bool = False) -> None:
+    """--about, --spin (unless ``spin`` is false), --hub, --spin-axis (if ``spin_axis``)."""
     # no argparse choices: they would import flexkane.linearize (SciPy) to build the parser; the
     # library checks the value against flexkane.linearize.ABOUT and names --about when it is not one
     parser.add_argument("--about", default=None, metavar="POINT",
@@ -41,7 +41,26 @@ def add_operating_point_arguments(parser, *, spin: bool = True) -> None:
         parser.add_argument("--spin", type=float, default=None, metavar="OMEGA",
                             help="spin rate of the hub [rad/s] (--about spin)")
     parser.add_argument("--hub", default=None, metavar="JOINT",
-                        help="revolute joint that spins [default: the driven one, else the one on the ground]")
+                        help="revolute joint that spins [default: the driven one, else the one on the ground]; "
+                             "with --spin-axis, the spherical or free joint that spins freely")
+    if spin_axis:
+        parser.add_argument("--spin-axis", default=None, metavar="X,Y,Z", type=spin_axis_argument,
+                            help="3D models: spin freely about this axis of the child frame of a spherical or "
+                                 "free joint (--hub; a torque-free body, a top) instead of driving a revolute hub")
+
+
+def spin_axis_argument(text: str) -> tuple:
+    """``X,Y,Z`` as three floats (argparse reports anything else as an error of --spin-axis, exit 2)."""
+    import argparse
+
+    try:
+        axis = tuple(float(c) for c in text.split(","))
+    except ValueError:
+        axis = ()
+    if len(axis) != 3:
+        raise argparse.ArgumentTypeError(f"expected three numbers X,Y,Z (components along the child frame's axes), "
+                                         f"got {text!r}")
+    return axis
 
 
 def operating_point(args) -> tuple[str, float | None]:
@@ -59,7 +78,7 @@ def register(subparsers) -> None:
                     "damping ratios and rigid-body modes; write the matrices (.npz, .mat), modes.csv and "
                     "mode_shapes.png to DIR.")
     add_model_arguments(p, default=None)
-    add_operating_point_arguments(p)
+    add_operating_point_arguments(p, spin_axis=True)
     p.add_argument("--t0", type=float, default=0.0, metavar="T",
                    help="time of the operating point [s]: loads and drivers are taken there [default: 0]")
     p.add_argument("--plot-modes", type=int, default=4, metavar="K", help="number of mode shapes drawn [default: 4]")
@@ -75,6 +94,9 @@ def describe(linear) -> list[str]:
     """Lines describing the operating point of a linear model."""
     if linear.about == "spin":
         about = f"a steady spin of joint {linear.hub} at Omega = {linear.spin:g} rad/s"
+        if linear.linearization is not None and linear.linearization.prepared.spin_axis is not None:
+            axis = ", ".join(f"{c:g}" for c in linear.linearization.prepared.spin_axis)
+            about += f" about ({axis}) of its child frame"
     else:
         about = "an equilibrium" if linear.about == "equilibrium" else "rest"
     n, m = linear.n, len(linear.inputs)
@@ -93,10 +115,9 @@ def _handle(args) -> int:
     from ..atomic import atomic_write_text
     from ..errors import ModelError
     from ..linearize import Linearization, modal_analysis, plot_mode_shapes
-    from ._common import default_out, prepare_out, refuse_spatial
+    from ._common import default_out, prepare_out
 
     model = model_from_args(args)
-    refuse_spatial(model, "flexkane linearize")
     about, spin = operating_point(args)
     if args.plot_modes < 1:
         raise ModelError("--plot-modes", "a positive number of modes", args.plot_modes)
@@ -104,12 +125,14 @@ def _handle(args) -> int:
         if export not in EXPORTS:
             raise ModelError("--export", "one of " + ", ".join(EXPORTS), export)
     out = prepare_out(Path(args.out) if args.out else default_out(model.name, "-linearized"), force=args.force)
-    linear = Linearization(model, about=about, spin=spin, hub=args.hub, t0=args.t0).at()
+    linear = Linearization(model, about=about, spin=spin, hub=args.hub, t0=args.t0, spin_axis=args.spin_axis).at()
     modal = modal_analysis(linear)
     linear.save_npz(out / "linear_model.npz")
     linear.save_mat(out / "linear_model.mat")
     atomic_write_text(out / "modes.csv", modal.csv_text())
-    plot_mode_shapes(modal, out / "mode_shapes.png", count=args.plot_modes)
+    spatial = model.dimensions == 3     # mode shapes are drawn for planar chains only
+    if not spatial:
+        plot_mode_shapes(modal, out / "mode_shapes.png", count=args.plot_modes)
     exports = sorted(set(args.export))
     if "control" in exports:
         linear.save_control(out / EXPORTS["control"])
@@ -122,5 +145,7 @@ def _handle(args) -> int:
         if not modal.stable:
             print("the operating point is unstable (a mode grows)")
         print(modal.table())
-        print(f"wrote {4 + len(exports)} files to {out}")
+        if spatial:
+            print("note: mode_shapes.png is drawn for planar models only (the shapes are in modes.csv)")
+        print(f"wrote {4 - spatial + len(exports)} files to {out}")
     return 0

@@ -146,7 +146,8 @@ class CampbellDiagram:
         return Path(path)
 
 
-def campbell_diagram(model: Model, spins, *, hub: str | None = None, t0: float = 0.0) -> CampbellDiagram:
+def campbell_diagram(model: Model, spins, *, hub: str | None = None, t0: float = 0.0,
+                     spin_axis=None) -> CampbellDiagram:
     """Frequencies of a chain against the spin rate of a hub.
 
     Parameters
@@ -159,6 +160,9 @@ def campbell_diagram(model: Model, spins, *, hub: str | None = None, t0: float =
         Revolute joint spun (see :func:`flexkane.linearize.prepare.spin_hub`).
     t0 : float
         Time at which other time-dependent terms are frozen [s].
+    spin_axis : sequence of 3 float, optional
+        3D models: a spherical or free joint ``hub`` spinning freely about this axis of its child
+        frame (:class:`~flexkane.linearize.linearization.Linearization`).
 
     Returns
     -------
@@ -169,7 +173,7 @@ def campbell_diagram(model: Model, spins, *, hub: str | None = None, t0: float =
     spins = np.atleast_1d(np.asarray(spins, dtype=float))
     if spins.ndim != 1 or spins.size == 0 or not np.all(np.isfinite(spins)):
         raise ModelError("--spin", "one or more finite spin rates [rad/s]", spins)
-    lin = Linearization(model, about="spin", spin=float(spins[0]), hub=hub, t0=t0)
+    lin = Linearization(model, about="spin", spin=float(spins[0]), hub=hub, t0=t0, spin_axis=spin_axis)
     rows, growth = [], []
     q = None
     for spin in spins:
@@ -185,5 +189,5 @@ def campbell_diagram(model: Model, spins, *, hub: str | None = None, t0: float =
     table = np.full((spins.size, width), np.nan)
     for i, r in enumerate(rows):
         table[i, :len(r)] = r
-    notes = [n for n in lin.notes if "spins at the constant rate" not in n]
+    notes = [n for n in lin.notes if "spins at the constant rate" not in n and "spins freely at" not in n]
     return CampbellDiagram(model.name, lin.prepared.hub, spins, table, np.array(growth), notes)

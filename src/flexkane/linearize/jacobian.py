@@ -63,7 +63,7 @@ def forward_jacobian(exprs: Sequence[sp.Expr], variables: Sequence[sp.Symbol],
     -------
     ForwardJacobian
     """
-    replacements, reduced = sp.cse(list(exprs), symbols=sp.numbered_symbols(prefix), order="none",
+    replacements, reduced = sp.cse(list(exprs), symbols=sp.numbered_symbols(prefix, real=True), order="none",
                                    optimizations=None)
     index = {v: j for j, v in enumerate(variables)}
     gradients: dict = {}        # assigned symbol -> {j: derivative (an atom)}

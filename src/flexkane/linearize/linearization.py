@@ -21,7 +21,10 @@ z gives ``K_z = -df/dz`` (``M du' + C du + K dq + K_z dz = B dr``) and the rates
 together over ``(q, z)`` (an integral state settles where it cancels a constant load: a PID's at
 ``z0 = tau_d / Ki``); the controllers' outputs and the sensors are outputs with their ``dz`` columns.
 Chains with closed loops are linearized in their independent coordinates
-(:mod:`flexkane.linearize.reduction`).
+(:mod:`flexkane.linearize.reduction`), spatial chains with spherical or free joints in three rotation
+coordinates per set of Euler parameters (:mod:`flexkane.linearize.rotation_reduction`), about a state
+at rest or about a free steady spin of such a joint (``spin_axis``: a body spinning about a principal
+axis, a top spinning upright), with ``u0 = Omega * axis`` for its angular speeds.
 
 Operating points (``about``):
 
@@ -44,6 +47,8 @@ rates).
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import scipy.linalg
 import sympy as sp
@@ -56,6 +61,7 @@ from .jacobian import forward_jacobian
 from .linear_model import LinearModel, linear_outputs
 from .prepare import ABOUT, prepare_model
 from .reduction import closure_map
+from .rotation_reduction import RotationReduction
 
 __all__ = ["Linearization", "linearize", "ABOUT"]
 
@@ -77,13 +83,20 @@ class Linearization:
     t0 : float
         Time of the operating point [s]: loads become the inputs' nominal values at t0, and explicit
         functions of time (drivers) are frozen at t0.
+    spin_axis : sequence of 3 float, optional
+        3D models: spin freely about this axis of the child frame of a spherical or free joint
+        (``hub``) instead of driving a revolute hub (:func:`~flexkane.linearize.prepare.prepare_model`).
 
     Attributes
     ----------
     eom : EquationsOfMotion
         Of the prepared model (:mod:`flexkane.linearize.prepare`).
     q, u : list of sympy.Symbol
-        Coordinates and speeds of the linear model, n of each.
+        Coordinates and speeds of the linear model, n of each; in 3D, q holds the Euler parameters,
+        which the linear model replaces by rotation coordinates (``reduction``).
+    reduction : RotationReduction or None
+        The map to the independent coordinates of a spatial chain with spherical or free joints
+        (:mod:`flexkane.linearize.rotation_reduction`); None otherwise.
     q_all : list of sympy.Symbol
         The coordinates searched for the operating point: ``q`` and the dependent coordinates of
         closed loops.
@@ -109,14 +122,14 @@ class Linearization:
     """
 
     def __init__(self, model: Model, *, about: str = "equilibrium", spin: float | None = None,
-                 hub: str | None = None, t0: float = 0.0):
+                 hub: str | None = None, t0: float = 0.0, spin_axis=None):
         from ..kane import derive
 
         if isinstance(t0, bool) or not (isinstance(t0, (int, float)) and np.isfinite(t0)):
             raise ModelError("t0", "a finite time [s]", t0)
         self.about = about
         self.t0 = float(t0)
-        self.prepared = prepare_model(model, about=about, spin=spin, hub=hub, t0=t0)
+        self.prepared = prepare_model(model, about=about, spin=spin, hub=hub, t0=t0, spin_axis=spin_axis)
         self.model = self.prepared.model
         self.notes = list(self.prepared.notes)
         eom = derive(self.model)
@@ -130,9 +143,13 @@ class Linearization:
         self.q_all = [q for q in eom.q if q not in self.dropped]
         self.q = [q for q in self.q_all if q not in self.dependent]
         self.u = list(eom.u)
-        if len(self.q) != len(self.u):  # pragma: no cover - the chain gives one speed per coordinate
+        # spatial orientations: three rotation coordinates per set of Euler parameters
+        self.reduction = RotationReduction.of(eom.chain.coordinates, [q.name for q in self.q],
+                                              self.prepared.hub if self.prepared.spin_axis is not None else None)
+        n_independent = self.reduction.n if self.reduction is not None else len(self.q)
+        if n_independent != len(self.u):  # pragma: no cover - the chain gives one speed per coordinate
             raise ModelError("model", "as many independent speeds as coordinates",
-                             f"{len(self.q)} and {len(self.u)}")
+                             f"{n_independent} and {len(self.u)}")
         symbols = input_symbols(eom.chain)
         self.inputs = list(self.prepared.inputs)
         self.r = [symbols[ch.name] for ch in self.inputs]
@@ -177,7 +194,8 @@ class Linearization:
             ``Phi_q`` (constraints, n_all); with controller states also ``K_z = -df/dz`` (n, nz) and
             the Jacobians of zdot ``Z_q`` (nz, n_all), ``Z_u`` (nz, n), ``Z_z`` (nz, nz), ``Z_r``
             (nz, m). Functions of q, z, t, the constants and r. For an open chain
-            n_all = n; a closed one is reduced numerically (``K T``, ``V T``, see
+            n_all = n but with Euler parameters (3D: reduced numerically, ``reduction``); a closed one
+            is reduced numerically (``K T``, ``V T``, see
             :mod:`flexkane.linearize.reduction`). Formed on first use: for large models (many modes
             with geometric stiffening) this takes long, and the numeric matrices do not need it.
         """
@@ -268,6 +286,9 @@ class Linearization:
         self._f_forcing = sp.lambdify(args, [fj.values, fj.jacobian], modules="numpy", cse=fj.cse)
         self._f_mass = sp.lambdify(args, self.M, modules="numpy", cse=True)
         kinematic = [self.qdot0, self.W, self.V, self.phi, self.phi_q]
+        if self.reduction is not None:     # rates and their Jacobian at the speeds u0 of a free spin
+            qdot = sp.Matrix([self.eom.qdot[k] for k, q in enumerate(self.eom.q) if q not in self.dropped])
+            kinematic[0], kinematic[2] = qdot, qdot.jacobian(self.q_all)
         self._f_kinematic = sp.lambdify(args, kinematic, modules="numpy", cse=True)
         self._args_symbols = args
         self._cache = (None, None)
@@ -282,19 +303,33 @@ class Linearization:
         rate = sp.lambdify([self.t], law, "numpy")
         return float(initial + quad(lambda s: float(rate(s)), 0.0, self.t0, limit=200)[0])
 
-    def _args(self, w: np.ndarray, p: np.ndarray) -> list:
-        """Arguments of the numeric functions at ``w = (q_all, z)``, u = 0, t0."""
+    def _args(self, w: np.ndarray, p: np.ndarray, u0: np.ndarray | None = None) -> list:
+        """Arguments of the numeric functions at ``w = (q_all, z)``, speeds ``u0`` (zero by default), t0."""
         w = np.asarray(w, dtype=float)
         n_all = len(self.q_all)
-        return [*w[:n_all], *self.dropped_values, *np.zeros(len(self.u)), *w[n_all:], self.t0, *p]
+        u0 = np.zeros(len(self.u)) if u0 is None else u0
+        return [*w[:n_all], *self.dropped_values, *u0, *w[n_all:], self.t0, *p]
+    def steady_speeds(self, spin: float | None = None) -> np.ndarray:
+        """The speeds u0 of the operating point, shape (n,) [rad/s or m/s]: zero, but the angular
+        speeds ``Omega * spin_axis`` of a spherical or free joint spinning freely."""
+        u0 = np.zeros(len(self.u))
+        if self.prepared.spin_axis is not None:
+            rate = self.prepared.spin if spin is None else float(spin)
+            speeds = {c.u: c.role for c in self.eom.chain.coordinates if c.owner == self.prepared.hub}
+            for k, u in enumerate(self.u):
+                if speeds.get(u) in ("e1", "e2", "e3"):
+                    u0[k] = rate * self.prepared.spin_axis[int(speeds[u][1]) - 1]
+        return u0
 
-    def _numbers(self, w: np.ndarray, p: np.ndarray) -> dict:
-        """Every numeric matrix at ``w = (q_all, z)``, u = 0, t0 for constants p (cached for the last point)."""
-        key = (np.asarray(w, dtype=float).tobytes(), np.asarray(p, dtype=float).tobytes())
+    def _numbers(self, w: np.ndarray, p: np.ndarray, u0: np.ndarray | None = None) -> dict:
+        """Every numeric matrix at ``w = (q_all, z)``, speeds ``u0`` (zero unless a free spin,
+        :meth:`steady_speeds`), t0 for constants p (cached for the last point)."""
+        key = (np.asarray(w, dtype=float).tobytes(), np.asarray(p, dtype=float).tobytes(),
+               None if u0 is None else np.asarray(u0, dtype=float).tobytes())
         if self._cache[0] != key:
             n, n_all, m, nz = len(self.u), len(self.q_all), len(self.r), len(self.z)
             c = self.phi.shape[0]
-            args = self._args(w, p)
+            args = self._args(w, p, u0)
             as_array = lambda v, shape: np.array(v, dtype=float).reshape(shape)  # noqa: E731
             with np.errstate(all="ignore"):
                 values, jacobian = self._f_forcing(*args)
@@ -312,8 +347,8 @@ class Linearization:
             self._cache = (key, out)
         return self._cache[1]
 
-    def _output_numbers(self, w: np.ndarray, p: np.ndarray) -> dict:
-        """The outputs and their Jacobians at ``w = (q_all, z)``, u = 0, u' = 0, t0 for constants p."""
+    def _output_numbers(self, w: np.ndarray, p: np.ndarray, u0: np.ndarray | None = None) -> dict:
+        """The outputs and their Jacobians at ``w = (q_all, z)``, speeds u0, u' = 0, t0 for constants p."""
         n, n_all, m, k, nz = len(self.u), len(self.q_all), len(self.r), len(self.output_names), len(self.z)
         if self._f_outputs is None:   # formed once, on first use (campbell diagrams need no outputs)
             fy = forward_jacobian([self.eom.outputs[name] for name in self.output_names],
@@ -321,7 +356,7 @@ class Linearization:
             self._f_outputs = sp.lambdify([*self._args_symbols, *self.ud], [fy.values, fy.jacobian],
                                           modules="numpy", cse=fy.cse)
         with np.errstate(all="ignore"):
-            values, jacobian = self._f_outputs(*self._args(w, p), *np.zeros(n))
+            values, jacobian = self._f_outputs(*self._args(w, p, u0), *np.zeros(n))
         J = np.array(jacobian, dtype=float).reshape(k, n_all + 2 * n + nz + m)
         z_at = n_all + 2 * n
         return {"y": np.array(values, dtype=float).reshape(k), "Y_q": J[:, :n_all], "Y_u": J[:, n_all:n_all + n],
@@ -333,20 +368,30 @@ class Linearization:
         if spin is not None:
             if self.about != "spin":
                 raise ModelError("--spin", "no spin rate unless --about spin", spin)
+            if self.prepared.spin_parameter is None:    # a free spin: in the speeds u0
+                return p
             symbol = self.eom.chain.symbols.parameters[self.prepared.spin_parameter]
             if symbol in self.parameters:
                 p[self.parameters.index(symbol)] = float(spin)
         return p
 
-    def _load_accelerations(self, q_all: np.ndarray, p: np.ndarray) -> float:
-        """Size of the accelerations gravity and the nominal inputs cause [m/s^2 or rad/s^2]."""
+    def _load_accelerations(self, q_all: np.ndarray, p: np.ndarray, u0: np.ndarray | None = None) -> float:
+        """Size of the accelerations gravity, the nominal inputs and a free spin's velocity forces
+        cause [m/s^2 or rad/s^2]."""
         from ..kane.active import gravity_vector
 
         size = 0.0
-        gravity = gravity_vector(self.eom.kinematics)
-        if gravity is not None:
+        gravity = gravity_vector(self.eom.kinematics) if self.model.dimensions == 2 else \
+            (self.model.gravity and (self.eom.kinematics.value("gravity.g", self.model.gravity.g, "g"),))
+        if gravity:
             values = dict(zip(self.parameters, p))
-            size = float(sp.sqrt(gravity[0] ** 2 + gravity[1] ** 2).xreplace(values))
+            size = float(sp.sqrt(sum(c ** 2 for c in gravity)).xreplace(values))
+        if u0 is not None and np.any(u0):
+            x = self._numbers(q_all, p, u0)
+            try:
+                size = max(size, float(np.max(np.abs(np.linalg.solve(x["M"], x["F_u"] @ u0)))))
+            except np.linalg.LinAlgError:
+                pass
         if self.r:
             x = self._numbers(q_all, p)
             r0 = np.array(self.prepared.nominal, dtype=float)
@@ -356,32 +401,32 @@ class Linearization:
                 pass
         return abs(size)
 
-    def _evaluators(self, p: np.ndarray) -> dict:
+    def _evaluators(self, p: np.ndarray, u0: np.ndarray | None = None) -> dict:
         """The functions of :func:`find_equilibrium` of ``w = (q_all, z)``: with controller states, the
         residual is ``(f, zdot)`` and its Jacobian ``[[F_q, F_z], [Z_q, Z_z]]`` (M extended by the
         identity, so that the controller states' rates are judged as the accelerations)."""
         if not self.z:
-            ev = {"forcing": lambda q: self._numbers(q, p)["f"],
-                  "stiffness": lambda q: -self._numbers(q, p)["F_q"],
-                  "mass": lambda q: self._numbers(q, p)["M"],
-                  "rates": lambda q: self._numbers(q, p)["qdot"]}
+            ev = {"forcing": lambda q: self._numbers(q, p, u0)["f"],
+                  "stiffness": lambda q: -self._numbers(q, p, u0)["F_q"],
+                  "mass": lambda q: self._numbers(q, p, u0)["M"],
+                  "rates": lambda q: self._numbers(q, p, u0)["qdot"]}
             if self.dependent:
-                ev["constraints"] = lambda q: self._numbers(q, p)["phi"]
-                ev["constraint_jacobian"] = lambda q: self._numbers(q, p)["phi_q"]
+                ev["constraints"] = lambda q: self._numbers(q, p, u0)["phi"]
+                ev["constraint_jacobian"] = lambda q: self._numbers(q, p, u0)["phi_q"]
             return ev
         nz = len(self.z)
 
         def stiffness(w):
-            x = self._numbers(w, p)
+            x = self._numbers(w, p, u0)
             return -np.block([[x["F_q"], x["F_z"]], [x["Z_q"], x["Z_z"]]])
 
-        ev = {"forcing": lambda w: np.concatenate([self._numbers(w, p)["f"], self._numbers(w, p)["zdot"]]),
+        ev = {"forcing": lambda w: np.concatenate([self._numbers(w, p, u0)["f"], self._numbers(w, p, u0)["zdot"]]),
               "stiffness": stiffness,
-              "mass": lambda w: scipy.linalg.block_diag(self._numbers(w, p)["M"], np.eye(nz)),
-              "rates": lambda w: self._numbers(w, p)["qdot"]}
+              "mass": lambda w: scipy.linalg.block_diag(self._numbers(w, p, u0)["M"], np.eye(nz)),
+              "rates": lambda w: self._numbers(w, p, u0)["qdot"]}
         if self.dependent:
-            ev["constraints"] = lambda w: self._numbers(w, p)["phi"]
-            ev["constraint_jacobian"] = lambda w: np.hstack([self._numbers(w, p)["phi_q"],
+            ev["constraints"] = lambda w: self._numbers(w, p, u0)["phi"]
+            ev["constraint_jacobian"] = lambda w: np.hstack([self._numbers(w, p, u0)["phi_q"],
                                                              np.zeros((self.phi.shape[0], nz))])
         return ev
 
@@ -422,7 +467,8 @@ class Linearization:
             not one (``rest``).
         """
         p = self.parameter_values(spin)
-        ev = self._evaluators(p)
+        u0 = self.steady_speeds(spin)
+        ev = self._evaluators(p, u0)
         n_all = len(self.q_all)
         start = self.q_initial.copy()
         if q_start is not None:
@@ -435,9 +481,20 @@ class Linearization:
                 start = self._project(start)
             else:
                 raise ModelError("q_start", f"{len(self.q)} or {n_all} coordinates [m or rad]", given.size)
-        loads = self._load_accelerations(np.concatenate([start, self.z_initial]), p)
+        loads = self._load_accelerations(np.concatenate([start, self.z_initial]), p, u0)
+        elastic = np.array([self._coordinate[q].role in ("mode", "axial") for q in self.q_all], dtype=bool)
+        origin = None
+        if self.reduction is not None:  # searched in rotation coordinates x about the start (q = origin at x = 0)
+            origin = self.reduction.normalize(np.where(elastic, 0.0, start) if self.about == "rest" else start)
+            steady = self.reduction.columns(self.prepared.hub) if self.prepared.spin_axis is not None else []
+            if self.about != "rest":
+                settled = self.reduction.settle(origin, ev, steady)
+                if check_equilibrium(np.zeros(self.reduction.n), **self.reduction.wrap(settled, ev, steady),
+                                     load_accelerations=loads).ok:
+                    origin = settled
+            ev = self.reduction.wrap(origin, ev, steady)
+            start, elastic = np.zeros(self.reduction.n), np.zeros(self.reduction.n, dtype=bool)
         if self.about == "rest":
-            elastic = np.array([self._coordinate[q].role in ("mode", "axial") for q in self.q_all], dtype=bool)
             check = check_equilibrium(np.concatenate([self._project(np.where(elastic, 0.0, start)), self.z_initial]),
                                       **ev, load_accelerations=loads)
             if not check.ok:
@@ -446,10 +503,11 @@ class Linearization:
                     f"its generalized accelerations are {check.residual:.6g} (m/s^2 or rad/s^2), not 0; "
                     "it moves under gravity or loads (--set g=0 removes gravity; --about equilibrium searches "
                     "for an equilibrium)")
-            return check
+            return self._configuration_of(check, origin)
         check = find_equilibrium(np.concatenate([start, self.z_initial]), **ev, load_accelerations=loads)
         if not check.ok:
-            names = ", ".join(f"{q.name} = {v:.6g}" for q, v in zip(self.q_all, start)) or "none"
+            names = ", ".join(f"{q.name} = {v:.6g}" for q, v in zip(self.q_all, start if origin is None else origin)) \
+                or "none"
             where = "in the rotating frame of the hub" if self.about == "spin" else "with all speeds zero"
             raise NoEquilibriumError(
                 self.about, f"{self.model.name} has no equilibrium {where}: from the initial coordinates "
@@ -457,7 +515,13 @@ class Linearization:
                 "(m/s^2 or rad/s^2); a chain in free fall under gravity, or pushed by an unbalanced load, has "
                 "none. Remove the load (e.g. --set g=0 and --about rest), or start the search elsewhere "
                 "(--set on the initial coordinates)")
-        return check
+        return self._configuration_of(check, origin)
+
+    def _configuration_of(self, check: EquilibriumCheck, origin: np.ndarray | None) -> EquilibriumCheck:
+        """A check made in rotation coordinates about ``origin``, with its configuration in q_all."""
+        if origin is None:
+            return check
+        return dataclasses.replace(check, q=self.reduction.retract(origin, check.q))
 
     def at(self, spin: float | None = None, q_start=None, *, outputs: bool = True) -> LinearModel:
         """The numeric linear model at the operating point.
@@ -479,10 +543,11 @@ class Linearization:
         """
         check = self.operating_point(spin, q_start)
         p = self.parameter_values(spin)
-        x = self._numbers(check.q, p)
+        u0 = self.steady_speeds(spin)
+        x = self._numbers(check.q, p, u0)
         n, nz = len(self.u), len(self.z)
         names = list(self.output_names) if outputs else []
-        y = self._output_numbers(check.q, p) if outputs else \
+        y = self._output_numbers(check.q, p, u0) if outputs else \
             {"y": np.zeros(0), "Y_q": np.zeros((0, len(self.q_all))), "Y_u": np.zeros((0, n)),
              "Y_ud": np.zeros((0, n)), "Y_z": np.zeros((0, nz)), "Y_r": np.zeros((0, len(self.r)))}
         independent = [k for k, q in enumerate(self.q_all) if q not in self.dependent]
@@ -492,18 +557,29 @@ class Linearization:
         fixed.update({self.q_all[k].name: float(check.q[k]) for k in dependent})
         dropped = {q.name: ("cyclic" if not self._appears(q) else "prescribed, frozen") for q in self.dropped}
         dropped.update({q.name: "dependent (closed loop)" for q in self.dependent})
+        coordinates, q0 = [q.name for q in self.q], check.q[independent].copy()
+        W, V = x["W"][independent], (x["V"] @ T)[independent]
+        if self.reduction is not None:      # rotation coordinates (rotation_reduction); no loops in 3D
+            T, back = self.reduction.tangent(check.q)
+            W, V = back @ x["W"], back @ (x["V"] @ T - self.reduction.tangent(check.q, x["qdot"])[0])
+            held = self.reduction.reference_rows()
+            coordinates, q0 = list(self.reduction.names), back @ np.where(held, 0.0, check.q)
+            fixed.update({self.q_all[k].name: float(check.q[k]) for k in np.flatnonzero(held)})
+            self._check_steady(-x["F_q"] @ T, x["F_u"] @ u0, u0)
         spin_value = None
-        if self.about == "spin":
+        if self.prepared.spin_axis is not None:
+            spin_value = float(self.prepared.spin if spin is None else spin)
+        elif self.about == "spin":
             symbol = self.eom.chain.symbols.parameters[self.prepared.spin_parameter]
             spin_value = float(p[self.parameters.index(symbol)]) if symbol in self.parameters \
                 else float(self.model.parameters[self.prepared.spin_parameter])
         return LinearModel(
             name=self.model.name, about=self.about, spin=spin_value, hub=self.prepared.hub, t0=self.t0,
-            coordinates=[q.name for q in self.q], speeds=[u.name for u in self.u],
+            coordinates=coordinates, speeds=[u.name for u in self.u],
             inputs=list(self.inputs), output_names=names,
-            q0=check.q[independent].copy(), r0=np.array(self.prepared.nominal, dtype=float),
+            q0=q0, r0=np.array(self.prepared.nominal, dtype=float),
             M=x["M"], C=-x["F_u"], K=-x["F_q"] @ T, B=x["F_r"].reshape(n, len(self.r)),
-            W=x["W"][independent], V=(x["V"] @ T)[independent],
+            W=W, V=V,
             C_out=np.hstack([y["Y_q"] @ T, y["Y_u"], y["Y_z"]]), C_acc=y["Y_ud"], D_out=y["Y_r"], y0=y["y"],
             dropped=dropped, fixed=fixed,
             dependent_map=T[dependent], notes=list(self.notes), residual=check.residual, linearization=self,
@@ -511,6 +587,28 @@ class Linearization:
             controller_states=[z.name for z in self.z], z0=check.q[len(self.q_all):].copy(),
             K_z=-x["F_z"], Z_x=np.hstack([x["Z_q"] @ T, x["Z_u"], x["Z_z"]]),
             Z_r=x["Z_r"].reshape(nz, len(self.r)))
+
+    def _check_steady(self, K: np.ndarray, gyroscopic: np.ndarray, u0: np.ndarray) -> None:
+        """A free spin is a steady motion only if the forces do not change as the joint turns:
+        ``K w0 = 0`` in its rotation coordinates (else the linear model would be periodic in time)."""
+        if self.prepared.spin_axis is None:
+            return
+        cols = self.reduction.columns(self.prepared.hub)
+        w0 = np.array([u0[k] for k, u in enumerate(self.u) if u in self._hub_speeds()])
+        drift = float(np.max(np.abs(K[:, cols] @ w0), initial=0.0))
+        rate = float(np.max(np.abs(w0), initial=0.0))
+        scale = rate * max(float(np.max(np.abs(K), initial=0.0)), float(np.max(np.abs(gyroscopic), initial=0.0)))
+        if drift > 1e-9 * scale:
+            raise NoEquilibriumError(
+                "spin", f"no steady spin of joint {self.prepared.hub} about the axis "
+                f"({', '.join(f'{c:g}' for c in self.prepared.spin_axis)}): the generalized forces change as "
+                f"it turns (at {drift:.6g} per second; gravity, a spring or a load not symmetric about the "
+                "spin axis), so the linear model would be periodic in time")
+
+    def _hub_speeds(self) -> list:
+        """The angular speeds of a freely spinning joint, in the order wx, wy, wz."""
+        by_role = {c.role: c.u for c in self.eom.chain.coordinates if c.owner == self.prepared.hub}
+        return [by_role[role] for role in ("e1", "e2", "e3")]
 
     def to_control(self, spin: float | None = None, q_start=None):
         """The linear model at the operating point (:meth:`at`) as a python-control ``StateSpace``
@@ -529,6 +627,11 @@ class Linearization:
         dict of sympy.Symbol to float
         """
         q = np.asarray(q, dtype=float)
+        if self.reduction is not None:      # rotation coordinates: orientations turned exactly
+            q_all = self.reduction.retract(self.full_operating_point(linear), q - linear.q0)
+            out = {s: float(v) for s, v in zip(self.q_all, q_all)}
+            out.update({s: float(v) for s, v in zip(self.dropped, self.dropped_values)})
+            return out
         values = dict(zip(self.q, q))
         guess = {name: v for name, v in linear.fixed.items()}
         if self.dependent:
@@ -543,12 +646,16 @@ class Linearization:
 
     def full_operating_point(self, linear: LinearModel) -> np.ndarray:
         """All coordinates ``q_all`` of a linear model's operating point, shape (n_all,)."""
+        if self.reduction is not None:
+            values = {name: linear.q0[j] for (_, j), name in
+                      zip(self.reduction.plain, [self.reduction.names[j] for _, j in self.reduction.plain])}
+            return np.array([values[s.name] if s.name in values else linear.fixed[s.name] for s in self.q_all])
         values = dict(zip(self.q, linear.q0))
         return np.array([values[s] if s in values else linear.fixed[s.name] for s in self.q_all])
 
 
 def linearize(model: Model, *, about: str = "equilibrium", spin: float | None = None,
-              hub: str | None = None, t0: float = 0.0, q_start=None) -> LinearModel:
+              hub: str | None = None, t0: float = 0.0, q_start=None, spin_axis=None) -> LinearModel:
     """Linearize a model's equations of motion about an operating point.
 
     Parameters
@@ -567,6 +674,9 @@ def linearize(model: Model, *, about: str = "equilibrium", spin: float | None = 
     q_start : array_like, optional
         Starting configuration of the equilibrium search, shape (n_all,) or (n,) (see
         :meth:`Linearization.operating_point`).
+    spin_axis : sequence of 3 float, optional
+        3D models: a free steady spin of the spherical or free joint ``hub`` about this axis of its
+        child frame (see :class:`Linearization`).
 
     Returns
     -------
@@ -578,4 +688,4 @@ def linearize(model: Model, *, about: str = "equilibrium", spin: float | None = 
     NoEquilibriumError
         (a :class:`~flexkane.errors.ModelError`) when the operating point does not exist.
     """
-    return Linearization(model, about=about, spin=spin, hub=hub, t0=t0).at(q_start=q_start)
+    return Linearization(model, about=about, spin=spin, hub=hub, t0=t0, spin_axis=spin_axis).at(q_start=q_start)

@@ -43,6 +43,11 @@ class ChainDrawing:
         self.linear = linear
         eom = lin.eom
         model = lin.model
+        if model.dimensions == 3:
+            from ..errors import ModelError
+
+            raise ModelError("mode shapes", "a planar model to draw (the shapes of a 3D model are in modes.csv)",
+                             f"{model.name} (dimensions = 3)")
         self.linearization = lin
         values = eom.constant_values(model)
         values[eom.t] = lin.t0

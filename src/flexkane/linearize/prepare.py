@@ -14,6 +14,8 @@ Two changes turn a model into one whose Kane's equations give the linear model d
   An effort that uses the state (feedback: coordinates, speeds, sensors, controllers,
   :mod:`flexkane.model.signals`) stays in the equations with its law; its channel adds to it, of
   nominal value 0, so that ``B`` is then the input matrix of the closed loop.
+* **Spatial models** (``dimensions = 3``) have no input channels yet: their linear model has no
+  inputs, and their efforts and loads stay in the equations at their values at t0.
 * **Steady spin.** For ``about = "spin"`` the hub joint (a revolute joint) is given the driver
   ``speed = Omega``, a new parameter whose value is the spin rate [rad/s]; its actuator torque, if
   any, is removed (the driver supplies the effort, the joint has no input), and so are initial
@@ -53,7 +55,12 @@ class PreparedModel:
     hub : str or None
         Name of the spun joint (``about = "spin"``).
     spin_parameter : str or None
-        Name of the parameter holding the spin rate Omega [rad/s].
+        Name of the parameter holding the spin rate Omega [rad/s] (a revolute hub).
+    spin_axis : tuple of 3 float or None
+        Unit vector along J_c's axes about which a spherical or free hub spins freely (3D), its
+        steady angular velocity ``w0 = Omega spin_axis`` [rad/s]; None for a revolute hub.
+    spin : float or None
+        Omega of a spherical or free hub [rad/s].
     notes : list of str
         What was changed, in words.
     """
@@ -64,6 +71,8 @@ class PreparedModel:
     about: str = "equilibrium"
     hub: str | None = None
     spin_parameter: str | None = None
+    spin_axis: tuple | None = None
+    spin: float | None = None
     notes: list[str] = field(default_factory=list)
 
 
@@ -106,15 +115,18 @@ def _feedback(model: Model, text, t0: float, path: str) -> bool:
         raise
 
 
-def spin_hub(model: Model, hub: str | None) -> str:
+def spin_hub(model: Model, hub: str | None, spin_axis=None) -> str:
     """The revolute joint to spin: ``hub`` if given, else the only driven revolute joint, else the
-    only revolute joint on the ground.
+    only revolute joint on the ground. With ``spin_axis`` (3D models), the spherical or free joint
+    that spins freely: ``hub`` if given, else the only one on the ground.
 
     Raises
     ------
     ModelError
         If ``hub`` is not a revolute joint, or no single joint qualifies.
     """
+    if spin_axis is not None:
+        return _free_spin_hub(model, hub)
     revolute = sorted(name for name, j in model.joints.items() if j.type == "revolute")
     if hub is not None:
         if hub not in revolute:
@@ -130,8 +142,38 @@ def spin_hub(model: Model, hub: str | None) -> str:
                      f"({', '.join(revolute) or 'the model has none'})", None, show_given=False)
 
 
+def _free_spin_hub(model: Model, hub: str | None) -> str:
+    """The spherical or free joint named by ``hub``, else the only one on the ground (``--spin-axis``)."""
+    if model.dimensions != 3:
+        raise ModelError("--spin-axis", "no spin axis for a planar model (its hub is a revolute joint)",
+                         "a spin axis")
+    rotating = sorted(name for name, j in model.joints.items() if j.type in ("spherical", "free"))
+    if hub is not None:
+        if hub not in rotating:
+            raise ModelError("--hub", "a spherical or free joint of the model with --spin-axis "
+                             f"({', '.join(rotating) or 'none'})", hub)
+        return hub
+    grounded = [name for name in rotating if model.joints[name].parent == "ground"]
+    if len(grounded) == 1:
+        return grounded[0]
+    raise ModelError("--hub", "the name of the spherical or free joint that spins about --spin-axis "
+                     f"({', '.join(rotating) or 'the model has none'})", None, show_given=False)
+
+
+def _unit_axis(spin_axis) -> tuple:
+    """``spin_axis`` as a unit 3-vector of floats, or a ModelError naming --spin-axis."""
+    try:
+        axis = [float(c) for c in spin_axis]
+    except (TypeError, ValueError):
+        raise ModelError("--spin-axis", "three numbers (components along J_c's axes)", spin_axis) from None
+    norm = sum(c * c for c in axis) ** 0.5
+    if len(axis) != 3 or not norm > 0 or norm == float("inf"):
+        raise ModelError("--spin-axis", "a finite non-zero vector of three components along J_c's axes", spin_axis)
+    return tuple(c / norm for c in axis)
+
+
 def prepare_model(model: Model, *, about: str, spin: float | None = None, hub: str | None = None,
-                  t0: float = 0.0) -> PreparedModel:
+                  t0: float = 0.0, spin_axis=None) -> PreparedModel:
     """Rewrite a model for linearization.
 
     Parameters
@@ -146,6 +188,10 @@ def prepare_model(model: Model, *, about: str, spin: float | None = None, hub: s
         Revolute joint to spin (see :func:`spin_hub`).
     t0 : float
         Time of the operating point [s]: loads are replaced by their values at t0.
+    spin_axis : sequence of 3 float, optional
+        For a 3D model spinning freely on a spherical or free joint (a torque-free body, a top): the
+        axis of the steady angular velocity along J_c's axes [-]; the joint is not driven, its steady
+        angular speeds are ``Omega * axis`` (:mod:`flexkane.linearize.rotation_reduction`).
 
     Returns
     -------
@@ -160,6 +206,8 @@ def prepare_model(model: Model, *, about: str, spin: float | None = None, hub: s
             raise ModelError("--spin", "a spin rate Omega [rad/s] with --about spin", None, show_given=False)
     elif spin is not None:
         raise ModelError("--spin", f"no spin rate unless --about spin (--about is {about})", spin)
+    if spin_axis is not None and about != "spin":
+        raise ModelError("--spin-axis", f"no spin axis unless --about spin (--about is {about})", spin_axis)
     model.validate()
     new = model.copy()
     prepared = PreparedModel(new, about=about)
@@ -169,7 +217,13 @@ def prepare_model(model: Model, *, about: str, spin: float | None = None, hub: s
         spin = float(spin)
         if not spin == spin or abs(spin) == float("inf"):
             raise ModelError("--spin", "a finite spin rate [rad/s]", spin)
-        name = spin_hub(model, hub)
+        name = spin_hub(model, hub, spin_axis)
+        if spin_axis is not None:
+            prepared.hub, prepared.spin, prepared.spin_axis = name, spin, _unit_axis(spin_axis)
+            prepared.notes.append(f"joint {name} spins freely at Omega = {spin:g} rad/s about "
+                                  f"({', '.join(f'{c:g}' for c in prepared.spin_axis)}) of its child frame: "
+                                  "the linear model is written in the rotation of that frame (rx, ry, rz)")
+    if about == "spin" and spin_axis is None:
         coord = next(c for c in coordinates if c.owner == name)
         joint = new.joints[name]
         parameter = _fresh(new, "Omega", taken)
@@ -182,6 +236,12 @@ def prepare_model(model: Model, *, about: str, spin: float | None = None, hub: s
         prepared.hub = name
         prepared.spin_parameter = parameter
         prepared.notes.append(f"joint {name} spins at the constant rate {parameter} = {spin:g} rad/s")
+    if new.dimensions == 3:     # the spatial engine has no input channels yet (flexkane.kane.inputs)
+        prepared.notes.append("control inputs of spatial models are not yet supported: the linear model has no "
+                              "inputs (B has no columns); actuator torques and loads stay in the equations "
+                              f"with their values at t0 = {float(t0):g} s")
+        new.validate()
+        return prepared
     new.control_inputs = True           # derived with its input channels (flexkane.kane.inputs)
     for channel in input_channels(new):
         field_value = _field(new, channel.path)
