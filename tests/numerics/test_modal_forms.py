@@ -242,8 +242,9 @@ def test_operation_count_of_the_work_model_is_that_of_the_tables_and_forms(beam_
     forms, plain = beam_modules.forms, beam_modules.plain
     blocks = forms.RHS_FORMS_TABLE_INDEX
     entries = int(((blocks[:, 1] - blocks[:, 0]) * blocks[:, 3]).sum())
-    terms = sum(getattr(forms, f"RHS_D{d}_TABLE_INDEX").size + getattr(forms, f"RHS_D{d}_TABLE_INDEX").shape[0]
-                for d in range(1, 8) if hasattr(forms, f"RHS_D{d}_TABLE_INDEX"))
+    factors = [getattr(forms, f"RHS_D{d}_TABLE_INDEX") for d in range(1, 8)
+               if hasattr(forms, f"RHS_D{d}_TABLE_INDEX")]
+    terms = sum(table.size + table.shape[0] for table in factors)   # d products and a sum each
     assert entries == 2 * N_MODES * N_MODES
     assert forms.RHS_OPERATIONS >= 2 * entries + terms
     # the sums as written out: every term of u^2 G e, H e, e^T G e, e^T G v multiplies its factors
