@@ -384,7 +384,13 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
     quadratures = dict(quadratures or {})
     system_lines, system_operations = _quadrature_lines(eom, name, system_name, quadratures,
                                                         printer)
-    operations = sum(_operation_count(st.text) for st in statements) \
+    print_fn = lambda e: _print(printer, e)  # noqa: E731
+    tabulated = large_rhs.tabulate(statements, print_fn, name, c_names, [*q_names, *u_names]) \
+        if split else None
+    # operations of one call as compiled: the tables' terms and forms, not the sums they replace
+    operations = (sum(_operation_count(st.text) for st in tabulated.statements)
+                  + tabulated.table_operations if split
+                  else sum(_operation_count(st.text) for st in statements)) \
         + _solve_operations(nu, len(block)) + system_operations
     lines = _header(eom, q_names, u_names, c_names, f"generated right-hand side {name}")
     lines += ["# Kinematic equations q' = qdot(q, u, t); dynamic equations M(q, t) u' = f(q, u, t)",
@@ -400,9 +406,6 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
               "",
               ""]
     prologue, solve = [], f"ldl_solve(_M, dy[{nq}:])"
-    print_fn = lambda e: _print(printer, e)  # noqa: E731
-    tabulated = large_rhs.tabulate(statements, print_fn, name, c_names, [*q_names, *u_names]) \
-        if split else None
     n_coefficients = tabulated.n_coefficients if split else 0
     block_exprs = []
     if block:

@@ -369,7 +369,7 @@ def integrate(module, y0, t_out, p, *, rtol: float, atol, method: str = "auto",
             if switch is not None:
                 nlu = ns if name == "radau" else 0
                 switch.record(name, t_before, t, chunk_work(name, n, operations, fe, na + nr, nlu),
-                              na, ns if name == "dop853" else 0)
+                              na, ns if name == "dop853" else 0, h_of[name])
             if code == Status.MAX_STEPS and naccept + nreject < max_steps:
                 code = Status.OK  # only this call's share of the steps is used up
             if code != Status.OK:

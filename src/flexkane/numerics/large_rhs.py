@@ -392,6 +392,16 @@ class Tabulated:
         self.n_coefficients = sum(len(g) for g in groups) + self.forms.n_coefficients
         self.sum_atoms = [{n for names in g for n in names} for g in groups]
 
+    @property
+    def table_operations(self) -> int:
+        """Floating-point operations of one evaluation of the tables and the forms.
+
+        A term of ``d`` factors costs ``d`` products and one sum; an entry of a form's matrix a
+        product and a sum. The coefficients (computed once per run) are not counted.
+        """
+        return (sum(len(factors) + 1 for g in self.groups for factors in g)
+                + 2 * self.forms.n_coefficients)
+
 
 def _copy_source(st: Statement, fixed: dict[str, int], in_p: dict[str, int]) -> tuple | None:
     """``(from_p, index)`` of the value an output statement copies (from ``w`` or ``p``), or None."""
