@@ -66,6 +66,9 @@ def constant_values(eom, model=None) -> dict:
             continue
         beam = model.beams[name]
         path = f"beams.{name}"
+        if hasattr(consts, "model_values"):   # a spatial beam (flexkane.kane.spatial_beam_constants)
+            values.update(consts.model_values(beam, fields, params))
+            continue
         family = shape_family(beam.shape, f"{path}.shape", params)
         axial = shape_family(beam.axial_shape, f"{path}.axial_shape", params) if beam.n_axial else None
         stations, profiles = {}, {}

@@ -20,8 +20,9 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ..errors import ModelError
 from .rotation import Rotation
+from .spatial_beam import beam_motion
+from .spatial_beam_constants import SpatialBeamConstants
 from .spatial_frame import GROUND, SpatialFrame, add, cross, ground_frame
 from .spatial_joints import joint_motion, orientation, vector
 
@@ -42,8 +43,10 @@ class SpatialKinematics:
     link_offsets : dict of str to (tuple, Rotation)
         Per joint with a link as parent: the child link frame's origin ``s`` in the parent link's
         frame [m] and its orientation ``Lambda`` there (local quantities only).
-    beams : dict
-        Empty: spatial beams are not part of this engine yet.
+    beams : dict of str to SpatialBeamMotion
+        Each beam's frame (origin at the root) and fields (:mod:`flexkane.kane.spatial_beam`).
+    constants : dict of str to SpatialBeamConstants
+        Each beam's modal constants.
     """
 
     dimensions = 3
@@ -52,13 +55,11 @@ class SpatialKinematics:
         self.chain = chain
         self.symbols = chain.symbols
         model = chain.model
-        if model.beams:
-            raise ModelError(f"beams.{next(iter(model.beams))}", "no beams in a model with dimensions = 3 "
-                             "(spatial beams are not yet supported)", "a beam")
         self.links: dict[str, SpatialFrame] = {}
         self.bodies: dict[str, SpatialFrame] = {}
         self.beams: dict = {}
-        self.constants: dict = {}
+        label_beams = len(model.beams) > 1
+        self.constants: dict = {name: SpatialBeamConstants(name, name if label_beams else "") for name in model.beams}
         self.joint_frames: dict[str, tuple[SpatialFrame, SpatialFrame]] = {}
         self.link_offsets: dict[str, tuple[tuple, Rotation]] = {}
         for joint in chain.joints:
@@ -139,5 +140,9 @@ class SpatialKinematics:
         link = SpatialFrame(P.rotation * local, w, r, v).named(chain, joint.child)
         self.joint_frames[joint.name] = (P.point(p, chain).turned(Op), link)
         self.links[joint.child] = link
+        if joint.child in self.chain.model.beams:
+            self.beams[joint.child] = beam_motion(self, self.chain.model.beams[joint.child], link,
+                                                  self.constants[joint.child])
+            return
         cp = self.body_point(joint.child, joint.child_point)
         self.bodies[joint.child] = link.point(tuple(-c for c in cp), chain).named(chain, f"{joint.child}_cm")

@@ -37,6 +37,30 @@ def refuse_part(path: str, what: str, given) -> None:
                      f"{what} are not yet supported in 3D")
 
 
+def refuse_beam_attachments(model) -> None:
+    """Refuse joints, loads and springs attached to a beam's station in a spatial model (the
+    spatial engine does not yet carry stations: deflected position, both slopes and the twist)."""
+    beams = model.beams
+
+    def on_beam(name) -> bool:
+        return isinstance(name, str) and name in beams
+
+    for joint in model.joints.values():
+        if on_beam(joint.parent):
+            raise ModelError(f"joints.{joint.name}.parent", "a body or the ground as parent in a model with "
+                             "dimensions = 3", joint.parent, "children at beam stations are not yet supported in 3D")
+    for load in model.loads.values():
+        if on_beam(load.body):
+            raise ModelError(f"loads.{load.name}.body", "a body in a model with dimensions = 3", load.body,
+                             "loads at beam stations are not yet supported in 3D")
+    for spring in model.springs.values():
+        for end in ("a", "b"):
+            if on_beam(getattr(spring, f"body_{end}")):
+                raise ModelError(f"springs.{spring.name}.body_{end}", "a body or the ground in a model with "
+                                 "dimensions = 3", getattr(spring, f"body_{end}"),
+                                 "springs at beam stations are not yet supported in 3D")
+
+
 def check_position(path: str, value, values, what: str, unit: str = "m", *, time: bool = False) -> np.ndarray:
     """A three-component vector field [unit] (expressions of t at t = 0 when ``time``)."""
     return vector3(value, path, values, what + (", numbers or expressions of t" if time else ""), unit,
