@@ -66,9 +66,6 @@ def constant_values(eom, model=None) -> dict:
             continue
         beam = model.beams[name]
         path = f"beams.{name}"
-        if hasattr(consts, "model_values"):   # a spatial beam (flexkane.kane.spatial_beam_constants)
-            values.update(consts.model_values(beam, fields, params))
-            continue
         family = shape_family(beam.shape, f"{path}.shape", params)
         axial = shape_family(beam.axial_shape, f"{path}.axial_shape", params) if beam.n_axial else None
         stations, profiles = {}, {}
@@ -77,6 +74,9 @@ def constant_values(eom, model=None) -> dict:
                 stations[spec[3]] = to_float(sp.sympify(spec[3]), values, path=f"{path} station")
             elif spec[0] == "load":
                 profiles[spec[2]] = load_profile(spec[2], values)
+        if hasattr(consts, "model_values"):   # a spatial beam (flexkane.kane.spatial_beam_constants)
+            values.update(consts.model_values(beam, fields, params, stations))
+            continue
         with np.errstate(over="raise", invalid="raise"):
             try:
                 beam_values = consts.values(

@@ -99,6 +99,36 @@ def beam_motion(kin, beam, frame: SpatialFrame, constants: SpatialBeamConstants)
     return SpatialBeamMotion(beam, frame, constants, r, v, spin)
 
 
+def station_geometry(bm: SpatialBeamMotion, x, text: str, chain) -> tuple:
+    """The section at station x: its centre's position in B (3,) [m], its orientation in B and
+    its angular velocity relative to B (its own axes) [rad/s].
+
+    The section is turned by the body-fixed sequence z, y, x with the angles ``Y'(x)`` (slope in
+    the x-y plane), ``-Z'(x)`` (slope in the x-z plane) and the twist ``theta(x)``: to first order
+    the small rotation ``(theta, -Z', Y')``, and exactly the planar turn by ``Y'`` when ``Z'`` and
+    ``theta`` vanish.
+    """
+    from .rotation import body_sequence
+
+    k = bm.constants
+
+    def at(field, deriv=0):
+        return field.evaluate(lambda atom: k.station(atom, x, text, deriv))
+
+    p = tuple(at(c) for c in bm.r)
+    coords = chain.of(bm.beam.name, "torsion")
+    twist = sp.Add(*[k.station(theta(c.index), x, text) * c.q for c in coords])
+    angles = (at(bm.r[1], 1), -at(bm.r[2], 1), twist)
+    turn = body_sequence("zyx", angles)
+    rates = [chain.dt(a) for a in angles]
+    # w_rel = Rx(a3)^T Ry(a2)^T (0, 0, a1') + Rx(a3)^T (0, a2', 0) + (a3', 0, 0)
+    from .rotation import about_axis
+
+    rx, ry = about_axis((1, 0, 0), angles[2]), about_axis((0, 1, 0), angles[1])
+    w = add(rx.inverse_apply(add(ry.inverse_apply((0, 0, rates[0])), (0, rates[1], 0))), (rates[2], 0, 0))
+    return p, turn, tuple(sp.sympify(c) for c in w)
+
+
 def acceleration_remainder(bm: SpatialBeamMotion, chain) -> tuple:
     """``d(v)/dt + w_B x v`` without u' terms, fields along B's axes [m/s^2]."""
     return tuple(a + b for a, b in zip(vec3_map(bm.v, chain.dt), cross3(bm.frame.omega, bm.v)))

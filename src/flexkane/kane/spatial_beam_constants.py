@@ -90,8 +90,17 @@ class SpatialBeamConstants(BeamConstants):
             return super()._modal(stem, *indices)
         return f"{stem}_{self.label + '_' if self.label else ''}{''.join(map(str, indices))}"
 
+    def station(self, atom: Atom, x: sp.Expr, text: str, deriv: int = 0) -> sp.Expr:
+        """Value of an atom (or of its x-derivative) at the station ``x`` [m] (``Phi_y1(L)``,
+        ``Theta_1'(L/2)``)."""
+        if atom[0] in ("1", "x"):
+            return super().station(atom, x, text, deriv)
+        stem = {"phi": "Phi", "psi": "Psi", "d": "d", "theta": "Theta"}[atom[0]] + "'" * deriv
+        name = f"{stem}_{self.label + '_' if self.label else ''}{_piece(atom)}({text})"
+        return self._symbol(("station", atom, deriv, x), name)
+
     # ------------------------------------------------------------------ numbers
-    def model_values(self, beam, fields, parameters) -> dict:
+    def model_values(self, beam, fields, parameters, stations: dict | None = None) -> dict:
         """Numeric value of every constant used, for a beam of a model.
 
         Parameters
@@ -102,6 +111,8 @@ class SpatialBeamConstants(BeamConstants):
             Values of the model's fields.
         parameters : dict
             The model's parameter values (numeric options of the shape families).
+        stations : dict, optional
+            Numeric value [m] of each station expression used.
 
         Returns
         -------
@@ -136,6 +147,8 @@ class SpatialBeamConstants(BeamConstants):
                                                                        ("phi", spec[3], label), 2)
             elif kind == "Kt":
                 out[symbol] = number("GJ") * ev.derivative_integral(("theta", spec[1]), ("theta", spec[2]), 1)
+            elif kind == "station":
+                out[symbol] = ev.values_at(spec[1], np.array([float(stations[spec[3]]) / ev.L]), spec[2])[0]
             elif kind == "HA":
                 out[symbol] = number("EA") * ev.derivative_integral(("psi", spec[1]), ("psi", spec[2]), 1)
             else:  # pragma: no cover - the spatial engine makes no other constants

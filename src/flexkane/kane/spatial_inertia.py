@@ -127,9 +127,10 @@ def spatial_inertia_forces(kin) -> InertiaForces:
             s, rotation = kin.link_offsets[joint_of[child]]
             total = total + composite[child].moved(s, rotation)
         composite[link] = total.named(chain, f"{link}_composite" if children.get(link) else link)
-    # the link whose frame a joint's speed starts to move rigidly (a beam's own speeds deform it)
-    root = {c.u: next(j.child for j in joints if j.name == c.owner) for c in chain.coordinates
-            if c.u is not None and c.owner not in kin.beams}
+    # the links whose frames a speed starts to move rigidly: its joint's child link, or for a
+    # beam's own speeds (which deform the beam) the links attached to the beam's stations
+    roots = {c.u: [j.child for j in joints if (j.parent == c.owner if c.owner in kin.beams else j.name == c.owner)]
+             for c in chain.coordinates if c.u is not None}
     twist: dict = {}
 
     def twist_at(u, link):
@@ -142,26 +143,24 @@ def spatial_inertia_forces(kin) -> InertiaForces:
     M = [[sp.Integer(0)] * n for _ in range(n)]
     rem = [sp.Integer(0)] * n
     for r in range(n):
-        if speeds[r] not in root:
-            continue
-        A, W = twist_at(speeds[r], root[speeds[r]])
-        P = composite[root[speeds[r]]]
-        rem[r] = dot(A, P.R) + dot(W, P.K)
+        for root in roots[speeds[r]]:
+            A, W = twist_at(speeds[r], root)
+            P = composite[root]
+            rem[r] += dot(A, P.R) + dot(W, P.K)
         for s in range(r, n):
-            if speeds[s] not in root:
-                continue
-            root_r, root_s = root[speeds[r]], root[speeds[s]]
-            if root_s in beyond[root_r]:
-                F = root_s
-            elif root_r in beyond[root_s]:
-                F = root_r
-            else:
-                continue
-            Ar, Wr = twist_at(speeds[r], F)
-            As, Ws = twist_at(speeds[s], F)
-            P = composite[F]
-            M[r][s] = (P.m * dot(Ar, As) + dot(Ar, cross(Ws, P.S)) + dot(As, cross(Wr, P.S))
-                       + dot(Wr, _matvec(P.J, Ws)))
+            for root_r in roots[speeds[r]]:
+                for root_s in roots[speeds[s]]:
+                    if root_s in beyond[root_r]:
+                        F = root_s
+                    elif root_r in beyond[root_s]:
+                        F = root_r
+                    else:
+                        continue
+                    Ar, Wr = twist_at(speeds[r], F)
+                    As, Ws = twist_at(speeds[s], F)
+                    P = composite[F]
+                    M[r][s] += (P.m * dot(Ar, As) + dot(Ar, cross(Ws, P.S)) + dot(As, cross(Wr, P.S))
+                                + dot(Wr, _matvec(P.J, Ws)))
     add_beam_rows(kin, M, rem, a_rems)
     for r in range(n):
         for s in range(r):

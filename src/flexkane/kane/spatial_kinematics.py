@@ -21,7 +21,7 @@ from __future__ import annotations
 import sympy as sp
 
 from .rotation import Rotation
-from .spatial_beam import beam_motion
+from .spatial_beam import beam_motion, station_geometry
 from .spatial_beam_constants import SpatialBeamConstants
 from .spatial_frame import GROUND, SpatialFrame, add, cross, ground_frame
 from .spatial_joints import joint_motion, orientation, vector
@@ -114,11 +114,24 @@ class SpatialKinematics:
 
     # ------------------------------------------------------------------ joints
     def _parent(self, joint) -> tuple[SpatialFrame, tuple]:
-        """The parent link's frame and the attachment's position in it."""
+        """The parent link's frame and the attachment's position in it (for a beam: the frame of
+        the station, which follows the deflection, both slopes and the twist there)."""
         if joint.parent == "ground":
             return GROUND, vector(self.symbols, f"joints.{joint.name}.parent_position", joint.parent_position,
                                   f"p_{joint.name}")
+        if joint.parent in self.beams:
+            return self.station_frame(joint)[0], (sp.Integer(0),) * 3
         return self.links[joint.parent], self.link_point(joint.parent, joint.parent_point)
+
+    def station_frame(self, joint) -> tuple[SpatialFrame, tuple, Rotation]:
+        """The frame at a joint's station on its parent beam, with its origin and orientation in
+        the beam frame (:func:`flexkane.kane.spatial_beam.station_geometry`)."""
+        path = f"joints.{joint.name}.station"
+        x = self.value(path, joint.station, f"x_{joint.parent}_{joint.name}")
+        text = joint.station.strip() if isinstance(joint.station, str) else repr(joint.station)
+        p, turn, w_rel = station_geometry(self.beams[joint.parent], x, text, self.chain)
+        frame = self.beams[joint.parent].frame.point(p, self.chain).turned(turn, w_rel)
+        return frame, p, turn
 
     def _add_joint(self, joint) -> None:
         chain = self.chain
@@ -132,7 +145,10 @@ class SpatialKinematics:
         s = add(p, Op.apply(motion.d))
         local = Op * motion.rotation * Oc.transpose()
         local = local.map(lambda e: chain.name(e, f"L_{joint.child}"))
-        if joint.parent != "ground":
+        if joint.parent in self.beams:    # in the beam frame: through the station's geometry
+            _, ps, turn = self.station_frame(joint)
+            self.link_offsets[joint.name] = (add(ps, turn.apply(s)), turn * local)
+        elif joint.parent != "ground":
             self.link_offsets[joint.name] = (s, local)
         w = add(local.inverse_apply(P.omega), Oc.apply(motion.w_rel))
         v = add(local.inverse_apply(add(P.v, cross(P.omega, s))), Oc.apply(motion.v_rel))

@@ -38,17 +38,13 @@ def refuse_part(path: str, what: str, given) -> None:
 
 
 def refuse_beam_attachments(model) -> None:
-    """Refuse joints, loads and springs attached to a beam's station in a spatial model (the
-    spatial engine does not yet carry stations: deflected position, both slopes and the twist)."""
+    """Refuse loads and springs attached to a beam's station in a spatial model (not yet supported;
+    joints at stations are)."""
     beams = model.beams
 
     def on_beam(name) -> bool:
         return isinstance(name, str) and name in beams
 
-    for joint in model.joints.values():
-        if on_beam(joint.parent):
-            raise ModelError(f"joints.{joint.name}.parent", "a body or the ground as parent in a model with "
-                             "dimensions = 3", joint.parent, "children at beam stations are not yet supported in 3D")
     for load in model.loads.values():
         if on_beam(load.body):
             raise ModelError(f"loads.{load.name}.body", "a body in a model with dimensions = 3", load.body,
