@@ -251,6 +251,17 @@ class Beam:
     torsion_shape: ShapeSpec | None = None
     principal_angle: Value | None = None
 
+    def modes_text(self) -> str:
+        """The beam's shape functions in words (``3 clamped-free + 1 axial``; in 3D
+        ``2 y clamped-free + 2 z clamped-free + 1 torsion``)."""
+        if self.EI is None:    # a spatial beam (dimensions = 3)
+            parts = [f"{n} {key} {shape.family}" for key, n, shape in (("y", self.n_modes_y, self.shape_y),
+                                                                       ("z", self.n_modes_z, self.shape_z)) if n]
+            parts += [f"{n} {what}" for n, what in ((self.n_torsion, "torsion"), (self.n_axial, "axial")) if n]
+            return " + ".join(parts)
+        return (f"{self.n_modes} {self.shape.family}" + (f" + {self.n_axial} axial" if self.n_axial else "")
+                + (", Rayleigh" if self.rayleigh else ""))
+
     @property
     def rayleigh(self) -> bool:
         """Whether the sections' rotation enters the equations: ``rotary_inertia`` given and not a
