@@ -342,3 +342,57 @@ def test_free_vibration_of_a_spatial_blade_conserves_energy_when_simulated():
     energy, kinetic, strain = (run.outputs[n] for n in ("energy", "kinetic", "strain"))
     assert np.ptp(strain) > 1e-3 * np.abs(energy).max()        # the blade vibrates
     assert np.ptp(energy) <= 1e-9 * np.ptp(kinetic), (np.ptp(energy), np.ptp(kinetic))
+
+
+TIP_LOAD = """
+dimensions = 3
+name = "tip-loaded-beam"
+
+[beams.b]
+L = 1.2
+rho = 0.7
+EI_y = 5.0
+EI_z = 9.0
+n_modes_y = 4
+n_modes_z = 4
+
+[joints.weld]
+type = "weld"
+parent = "ground"
+child = "b"
+
+[loads.tip]
+body = "b"
+station = 1.2
+force = [0, 0.02, -0.03]
+frame = "local"
+
+[springs.tether]
+body_a = "ground"
+position_a = [0.6, 0.0, 0.0]
+body_b = "b"
+station_b = 0.6
+stiffness = 0.0
+rest_length = 0.0
+"""
+
+
+def test_tip_force_on_a_spatial_beam_bends_it_as_a_cantilever():
+    """A force at the tip station of a clamped beam: the static tip deflections are
+    F L^3 / (3 EI) in each plane (EI_z for y, EI_y for z; four modes converge to 0.1 %), and a
+    spring (of zero stiffness) may hang from a station."""
+    eom = flexkane.derive(loads_model(TIP_LOAD), cache=False)
+    acc = accelerations(eom)
+    n = len(eom.q)
+    zero = np.zeros(n)
+    J = np.column_stack([(acc(np.eye(n)[k] * 1e-6, zero) - acc(-np.eye(n)[k] * 1e-6, zero)) / 2e-6
+                         for k in range(n)])
+    q = np.linalg.solve(J, -acc(zero, zero))              # where u' = 0 (linear equations)
+    from flexkane.modes import get_family
+
+    tip = get_family("clamped-free").phi(np.array([1.0]), 4)[:, 0]
+    names = [c.name for c in eom.q]
+    y = tip @ q[[names.index(f"q_b_y{i}") for i in range(1, 5)]]
+    z = tip @ q[[names.index(f"q_b_z{i}") for i in range(1, 5)]]
+    assert abs(y - 0.02 * 1.2 ** 3 / (3 * 9.0)) <= 1e-3 * abs(y)
+    assert abs(z + 0.03 * 1.2 ** 3 / (3 * 5.0)) <= 1e-3 * abs(z)

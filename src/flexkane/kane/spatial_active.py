@@ -119,7 +119,7 @@ def spatial_active_forces(kin) -> dict[str, list]:
 
     for load in model.loads.values():
         path = f"loads.{load.name}"
-        frame = kin.point_frame(load.body, load.point)
+        frame = kin.load_frame(load)
 
         def components(values, what):
             vec = tuple(kin.symbols.time_function(f"{path}.{what}[{k}]", v) for k, v in enumerate(values))

@@ -92,7 +92,16 @@ class SpatialKinematics:
         if body == "ground":
             pos = getattr(part, f"position_{end}", None)
             return ground_frame(vector(self.symbols, f"{path}.position_{end}", pos, f"{part.name}_{end}"))
+        if body in self.beams:
+            return self.beam_station(body, f"{path}.station_{end}", getattr(part, f"station_{end}"),
+                                     f"{part.name}_{end}")[0]
         return self.point_frame(body, getattr(part, f"point_{end}", None))
+
+    def load_frame(self, load) -> SpatialFrame:
+        """The frame where a load acts: a body point or a beam station."""
+        if load.body in self.beams:
+            return self.beam_station(load.body, f"loads.{load.name}.station", load.station, load.name)[0]
+        return self.point_frame(load.body, load.point)
 
     def inertia_tensor(self, body: str) -> sp.Matrix:
         """Inertia tensor of a body about its mass centre, body axes (3, 3) [kg m^2]."""
@@ -126,11 +135,15 @@ class SpatialKinematics:
     def station_frame(self, joint) -> tuple[SpatialFrame, tuple, Rotation]:
         """The frame at a joint's station on its parent beam, with its origin and orientation in
         the beam frame (:func:`flexkane.kane.spatial_beam.station_geometry`)."""
-        path = f"joints.{joint.name}.station"
-        x = self.value(path, joint.station, f"x_{joint.parent}_{joint.name}")
-        text = joint.station.strip() if isinstance(joint.station, str) else repr(joint.station)
-        p, turn, w_rel = station_geometry(self.beams[joint.parent], x, text, self.chain)
-        frame = self.beams[joint.parent].frame.point(p, self.chain).turned(turn, w_rel)
+        return self.beam_station(joint.parent, f"joints.{joint.name}.station", joint.station, joint.name)
+
+    def beam_station(self, beam: str, path: str, value, label: str) -> tuple[SpatialFrame, tuple, Rotation]:
+        """The frame of the section at a station (field ``path`` of value ``value`` [m]) of a beam,
+        with its origin and orientation in the beam frame."""
+        x = self.value(path, value, f"x_{beam}_{label}")
+        text = value.strip() if isinstance(value, str) else repr(value)
+        p, turn, w_rel = station_geometry(self.beams[beam], x, text, self.chain)
+        frame = self.beams[beam].frame.point(p, self.chain).turned(turn, w_rel)
         return frame, p, turn
 
     def _add_joint(self, joint) -> None:

@@ -296,8 +296,6 @@ def validate_model(model: Model, *, units: dict | None = None) -> None:
             for name in tables[kind]:
                 with problems.part():
                     spatial.refuse_part(f"{kind}.{name}", what, name)
-        with problems.part():   # parts attached to a beam's stations: not yet in 3D
-            spatial.refuse_beam_attachments(model)
         problems.raise_found()
     with problems.part():
         _check_parameter_names(model)

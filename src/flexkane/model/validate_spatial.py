@@ -37,26 +37,6 @@ def refuse_part(path: str, what: str, given) -> None:
                      f"{what} are not yet supported in 3D")
 
 
-def refuse_beam_attachments(model) -> None:
-    """Refuse loads and springs attached to a beam's station in a spatial model (not yet supported;
-    joints at stations are)."""
-    beams = model.beams
-
-    def on_beam(name) -> bool:
-        return isinstance(name, str) and name in beams
-
-    for load in model.loads.values():
-        if on_beam(load.body):
-            raise ModelError(f"loads.{load.name}.body", "a body in a model with dimensions = 3", load.body,
-                             "loads at beam stations are not yet supported in 3D")
-    for spring in model.springs.values():
-        for end in ("a", "b"):
-            if on_beam(getattr(spring, f"body_{end}")):
-                raise ModelError(f"springs.{spring.name}.body_{end}", "a body or the ground in a model with "
-                                 "dimensions = 3", getattr(spring, f"body_{end}"),
-                                 "springs at beam stations are not yet supported in 3D")
-
-
 def check_position(path: str, value, values, what: str, unit: str = "m", *, time: bool = False) -> np.ndarray:
     """A three-component vector field [unit] (expressions of t at t = 0 when ``time``)."""
     return vector3(value, path, values, what + (", numbers or expressions of t" if time else ""), unit,
