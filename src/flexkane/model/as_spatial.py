@@ -24,8 +24,8 @@ engines can be compared on the same chain (a planar chain is the special case of
 
 Distributed loads and loop constraints are carried over unchanged: spatial models refuse them until
 spatial loops exist, and so they refuse (for now) beams with modal damping, rotary inertia, the
-midpoint gravity model, shear-moment elastic forces or children at stations, so the result of a
-model that has them does not validate.
+midpoint gravity model or shear-moment elastic forces, so the result of a model that has them does
+not validate.
 """
 
 from __future__ import annotations
