@@ -396,3 +396,25 @@ def test_tip_force_on_a_spatial_beam_bends_it_as_a_cantilever():
     z = tip @ q[[names.index(f"q_b_z{i}") for i in range(1, 5)]]
     assert abs(y - 0.02 * 1.2 ** 3 / (3 * 9.0)) <= 1e-3 * abs(y)
     assert abs(z + 0.03 * 1.2 ** 3 / (3 * 5.0)) <= 1e-3 * abs(z)
+
+
+def test_equations_report_of_a_spatial_beam_names_its_atoms_and_constants():
+    """equations.md of a spatial beam with a body at a station: the station's constants (twist,
+    slopes of both bending families) and the modal constants are written out."""
+    from flexkane.report import equations_markdown
+
+    text = CLAMPED.format(beta=0.0, orientation="") + """
+[bodies.tip]
+mass = 0.1
+inertia = [0.001, 0.001, 0.001]
+
+[joints.tip]
+type = "weld"
+parent = "b"
+station = "L"
+child = "tip"
+"""
+    eom = flexkane.derive(loads_model(text), cache=False)
+    report = equations_markdown(eom, eom.constant_values())
+    for piece in (r"\mathrm{Theta}_{1}(L)", r"\Phi'_{z1}(L)", "G_{y1,y1}", "Kt", "H_{y"):
+        assert piece in report, piece
