@@ -396,6 +396,12 @@ def _atom_latex(atom) -> str:
         return ""
     if kind == "x":
         return "x"
+    if kind == "theta":       # torsion shape function of a spatial beam
+        return rf"\Theta_{{{atom[1]}}}(x)"
+    if len(atom) == (3 if kind == "phi" else 4):    # a spatial beam's direction-labelled atom
+        stem = r"\Phi" if kind == "phi" else "d"
+        indices = "".join(str(i) for i in atom[1:-1])
+        return rf"{stem}^{{{atom[-1]}}}_{{{indices}}}(x)"
     if kind == "phi":
         return rf"\Phi_{{{atom[1]}}}(x)"
     if kind == "psi":

@@ -101,7 +101,8 @@ def numbers_of(eom, model, fields, spins) -> dict:
 
 
 _UNITS = {"x": "m", "y": "m", "z": "m", "angle": "rad", "angle_1": "rad", "angle_2": "rad", "slide": "m",
-          "mode": "m", "axial": "m", "e0": "-", "e1": "-", "e2": "-", "e3": "-"}
+          "mode": "m", "mode_y": "m", "mode_z": "m", "torsion": "rad", "axial": "m", "e0": "-", "e1": "-",
+          "e2": "-", "e3": "-"}
 _RATE = {"m": "m/s", "rad": "rad/s", "-": "rad/s"}   # an Euler parameter's speed is an angular velocity
 
 

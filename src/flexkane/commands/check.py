@@ -32,8 +32,7 @@ def _handle(args) -> int:
         for warning in initial_values(model).warnings:   # Euler parameters normalized
             print(f"flexkane: warning: {warning}", file=sys.stderr)
     free = [c for c in coordinates if c.driver is None]
-    modes = ", ".join(f"{b.name}: {b.n_modes} {b.shape.family}" + (f" + {b.n_axial} axial" if b.n_axial else "")
-                      + (", Rayleigh" if b.rayleigh else "") for b in model.beams.values())
+    modes = ", ".join(f"{b.name}: {b.modes_text()}" for b in model.beams.values())
     speeds = sum(c.u is not None for c in coordinates)
     print(f"{args.model}: valid ({'spatial, ' if model.dimensions == 3 else ''}{len(model.bodies)} bodies, "
           f"{len(model.beams)} beams"

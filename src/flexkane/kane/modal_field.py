@@ -12,7 +12,13 @@ atom        function of x                          origin
 ``psi(k)``  Psi_k(x)                               axial shape functions
 ``d(i,j)``  int_0^x Phi_i' Phi_j' dxi              foreshortening (geometric stiffening)
 ``dphi(i)`` Phi_i'(x)                              slope of the section (Rayleigh beams)
+``theta(k)``Theta_k(x)                             torsion shape functions (3D)
 =========== ====================================== ===============================
+
+A spatial beam bends in two planes, each with its own shape family: its transverse atoms carry a
+direction label, ``phi(i, "y")`` (deflection along the section's y axis) and ``phi(i, "z")``, and so
+do its foreshortening atoms ``dfs(i, j, "y")``; the planar atoms have none. Atoms of different
+labels are different functions with their own modal constants.
 
 Integrating the product of two such sums over the beam, as eq. 8.22 does, needs only the integrals of
 products of atoms, which are the modal constants (``m_B, e_B, I_B, E_i, F_i, G_ij``). So the
@@ -31,7 +37,8 @@ from typing import Callable, Iterable
 
 import sympy as sp
 
-__all__ = ["Atom", "ONE", "X", "phi", "psi", "dfs", "dphi", "Field", "Vec", "vec", "rigid", "dot_fields"]
+__all__ = ["Atom", "ONE", "X", "phi", "psi", "dfs", "dphi", "theta", "direction", "Field", "Vec", "vec", "rigid",
+           "dot_fields", "Vec3", "vec3", "cross3", "vec3_map"]
 
 #: An atom: a tuple whose first item names the kind (see the module docstring).
 Atom = tuple
@@ -39,9 +46,24 @@ ONE: Atom = ("1",)
 X: Atom = ("x",)
 
 
-def phi(i: int) -> Atom:
-    """Transverse shape function Phi_i (1-based, as in the chapter)."""
-    return ("phi", i)
+def phi(i: int, label: str | None = None) -> Atom:
+    """Transverse shape function Phi_i (1-based, as in the chapter); ``label`` ``"y"`` or ``"z"``:
+    of a spatial beam's family for that direction."""
+    return ("phi", i) if label is None else ("phi", i, label)
+
+
+def theta(k: int) -> Atom:
+    """Torsion shape function Theta_k (1-based) of a spatial beam."""
+    return ("theta", k)
+
+
+def direction(atom: Atom) -> str | None:
+    """The direction label of a transverse or foreshortening atom (None for planar atoms and others)."""
+    if atom[0] == "phi" and len(atom) == 3:
+        return atom[2]
+    if atom[0] == "d" and len(atom) == 4:
+        return atom[3]
+    return None
 
 
 def psi(k: int) -> Atom:
@@ -49,9 +71,10 @@ def psi(k: int) -> Atom:
     return ("psi", k)
 
 
-def dfs(i: int, j: int) -> Atom:
-    """Foreshortening function d_ij(x) = int_0^x Phi_i' Phi_j' (symmetric in i, j)."""
-    return ("d", min(i, j), max(i, j))
+def dfs(i: int, j: int, label: str | None = None) -> Atom:
+    """Foreshortening function d_ij(x) = int_0^x Phi_i' Phi_j' (symmetric in i, j); ``label`` as
+    for :func:`phi`."""
+    return ("d", min(i, j), max(i, j)) if label is None else ("d", min(i, j), max(i, j), label)
 
 
 def dphi(i: int) -> Atom:
@@ -61,7 +84,7 @@ def dphi(i: int) -> Atom:
 
 def atom_order(atom: Atom) -> tuple:
     """A total order on atoms (for deterministic output)."""
-    kinds = {"1": 0, "x": 1, "phi": 2, "psi": 3, "d": 4, "dphi": 5}
+    kinds = {"1": 0, "x": 1, "phi": 2, "psi": 3, "d": 4, "dphi": 5, "theta": 6}
     return (kinds[atom[0]],) + tuple(atom[1:])
 
 
@@ -172,3 +195,22 @@ def rotate(a: Vec, angle) -> Vec:
 def dot_fields(a: Vec, b: Vec, integrate: Callable[[Field, Field], sp.Expr]) -> sp.Expr:
     """``integral a . b`` using ``integrate(f, g)`` for the product of two scalar fields."""
     return integrate(a[0], b[0]) + integrate(a[1], b[1])
+
+
+#: A spatial vector field: components along a frame's x, y and z axes.
+Vec3 = tuple
+
+
+def vec3(x, y, z) -> Vec3:
+    """A 3-vector of fields; plain expressions are taken as rigid fields."""
+    return tuple(c if isinstance(c, Field) else rigid(c) for c in (x, y, z))
+
+
+def vec3_map(a: Vec3, function) -> Vec3:
+    return tuple(c.map(function) for c in a)
+
+
+def cross3(omega: tuple, a: Vec3) -> Vec3:
+    """``omega x a`` for a rigid 3-vector ``omega`` (expressions) and a vector field ``a``."""
+    wx, wy, wz = omega
+    return (a[2].scale(wy) - a[1].scale(wz), a[0].scale(wz) - a[2].scale(wx), a[1].scale(wx) - a[0].scale(wy))

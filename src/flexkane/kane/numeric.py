@@ -74,6 +74,9 @@ def constant_values(eom, model=None) -> dict:
                 stations[spec[3]] = to_float(sp.sympify(spec[3]), values, path=f"{path} station")
             elif spec[0] == "load":
                 profiles[spec[2]] = load_profile(spec[2], values)
+        if hasattr(consts, "model_values"):   # a spatial beam (flexkane.kane.spatial_beam_constants)
+            values.update(consts.model_values(beam, fields, params, stations))
+            continue
         with np.errstate(over="raise", invalid="raise"):
             try:
                 beam_values = consts.values(

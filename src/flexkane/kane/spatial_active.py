@@ -11,7 +11,10 @@ axes of the frame at P, where the velocities are expressed.
   actuator torques or forces of joints along their coordinates;
 * ``springs``: linear springs and dampers between points.
 
-``elastic`` and ``damping`` (beams) are empty lists in a rigid chain. Each source is a list of n
+* ``elastic``: the beams' strain energy, ``-K q`` with the modal stiffness constants, and
+  ``gravity`` on the beams distributed, ``int rho v_P,r . g dx`` (:mod:`flexkane.kane.spatial_beam`).
+
+``damping`` (modal damping of beams) is empty in 3D for now. Each source is a list of n
 expressions (one per speed).
 """
 
@@ -19,6 +22,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from .spatial_beam import beam_active_forces
 from .spatial_frame import dot
 from .spatial_joints import direction
 
@@ -94,6 +98,7 @@ def spatial_active_forces(kin) -> dict[str, list]:
         for name, frame in kin.bodies.items():
             m = kin.mass(name)
             add("gravity", frame, tuple(m * c for c in frame.rotation.inverse_apply(g)))
+    beam_active_forces(kin, parts, g)
 
     for joint in chain.joints:
         coords = chain.of(joint.name)
@@ -114,7 +119,7 @@ def spatial_active_forces(kin) -> dict[str, list]:
 
     for load in model.loads.values():
         path = f"loads.{load.name}"
-        frame = kin.point_frame(load.body, load.point)
+        frame = kin.load_frame(load)
 
         def components(values, what):
             vec = tuple(kin.symbols.time_function(f"{path}.{what}[{k}]", v) for k, v in enumerate(values))

@@ -26,6 +26,8 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .inertia import InertiaForces
+from .spatial_beam import acceleration_remainder as beam_acceleration_remainder
+from .spatial_beam import add_beam_rows, beam_own_properties
 from .spatial_frame import acceleration_remainder, add, cross, dot
 
 __all__ = ["SpatialRigidProperties", "spatial_inertia_forces"]
@@ -116,15 +118,19 @@ def spatial_inertia_forces(kin) -> InertiaForces:
     beyond: dict[str, set] = {}
     for j in reversed(joints):
         beyond[j.child] = {j.child}.union(*(beyond[c] for c in children.get(j.child, [])))
+    a_rems = {name: beam_acceleration_remainder(bm, chain) for name, bm in kin.beams.items()}
     composite: dict[str, SpatialRigidProperties] = {}
     for j in reversed(joints):
         link = j.child
-        total = own_properties(kin, link)
+        total = beam_own_properties(kin, link, a_rems[link]) if link in kin.beams else own_properties(kin, link)
         for child in children.get(link, []):
             s, rotation = kin.link_offsets[joint_of[child]]
             total = total + composite[child].moved(s, rotation)
         composite[link] = total.named(chain, f"{link}_composite" if children.get(link) else link)
-    root = {c.u: next(j.child for j in joints if j.name == c.owner) for c in chain.coordinates if c.u is not None}
+    # the links whose frames a speed starts to move rigidly: its joint's child link, or for a
+    # beam's own speeds (which deform the beam) the links attached to the beam's stations
+    roots = {c.u: [j.child for j in joints if (j.parent == c.owner if c.owner in kin.beams else j.name == c.owner)]
+             for c in chain.coordinates if c.u is not None}
     twist: dict = {}
 
     def twist_at(u, link):
@@ -137,22 +143,25 @@ def spatial_inertia_forces(kin) -> InertiaForces:
     M = [[sp.Integer(0)] * n for _ in range(n)]
     rem = [sp.Integer(0)] * n
     for r in range(n):
-        A, W = twist_at(speeds[r], root[speeds[r]])
-        P = composite[root[speeds[r]]]
-        rem[r] = dot(A, P.R) + dot(W, P.K)
+        for root in roots[speeds[r]]:
+            A, W = twist_at(speeds[r], root)
+            P = composite[root]
+            rem[r] += dot(A, P.R) + dot(W, P.K)
         for s in range(r, n):
-            root_r, root_s = root[speeds[r]], root[speeds[s]]
-            if root_s in beyond[root_r]:
-                F = root_s
-            elif root_r in beyond[root_s]:
-                F = root_r
-            else:
-                continue
-            Ar, Wr = twist_at(speeds[r], F)
-            As, Ws = twist_at(speeds[s], F)
-            P = composite[F]
-            M[r][s] = (P.m * dot(Ar, As) + dot(Ar, cross(Ws, P.S)) + dot(As, cross(Wr, P.S))
-                       + dot(Wr, _matvec(P.J, Ws)))
+            for root_r in roots[speeds[r]]:
+                for root_s in roots[speeds[s]]:
+                    if root_s in beyond[root_r]:
+                        F = root_s
+                    elif root_r in beyond[root_s]:
+                        F = root_r
+                    else:
+                        continue
+                    Ar, Wr = twist_at(speeds[r], F)
+                    As, Ws = twist_at(speeds[s], F)
+                    P = composite[F]
+                    M[r][s] += (P.m * dot(Ar, As) + dot(Ar, cross(Ws, P.S)) + dot(As, cross(Wr, P.S))
+                                + dot(Wr, _matvec(P.J, Ws)))
+    add_beam_rows(kin, M, rem, a_rems)
     for r in range(n):
         for s in range(r):
             M[r][s] = M[s][r]

@@ -20,8 +20,9 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ..errors import ModelError
 from .rotation import Rotation
+from .spatial_beam import beam_motion, station_geometry
+from .spatial_beam_constants import SpatialBeamConstants
 from .spatial_frame import GROUND, SpatialFrame, add, cross, ground_frame
 from .spatial_joints import joint_motion, orientation, vector
 
@@ -42,8 +43,10 @@ class SpatialKinematics:
     link_offsets : dict of str to (tuple, Rotation)
         Per joint with a link as parent: the child link frame's origin ``s`` in the parent link's
         frame [m] and its orientation ``Lambda`` there (local quantities only).
-    beams : dict
-        Empty: spatial beams are not part of this engine yet.
+    beams : dict of str to SpatialBeamMotion
+        Each beam's frame (origin at the root) and fields (:mod:`flexkane.kane.spatial_beam`).
+    constants : dict of str to SpatialBeamConstants
+        Each beam's modal constants.
     """
 
     dimensions = 3
@@ -52,13 +55,11 @@ class SpatialKinematics:
         self.chain = chain
         self.symbols = chain.symbols
         model = chain.model
-        if model.beams:
-            raise ModelError(f"beams.{next(iter(model.beams))}", "no beams in a model with dimensions = 3 "
-                             "(spatial beams are not yet supported)", "a beam")
         self.links: dict[str, SpatialFrame] = {}
         self.bodies: dict[str, SpatialFrame] = {}
         self.beams: dict = {}
-        self.constants: dict = {}
+        label_beams = len(model.beams) > 1
+        self.constants: dict = {name: SpatialBeamConstants(name, name if label_beams else "") for name in model.beams}
         self.joint_frames: dict[str, tuple[SpatialFrame, SpatialFrame]] = {}
         self.link_offsets: dict[str, tuple[tuple, Rotation]] = {}
         for joint in chain.joints:
@@ -91,7 +92,16 @@ class SpatialKinematics:
         if body == "ground":
             pos = getattr(part, f"position_{end}", None)
             return ground_frame(vector(self.symbols, f"{path}.position_{end}", pos, f"{part.name}_{end}"))
+        if body in self.beams:
+            return self.beam_station(body, f"{path}.station_{end}", getattr(part, f"station_{end}"),
+                                     f"{part.name}_{end}")[0]
         return self.point_frame(body, getattr(part, f"point_{end}", None))
+
+    def load_frame(self, load) -> SpatialFrame:
+        """The frame where a load acts: a body point or a beam station."""
+        if load.body in self.beams:
+            return self.beam_station(load.body, f"loads.{load.name}.station", load.station, load.name)[0]
+        return self.point_frame(load.body, load.point)
 
     def inertia_tensor(self, body: str) -> sp.Matrix:
         """Inertia tensor of a body about its mass centre, body axes (3, 3) [kg m^2]."""
@@ -113,11 +123,28 @@ class SpatialKinematics:
 
     # ------------------------------------------------------------------ joints
     def _parent(self, joint) -> tuple[SpatialFrame, tuple]:
-        """The parent link's frame and the attachment's position in it."""
+        """The parent link's frame and the attachment's position in it (for a beam: the frame of
+        the station, which follows the deflection, both slopes and the twist there)."""
         if joint.parent == "ground":
             return GROUND, vector(self.symbols, f"joints.{joint.name}.parent_position", joint.parent_position,
                                   f"p_{joint.name}")
+        if joint.parent in self.beams:
+            return self.station_frame(joint)[0], (sp.Integer(0),) * 3
         return self.links[joint.parent], self.link_point(joint.parent, joint.parent_point)
+
+    def station_frame(self, joint) -> tuple[SpatialFrame, tuple, Rotation]:
+        """The frame at a joint's station on its parent beam, with its origin and orientation in
+        the beam frame (:func:`flexkane.kane.spatial_beam.station_geometry`)."""
+        return self.beam_station(joint.parent, f"joints.{joint.name}.station", joint.station, joint.name)
+
+    def beam_station(self, beam: str, path: str, value, label: str) -> tuple[SpatialFrame, tuple, Rotation]:
+        """The frame of the section at a station (field ``path`` of value ``value`` [m]) of a beam,
+        with its origin and orientation in the beam frame."""
+        x = self.value(path, value, f"x_{beam}_{label}")
+        text = value.strip() if isinstance(value, str) else repr(value)
+        p, turn, w_rel = station_geometry(self.beams[beam], x, text, self.chain)
+        frame = self.beams[beam].frame.point(p, self.chain).turned(turn, w_rel)
+        return frame, p, turn
 
     def _add_joint(self, joint) -> None:
         chain = self.chain
@@ -131,7 +158,10 @@ class SpatialKinematics:
         s = add(p, Op.apply(motion.d))
         local = Op * motion.rotation * Oc.transpose()
         local = local.map(lambda e: chain.name(e, f"L_{joint.child}"))
-        if joint.parent != "ground":
+        if joint.parent in self.beams:    # in the beam frame: through the station's geometry
+            _, ps, turn = self.station_frame(joint)
+            self.link_offsets[joint.name] = (add(ps, turn.apply(s)), turn * local)
+        elif joint.parent != "ground":
             self.link_offsets[joint.name] = (s, local)
         w = add(local.inverse_apply(P.omega), Oc.apply(motion.w_rel))
         v = add(local.inverse_apply(add(P.v, cross(P.omega, s))), Oc.apply(motion.v_rel))
@@ -139,5 +169,9 @@ class SpatialKinematics:
         link = SpatialFrame(P.rotation * local, w, r, v).named(chain, joint.child)
         self.joint_frames[joint.name] = (P.point(p, chain).turned(Op), link)
         self.links[joint.child] = link
+        if joint.child in self.chain.model.beams:
+            self.beams[joint.child] = beam_motion(self, self.chain.model.beams[joint.child], link,
+                                                  self.constants[joint.child])
+            return
         cp = self.body_point(joint.child, joint.child_point)
         self.bodies[joint.child] = link.point(tuple(-c for c in cp), chain).named(chain, f"{joint.child}_cm")

@@ -2,8 +2,9 @@
 
 Names of the outputs (columns of results files):
 
-* ``kinetic``, ``potential_gravity``, ``strain`` (0 for rigid chains), ``potential_springs``,
-  ``energy`` [J]: ``1/2 sum (m v.v + w.I w)``, ``-sum m g.r``, joint and point springs;
+* ``kinetic``, ``potential_gravity``, ``strain``, ``potential_springs``, ``energy`` [J]:
+  ``1/2 sum (m v.v + w.I w)`` (and the beams' ``1/2 int rho v.v + rho_Ip w_sx^2 dx``),
+  ``-sum m g.r`` (beams integrated), the beams' ``1/2 q^T K q``, joint and point springs;
 * ``power_nonconservative`` [W]: power of drivers, loads, actuators and dampers (integrated into
   ``work`` and ``energy_balance`` by :func:`flexkane.simulate`, as for planar chains);
 * per body: ``x_<b>, y_<b>, z_<b>`` [m] of the mass centre in N, the Euler parameters
@@ -21,6 +22,7 @@ import sympy as sp
 
 from .rotation import yaw_pitch_roll
 from .spatial_active import joint_coordinate_values, spatial_gravity_vector
+from .spatial_beam import beam_outputs
 from .spatial_frame import add, cross, dot
 
 __all__ = ["spatial_output_expressions"]
@@ -51,6 +53,13 @@ def spatial_output_expressions(eom) -> dict:
         for k, c in enumerate(frame.rotation.quaternion):
             out[f"e{k}_{name}"] = c
         out[f"yaw_{name}"], out[f"pitch_{name}"], out[f"roll_{name}"] = yaw_pitch_roll(frame.R)
+    beam_parts = {name: beam_outputs(kin, name, spatial_gravity_vector(kin)) for name in kin.beams}
+    for part in beam_parts.values():
+        kinetic.append(part["kinetic"])
+        masses.append(part["mass"])
+        first = add(first, part["first"])
+        momentum = add(momentum, part["p"])
+        h_origin = add(h_origin, part["h"])
     M = sp.Add(*masses)
     cm = tuple(c / M for c in first)
     for axis, c, p in zip("xyz", cm, momentum):
@@ -68,6 +77,7 @@ def spatial_output_expressions(eom) -> dict:
     if g is not None:
         for name, frame in kin.bodies.items():
             gravity.append(-kin.mass(name) * dot(g, frame.r))
+    gravity += [part["potential_gravity"] for part in beam_parts.values()]
     springs = []
     power = []
     for joint in chain.joints:
@@ -90,7 +100,7 @@ def spatial_output_expressions(eom) -> dict:
         point_springs.append(k * (sp.sqrt(dot(d, d)) - l0) ** 2 / 2)
     out["kinetic"] = sp.Add(*kinetic)
     out["potential_gravity"] = sp.Add(*gravity)
-    out["strain"] = sp.Integer(0)
+    out["strain"] = sp.Add(*[part["strain"] for part in beam_parts.values()])
     out["potential_springs"] = sp.Add(*springs, *point_springs)
     out["energy"] = out["kinetic"] + out["potential_gravity"] + out["strain"] + out["potential_springs"]
     # ---------------------------------------------------------------- power of non-conservative forces

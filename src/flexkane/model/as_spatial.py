@@ -17,8 +17,15 @@ engines can be compared on the same chain (a planar chain is the special case of
   ``child_orientation`` turn about z by ``-angle`` (J_c relative to the child's frame), which keeps
   the joint's axes, positions and coordinates those of the attachment frame.
 
-Beams, distributed loads and loop constraints are carried over unchanged: spatial models refuse them
-until spatial beams and loops exist, so the result of a model that has them does not validate.
+* a beam bends in the x-y plane of its frame: its deflection along y (``n_modes_y`` shape
+  functions of its ``shape``) bends about z with ``EI_z = EI``; ``EI_y = EI`` too (no z modes, so it
+  does not enter); axial modes are kept. Its modal coordinates are named ``q_<beam>_y<i>`` (planar
+  ``q_<beam>_<i>``), the only names that differ from the planar model's.
+
+Distributed loads and loop constraints are carried over unchanged: spatial models refuse them until
+spatial loops exist, and so they refuse (for now) beams with modal damping, rotary inertia, the
+midpoint gravity model or shear-moment elastic forces, so the result of a model that has them does
+not validate.
 """
 
 from __future__ import annotations
@@ -28,7 +35,7 @@ import copy
 from ..errors import ModelError
 from .coordinates import coordinate_names
 from .model import Model
-from .parts import Orientation
+from .parts import Orientation, ShapeSpec
 
 __all__ = ["as_spatial"]
 
@@ -77,7 +84,8 @@ def as_spatial(model: Model, *, validate: bool = True) -> Model:
     -------
     Model
         The spatial model; its coordinates have the names and the order of the planar model's (a
-        free joint's x, y, angle included), and so do its speeds.
+        free joint's x, y, angle included), and so do its speeds, but for the modal coordinates of
+        beams (``q_<b>_y<i>`` for ``q_<b>_<i>``; with ``naming = "sequential"`` all are the same).
 
     Raises
     ------
@@ -107,6 +115,12 @@ def as_spatial(model: Model, *, validate: bool = True) -> Model:
         if joint.angle != 0:
             joint.child_orientation = Orientation(axis=_Z, angle=_negated(joint.angle))
         joint.angle = 0
+    for beam in out.beams.values():
+        beam.EI_z = beam.EI_y = beam.EI
+        beam.n_modes_y, beam.shape_y = beam.n_modes, beam.shape
+        beam.shape_z = ShapeSpec()
+        beam.EI, beam.n_modes = None, 0
+    _beam_mode_names(model, out)
     if out.gravity is not None:
         out.gravity.direction = _pad(out.gravity.direction)
     for load in out.loads.values():
@@ -117,6 +131,19 @@ def as_spatial(model: Model, *, validate: bool = True) -> Model:
         spring.position_a, spring.position_b = _pad(spring.position_a), _pad(spring.position_b)
     _free_joint_speeds(model, out)
     return out.validate() if validate else out
+
+
+def _beam_mode_names(planar: Model, spatial: Model) -> None:
+    """Initial values of planar beam modes (``q_<b>_<i>``, ``u_<b>_<i>``) under the spatial names
+    (``q_<b>_y<i>``, ``u_<b>_y<i>``)."""
+    if planar.naming == "sequential":    # q1, q2, ...: the same names in both
+        return
+    for c in coordinate_names(planar):
+        if c.role != "mode":
+            continue
+        for old, new in ((c.q, f"q_{c.owner}_y{c.index}"), (c.u, f"u_{c.owner}_y{c.index}")):
+            if old in spatial.initial:
+                spatial.initial[new] = spatial.initial.pop(old)
 
 
 def _free_joint_speeds(planar: Model, spatial: Model) -> None:

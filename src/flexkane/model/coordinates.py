@@ -31,7 +31,8 @@ __all__ = ["CoordinateName", "coordinate_names", "tree_order", "coordinate_unit"
 EULER_ROLES = ("e0", "e1", "e2", "e3")
 #: Unit of a coordinate, by role.
 _COORDINATE_UNIT = {"x": "m", "y": "m", "z": "m", "angle": "rad", "angle_1": "rad", "angle_2": "rad",
-                    "slide": "m", "mode": "m", "axial": "m", "e0": "-", "e1": "-", "e2": "-", "e3": "-"}
+                    "slide": "m", "mode": "m", "mode_y": "m", "mode_z": "m", "torsion": "rad", "axial": "m",
+                    "e0": "-", "e1": "-", "e2": "-", "e3": "-"}
 #: Name suffix of a spatial joint's coordinate and speed, by role, where it differs from the role.
 _Q_SUFFIX = {"angle_1": "1", "angle_2": "2"}
 _U_SUFFIX = {"e0": None, "e1": "wx", "e2": "wy", "e3": "wz"}
@@ -118,6 +119,24 @@ class CoordinateName:
     driver: str | None = None
 
 
+#: Roles of the coordinates of a beam: planar bending, bending along the section's y and z axes
+#: (spatial beams), torsion and axial stretch.
+BEAM_ROLES = ("mode", "mode_y", "mode_z", "torsion", "axial")
+
+
+def _spatial_beam_names(beam) -> list[tuple]:
+    """(owner, role, index, q, u, driver) of a spatial beam's coordinates: ``q_<b>_y<i>`` (deflection
+    along y), ``q_<b>_z<i>`` (along z), ``q_<b>_t<k>`` (twist), ``s_<b>_<k>`` (axial stretch)."""
+    out = []
+    for role, key, count in (("mode_y", "y", beam.n_modes_y), ("mode_z", "z", beam.n_modes_z),
+                             ("torsion", "t", beam.n_torsion)):
+        for i in range(1, count + 1):
+            out.append((beam.name, role, i, f"q_{beam.name}_{key}{i}", f"u_{beam.name}_{key}{i}", None))
+    for k in range(1, beam.n_axial + 1):
+        out.append((beam.name, "axial", k, f"s_{beam.name}_{k}", f"v_{beam.name}_{k}", None))
+    return out
+
+
 def tree_order(model: Model) -> list[Joint]:
     """The joints from the ground outwards (breadth first, siblings by name)."""
     by_parent: dict[str, list[Joint]] = {}
@@ -159,7 +178,9 @@ def coordinate_names(model: Model) -> list[CoordinateName]:
                                                     else "speed")
         for k, (role, (qn, un)) in enumerate(zip(roles, _joint_names(joint, roles, dimensions))):
             raw.append((joint.name, role, 0, qn, un, driver if k == 0 else None))
-        if joint.child in model.beams:
+        if joint.child in model.beams and dimensions == 3:
+            raw.extend(_spatial_beam_names(model.beams[joint.child]))
+        elif joint.child in model.beams:
             beam = model.beams[joint.child]
             for i in range(1, beam.n_modes + 1):
                 raw.append((beam.name, "mode", i, f"q_{beam.name}_{i}", f"u_{beam.name}_{i}", None))
@@ -178,7 +199,7 @@ def coordinate_names(model: Model) -> list[CoordinateName]:
             if name is None:
                 continue
             if name in seen or name in model.parameters or name in ("t", "pi"):
-                raise ModelError(f"joints.{owner}" if role not in ("mode", "axial") else f"beams.{owner}",
+                raise ModelError(f"beams.{owner}" if role in BEAM_ROLES else f"joints.{owner}",
                                  "coordinate and speed names unique and distinct from parameters", name)
             seen[name] = owner
         coordinates.append(CoordinateName(qn, un, owner, role, index, driver))

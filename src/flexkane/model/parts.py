@@ -203,6 +203,26 @@ class Beam:
         Mass moment of inertia of the section about its neutral axis per unit length, ``rho I``
         [kg m] (Rayleigh beam); absent, the sections' rotation carries no kinetic energy
         (Euler-Bernoulli beam).
+    EI_y, EI_z : Value, optional
+        Spatial beams (``dimensions = 3``, where ``EI`` and ``n_modes`` are not used): flexural
+        rigidities [N m^2] about the section's principal axes y_p and z_p. The deflection
+        ``w(x) = sum_j Phi_j^z q_zj`` along z_p bends about y_p (``EI_y``); the deflection
+        ``v(x) = sum_i Phi_i^y q_yi`` along y_p bends about z_p (``EI_z``, the planar beam's EI).
+    n_modes_y, n_modes_z : int
+        Numbers of shape functions of v (along y_p) and of w (along z_p).
+    shape_y, shape_z : ShapeSpec, optional
+        Their shape-function families.
+    GJ : Value, optional
+        Torsional rigidity [N m^2], required with ``n_torsion > 0``.
+    rho_Ip : Value, optional
+        Polar mass moment of inertia of the section per unit length [kg m]; with it the twist rate
+        of the sections carries kinetic energy ``1/2 int rho_Ip (w_x + theta')^2 dx``.
+    n_torsion : int
+        Number of torsion shape functions ``Theta_k`` (twist ``theta(x) = sum_k Theta_k q_tk``).
+    torsion_shape : ShapeSpec, optional
+        Torsion shape-function family (``torsion-clamped-free`` ...).
+    principal_angle : Value, optional
+        Angle [rad] of the principal axes (y_p, z_p) from the beam frame's (y, z), about x.
     """
 
     name: str
@@ -219,6 +239,28 @@ class Beam:
     n_axial: int = 0
     axial_shape: ShapeSpec | None = None
     rotary_inertia: Value | None = None
+    EI_y: Value | None = None
+    EI_z: Value | None = None
+    n_modes_y: int = 0
+    n_modes_z: int = 0
+    shape_y: ShapeSpec | None = None
+    shape_z: ShapeSpec | None = None
+    GJ: Value | None = None
+    rho_Ip: Value | None = None
+    n_torsion: int = 0
+    torsion_shape: ShapeSpec | None = None
+    principal_angle: Value | None = None
+
+    def modes_text(self) -> str:
+        """The beam's shape functions in words (``3 clamped-free + 1 axial``; in 3D
+        ``2 y clamped-free + 2 z clamped-free + 1 torsion``)."""
+        if self.EI is None:    # a spatial beam (dimensions = 3)
+            parts = [f"{n} {key} {shape.family}" for key, n, shape in (("y", self.n_modes_y, self.shape_y),
+                                                                       ("z", self.n_modes_z, self.shape_z)) if n]
+            parts += [f"{n} {what}" for n, what in ((self.n_torsion, "torsion"), (self.n_axial, "axial")) if n]
+            return " + ".join(parts)
+        return (f"{self.n_modes} {self.shape.family}" + (f" + {self.n_axial} axial" if self.n_axial else "")
+                + (", Rayleigh" if self.rayleigh else ""))
 
     @property
     def rayleigh(self) -> bool:

@@ -57,6 +57,10 @@ _TOP_KEYS = ("name", "dimensions", "description", "naming", "parameters", "bodie
 _BODY_KEYS = ("mass", "inertia", "points", "outline")
 _BEAM_KEYS = ("L", "EI", "rho", "n_modes", "shape", "damping", "gravity", "elastic_forces",
               "geometric_stiffening", "EA", "n_axial", "axial_shape", "rotary_inertia")
+#: Keys of a beam in a spatial model (dimensions = 3): two bending planes, torsion, axial stretch.
+_SPATIAL_BEAM_KEYS = ("L", "rho", "EI_y", "EI_z", "n_modes_y", "n_modes_z", "shape_y", "shape_z", "GJ",
+                      "rho_Ip", "n_torsion", "torsion_shape", "EA", "n_axial", "axial_shape",
+                      "principal_angle", "damping", "gravity", "geometric_stiffening", "rotary_inertia")
 _SHAPE_KEYS = ("family", "roots")  # plus the options of the family, checked by the family
 _JOINT_KEYS = ("type", "parent", "child", "parent_point", "parent_position", "station", "child_point",
                "angle", "axis", "axes", "orientation", "child_orientation", "coordinates", "speeds", "stiffness",
@@ -145,6 +149,27 @@ def _shape(table: dict, key: str, path: str, default_family: str | None):
     return ShapeSpec(family, roots, options)
 
 
+def _spatial_beam(name: str, beam: dict, path: str) -> Beam:
+    """A beam of a spatial model: bending in two principal planes, torsion, axial stretch."""
+    damping = beam.get("damping", [])
+    n_y, n_z = beam.get("n_modes_y", 0), beam.get("n_modes_z", 0)
+    n_torsion, n_axial = beam.get("n_torsion", 0), beam.get("n_axial", 0)
+    return Beam(
+        name, _get(beam, "L", path, "the length [m]"), None, _get(beam, "rho", path, "the mass per unit length [kg/m]"),
+        0, damping=damping if isinstance(damping, list) else [damping],
+        gravity=beam.get("gravity", "distributed"), geometric_stiffening=beam.get("geometric_stiffening", False),
+        EA=beam.get("EA"), n_axial=n_axial,
+        axial_shape=_shape(beam, "axial_shape", path, "axial-fixed-free" if n_axial else None),
+        rotary_inertia=beam.get("rotary_inertia"),
+        EI_y=_get(beam, "EI_y", path, "the flexural rigidity about the section's y axis [N m^2]"),
+        EI_z=_get(beam, "EI_z", path, "the flexural rigidity about the section's z axis [N m^2]"),
+        n_modes_y=n_y, n_modes_z=n_z, shape_y=_shape(beam, "shape_y", path, "clamped-free"),
+        shape_z=_shape(beam, "shape_z", path, "clamped-free"), GJ=beam.get("GJ"), rho_Ip=beam.get("rho_Ip"),
+        n_torsion=n_torsion,
+        torsion_shape=_shape(beam, "torsion_shape", path, "torsion-clamped-free" if n_torsion else None),
+        principal_angle=beam.get("principal_angle"))
+
+
 def _vectors(value):
     """Lists (of lists) as tuples, to any depth (other values are kept for the validation)."""
     if isinstance(value, list):
@@ -209,8 +234,11 @@ def _model_from_dict(data: dict) -> Model:
                        "the moment of inertia about the mass centre [kg m^2]")
         model.bodies[name] = RigidBody(name, _get(body, "mass", path, "the mass [kg]"), _vectors(inertia),
                                        points, outline)
-    for name, beam in _parts(data, "beams", _BEAM_KEYS).items():
+    for name, beam in _parts(data, "beams", _SPATIAL_BEAM_KEYS if spatial else _BEAM_KEYS).items():
         path = f"beams.{name}"
+        if spatial:
+            model.beams[name] = _spatial_beam(name, beam, path)
+            continue
         damping = beam.get("damping", [])
         n_axial = beam.get("n_axial", 0)
         model.beams[name] = Beam(
@@ -364,6 +392,27 @@ def _shape_out(spec: ShapeSpec):
     return out
 
 
+def _spatial_beam_out(b: Beam) -> dict:
+    """A spatial beam in the model-file layout."""
+    t = _drop_none({"L": b.L, "rho": b.rho, "EI_y": b.EI_y, "EI_z": b.EI_z, "GJ": b.GJ, "rho_Ip": b.rho_Ip,
+                    "EA": b.EA, "principal_angle": b.principal_angle, "rotary_inertia": b.rotary_inertia})
+    for key, count, shape in (("y", b.n_modes_y, b.shape_y), ("z", b.n_modes_z, b.shape_z)):
+        if count:
+            t[f"n_modes_{key}"] = count
+            t[f"shape_{key}"] = _shape_out(shape)
+    for key, count, shape in (("torsion", b.n_torsion, b.torsion_shape), ("axial", b.n_axial, b.axial_shape)):
+        if count:
+            t[f"n_{key}"] = count
+            t[f"{key}_shape"] = _shape_out(shape)
+    if b.damping:
+        t["damping"] = list(b.damping)
+    if b.gravity != "distributed":
+        t["gravity"] = b.gravity
+    if b.geometric_stiffening:
+        t["geometric_stiffening"] = True
+    return t
+
+
 def _drop_none(table: dict) -> dict:
     return {k: (list(v) if isinstance(v, tuple) else v) for k, v in table.items() if v is not None}
 
@@ -385,6 +434,9 @@ def model_to_dict(model: Model) -> dict:
                      for b in model.bodies.values()}
     beams = {}
     for b in model.beams.values():
+        if model.dimensions == 3:
+            beams[b.name] = _spatial_beam_out(b)
+            continue
         t = {"L": b.L, "EI": b.EI, "rho": b.rho, "n_modes": b.n_modes, "shape": _shape_out(b.shape)}
         if b.damping:
             t["damping"] = list(b.damping)

@@ -158,7 +158,8 @@ def _choice(path: str, value, choices) -> None:
 def _check_elastic_coordinates(beams: dict) -> None:
     """Refuse more than MAX_ELASTIC_COORDINATES shape functions over all the beams of a model, and
     more than MAX_STIFFENED_MODES on a beam with geometric stiffening."""
-    counts = {name: beam.n_modes + (beam.n_axial or 0) for name, beam in beams.items()}
+    counts = {name: beam.n_modes + (beam.n_axial or 0) + beam.n_modes_y + beam.n_modes_z + beam.n_torsion
+              for name, beam in beams.items()}
     for name, beam in beams.items():
         if beam.geometric_stiffening is True and counts[name] > MAX_STIFFENED_MODES:
             raise ModelError(f"beams.{name}.n_modes", f"at most {MAX_STIFFENED_MODES} shape functions "
@@ -289,7 +290,7 @@ def validate_model(model: Model, *, units: dict | None = None) -> None:
     if dimensions == 3:   # parts that spatial models do not have yet, all named at once
         from . import validate_spatial as spatial   # NumPy, for spatial models only
 
-        for kind, what in (("beams", "beams"), ("distributed_loads", "distributed loads"),
+        for kind, what in (("distributed_loads", "distributed loads"),
                            ("constraints", "loop constraints"), ("sensors", "sensors"),
                            ("controllers", "controllers")):
             for name in tables[kind]:
@@ -319,7 +320,7 @@ def validate_model(model: Model, *, units: dict | None = None) -> None:
     lengths = {}
     for beam in beams.values():
         with problems.part():
-            lengths[beam.name] = _check_beam(beam, values)
+            lengths[beam.name] = (_check_spatial_beam if dimensions == 3 else _check_beam)(beam, values)
     with problems.part():   # over the beams that passed their own checks
         _check_elastic_coordinates({name: beams[name] for name in lengths})
     problems.raise_found()   # joints and ends refer to parts and beam lengths
@@ -423,6 +424,57 @@ def _check_beam(beam: Beam, values: _Values) -> float:
     if beam.elastic_forces == "shear-moment" and (beam.geometric_stiffening or n_axial):
         raise ModelError(f"{path}.elastic_forces", "'strain-energy' with geometric_stiffening or axial modes",
                          beam.elastic_forces)
+    return length
+
+
+def _check_spatial_beam(beam: Beam, values: _Values) -> float:
+    """A beam of a spatial model: two bending planes, torsion and axial stretch (Beam's docstring)."""
+    path = f"beams.{beam.name}"
+    length = values.positive(f"{path}.L", beam.L, "length", "m")
+    values.positive(f"{path}.rho", beam.rho, "mass per unit length", "kg/m")
+    values.positive(f"{path}.EI_y", beam.EI_y, "flexural rigidity about the section's y axis", "N m^2")
+    values.positive(f"{path}.EI_z", beam.EI_z, "flexural rigidity about the section's z axis", "N m^2")
+    counts = {}
+    for key in ("n_modes_y", "n_modes_z", "n_torsion", "n_axial"):
+        counts[key] = _integer(f"{path}.{key}", getattr(beam, key), 0, MAX_MODES, "number of shape functions")
+    for key, shape in (("y", beam.shape_y), ("z", beam.shape_z)):
+        _check_shape_spec(f"{path}.shape_{key}", shape, values)
+        if shape.roots is not None and len(shape.roots) != counts[f"n_modes_{key}"]:
+            raise ModelError(f"{path}.shape_{key}.roots", f"{counts[f'n_modes_{key}']} roots lambda_i (one per mode)",
+                             list(shape.roots))
+    for count, stiffness, what, unit, shape in (
+            ("n_torsion", "GJ", "torsional rigidity", "N m^2", "torsion_shape"),
+            ("n_axial", "EA", "axial stiffness", "N", "axial_shape")):
+        if getattr(beam, stiffness) is not None:
+            values.positive(f"{path}.{stiffness}", getattr(beam, stiffness), what, unit)
+        if counts[count]:
+            if getattr(beam, stiffness) is None:
+                raise ModelError(f"{path}.{stiffness}", f"the {what} [{unit}] (required with {count} > 0)", None,
+                                 show_given=False)
+            _check_shape_spec(f"{path}.{shape}", getattr(beam, shape), values)
+    if beam.rho_Ip is not None:
+        values.non_negative(f"{path}.rho_Ip", beam.rho_Ip,
+                            "polar mass moment of inertia of the section per unit length", "kg m")
+    if beam.principal_angle is not None:
+        values.number(f"{path}.principal_angle", beam.principal_angle,
+                      "angle of the section's principal axes from the beam frame's", "rad")
+    if beam.rotary_inertia is not None:
+        raise ModelError(f"{path}.rotary_inertia", "no rotary_inertia on a beam with dimensions = 3",
+                         beam.rotary_inertia, "Rayleigh beams are not yet supported in 3D")
+    if beam.damping:
+        raise ModelError(f"{path}.damping", "no modal damping on a beam with dimensions = 3", list(beam.damping),
+                         "modal damping of spatial beams is not yet supported")
+    if beam.gravity != "distributed":
+        raise ModelError(f"{path}.gravity", "'distributed' (the weight integrated along a spatial beam)",
+                         beam.gravity, "the midpoint gravity model is not yet supported in 3D")
+    if beam.elastic_forces != "strain-energy":
+        raise ModelError(f"{path}.elastic_forces", "'strain-energy' (the elastic forces of a spatial beam)",
+                         beam.elastic_forces, "shear-moment elastic forces are not yet supported in 3D")
+    if not isinstance(beam.geometric_stiffening, bool):
+        raise ModelError(f"{path}.geometric_stiffening", "true or false", beam.geometric_stiffening)
+    if not any(counts.values()):
+        raise ModelError(f"{path}.n_modes_y", "at least one shape function (n_modes_y, n_modes_z, n_torsion "
+                         "or n_axial)", 0)
     return length
 
 
@@ -877,7 +929,14 @@ def _check_structure(model: Model, values: _Values) -> list:
 
     for beam in model.beams.values():
         path = f"beams.{beam.name}"
-        _family(beam.shape, f"{path}.shape", beam.n_modes, "transverse", values)
+        if model.dimensions == 3:
+            for key in ("y", "z"):
+                _family(getattr(beam, f"shape_{key}"), f"{path}.shape_{key}", getattr(beam, f"n_modes_{key}"),
+                        "transverse", values)
+            if beam.n_torsion:
+                _family(beam.torsion_shape, f"{path}.torsion_shape", beam.n_torsion, "torsion", values)
+        else:
+            _family(beam.shape, f"{path}.shape", beam.n_modes, "transverse", values)
         if beam.n_axial:
             _family(beam.axial_shape, f"{path}.axial_shape", beam.n_axial, "axial", values)
     coordinates = coordinate_names(model)   # names unique; initial conditions name existing coordinates

@@ -1,0 +1,257 @@
+"""Spatial beams: bending in two principal planes, torsion and axial stretch, on the spatial engine.
+
+The beam frame B has its origin at the root and its x axis along the undeformed beam. The section's
+principal axes (y_p, z_p) are turned from B's (y, z) by ``principal_angle`` (beta) about x. The point
+at distance x from the root is at (B's axes)
+
+    X(x) = x + sum_k Psi_k s_k - 1/2 sum_ij (d^y_ij q_yi q_yj + d^z_ij q_zi q_zj)   (foreshortening,
+                                                                                   geometric stiffening)
+    Y(x) = cos(beta) v - sin(beta) w,   Z(x) = sin(beta) v + cos(beta) w,
+    v(x) = sum_i Phi^y_i q_yi (bends about z_p: EI_z),   w(x) = sum_j Phi^z_j q_zj (about y_p: EI_y),
+
+and moves at ``v_P = v_B + w_B x r + r'`` (derivatives of the components, B's axes): the spatial
+form of eq. 8.18. Every component is a :class:`~flexkane.kane.modal_field.Field` of atoms whose
+products integrate to modal constants (:mod:`flexkane.kane.spatial_beam_constants`).
+
+The sections twist by ``theta(x) = sum_k Theta_k q_tk`` about x; with ``rho_Ip`` (polar mass moment
+of inertia per length) the section at x is a thin disc of inertia ``rho_Ip b1 b1`` turning at
+``w_s = w_B + theta' b1``: kinetic energy ``1/2 int rho_Ip (w_Bx + theta')^2 dx`` and inertia torque
+``dH/dt = rho_Ip (d(w_sx)/dt, w_Bz w_sx, -w_By w_sx)`` (B's axes), whose power is exactly the rate of
+that energy. The strain energy ``1/2 int (EI_z v''^2 + EI_y w''^2 + GJ theta'^2 + EA u'^2) dx`` gives
+``F_r = -K q`` with the modal stiffness constants.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from .modal_field import ONE, X, Field, cross3, dfs, phi, psi, rigid, theta, vec3, vec3_map
+from .spatial_beam_constants import SpatialBeamConstants
+from .spatial_frame import SpatialFrame, add, cross
+
+__all__ = ["SpatialBeamMotion", "beam_motion", "beam_own_properties", "add_beam_rows", "beam_active_forces",
+           "beam_outputs"]
+
+
+@dataclass
+class SpatialBeamMotion:
+    """Motion of a spatial beam: its frame (origin at the root) and the fields along it.
+
+    Attributes
+    ----------
+    beam : Beam
+    frame : SpatialFrame
+    constants : SpatialBeamConstants
+    r : tuple of 3 Field
+        Position of the point at x from the root, B's axes [m].
+    v : tuple of 3 Field
+        Its velocity in N, B's axes [m/s].
+    spin : Field or None
+        ``w_sx = w_Bx + theta'(x)`` [rad/s], the sections' angular velocity about the beam axis,
+        when the sections' polar inertia ``rho_Ip`` is given; else None.
+    """
+
+    beam: object
+    frame: SpatialFrame
+    constants: SpatialBeamConstants
+    r: tuple
+    v: tuple
+    spin: Field | None = None
+
+    def own_speeds(self, chain) -> set:
+        """The beam's own modal speeds (which deform it)."""
+        return {c.u for c in chain.of(self.beam.name)}
+
+
+def _nonzero(value) -> bool:
+    return value is not None and not (isinstance(value, (int, float)) and not isinstance(value, bool) and value == 0)
+
+
+def beam_motion(kin, beam, frame: SpatialFrame, constants: SpatialBeamConstants) -> SpatialBeamMotion:
+    """The fields of a spatial beam whose frame is ``frame`` (module docstring)."""
+    chain = kin.chain
+    coords = {role: [c for c in chain.of(beam.name, role)] for role in ("mode_y", "mode_z", "torsion", "axial")}
+    bend = {}
+    for label in ("y", "z"):
+        bend[label] = Field({phi(c.index, label): c.q for c in coords[f"mode_{label}"]})
+    Xterms: dict = {X: sp.Integer(1)}
+    for c in coords["axial"]:
+        Xterms[psi(c.index)] = c.q
+    if beam.geometric_stiffening:
+        for label in ("y", "z"):
+            modes = coords[f"mode_{label}"]
+            for a, ca in enumerate(modes):
+                for cb in modes[a:]:
+                    factor = sp.Rational(-1, 2) if ca is cb else sp.Integer(-1)
+                    Xterms[dfs(ca.index, cb.index, label)] = factor * ca.q * cb.q
+    Y, Z = bend["y"], bend["z"]
+    if _nonzero(beam.principal_angle):
+        beta = kin.value(f"beams.{beam.name}.principal_angle", beam.principal_angle, f"beta_{beam.name}")
+        c, s = sp.cos(beta), sp.sin(beta)
+        Y, Z = bend["y"].scale(c) - bend["z"].scale(s), bend["y"].scale(s) + bend["z"].scale(c)
+    r = (Field(Xterms), Y, Z)
+    v = tuple(a + b + c for a, b, c in zip(vec3(*frame.v), cross3(frame.omega, r), vec3_map(r, chain.dt)))
+    spin = None
+    if _nonzero(beam.rho_Ip):
+        spin = rigid(frame.omega[0]) + Field({theta(c.index): c.u for c in coords["torsion"]})
+    return SpatialBeamMotion(beam, frame, constants, r, v, spin)
+
+
+def station_geometry(bm: SpatialBeamMotion, x, text: str, chain) -> tuple:
+    """The section at station x: its centre's position in B (3,) [m], its orientation in B and
+    its angular velocity relative to B (its own axes) [rad/s].
+
+    The section is turned by the body-fixed sequence z, y, x with the angles ``Y'(x)`` (slope in
+    the x-y plane), ``-Z'(x)`` (slope in the x-z plane) and the twist ``theta(x)``: to first order
+    the small rotation ``(theta, -Z', Y')``, and exactly the planar turn by ``Y'`` when ``Z'`` and
+    ``theta`` vanish.
+    """
+    from .rotation import body_sequence
+
+    k = bm.constants
+
+    def at(field, deriv=0):
+        return field.evaluate(lambda atom: k.station(atom, x, text, deriv))
+
+    p = tuple(at(c) for c in bm.r)
+    coords = chain.of(bm.beam.name, "torsion")
+    twist = sp.Add(*[k.station(theta(c.index), x, text) * c.q for c in coords])
+    angles = (at(bm.r[1], 1), -at(bm.r[2], 1), twist)
+    turn = body_sequence("zyx", angles)
+    rates = [chain.dt(a) for a in angles]
+    # w_rel = Rx(a3)^T Ry(a2)^T (0, 0, a1') + Rx(a3)^T (0, a2', 0) + (a3', 0, 0)
+    from .rotation import about_axis
+
+    rx, ry = about_axis((1, 0, 0), angles[2]), about_axis((0, 1, 0), angles[1])
+    w = add(rx.inverse_apply(add(ry.inverse_apply((0, 0, rates[0])), (0, rates[1], 0))), (rates[2], 0, 0))
+    return p, turn, tuple(sp.sympify(c) for c in w)
+
+
+def acceleration_remainder(bm: SpatialBeamMotion, chain) -> tuple:
+    """``d(v)/dt + w_B x v`` without u' terms, fields along B's axes [m/s^2]."""
+    return tuple(a + b for a, b in zip(vec3_map(bm.v, chain.dt), cross3(bm.frame.omega, bm.v)))
+
+
+def beam_own_properties(kin, name: str, a_rem: tuple):
+    """Mass, first moment, inertia tensor about the root, resultant and moment of the inertia
+    forces without u' of a spatial beam, B's axes (:class:`SpatialRigidProperties`)."""
+    from .spatial_inertia import SpatialRigidProperties
+
+    bm = kin.beams[name]
+    k = bm.constants
+    X, Y, Z = bm.r
+    integ = k.integrate
+    J = sp.Matrix([[integ(Y, Y) + integ(Z, Z), -integ(X, Y), -integ(X, Z)],
+                   [-integ(X, Y), integ(X, X) + integ(Z, Z), -integ(Y, Z)],
+                   [-integ(X, Z), -integ(Y, Z), integ(X, X) + integ(Y, Y)]])
+    R = tuple(k.integrate1(c) for c in a_rem)
+    K = (integ(Y, a_rem[2]) - integ(Z, a_rem[1]), integ(Z, a_rem[0]) - integ(X, a_rem[2]),
+         integ(X, a_rem[1]) - integ(Y, a_rem[0]))
+    if bm.spin is not None:    # the sections' polar inertia: a thin disc rho_Ip b1 b1 per length
+        J[0, 0] += k.polar(ONE, ONE)
+        w = bm.frame.omega
+        spin_moment = k.polar_integrate1(bm.spin)
+        K = add(K, (k.polar_integrate1(bm.spin.map(kin.chain.dt)), w[2] * spin_moment, -w[1] * spin_moment))
+    return SpatialRigidProperties(k.pair(ONE, ONE), tuple(k.integrate1(c) for c in bm.r), J, R, K)
+
+
+def add_beam_rows(kin, M: list, rem: list, a_rems: dict) -> None:
+    """Add the terms of every beam's own modal speeds to ``M`` (upper triangle) and ``rem``:
+    ``int rho v_P,r . v_P,s dx`` (+ the polar terms) for pairs with an own speed, and
+    ``int rho v_P,r . a_rem dx`` for own rows."""
+    chain = kin.chain
+    speeds = chain.u
+    n = len(speeds)
+    for name, bm in kin.beams.items():
+        k = bm.constants
+        own = bm.own_speeds(chain)
+        if not own:
+            continue
+        V = [vec3_map(bm.v, lambda c, u=u: chain.partial(c, u)) for u in speeds]
+        a_rem = a_rems[name]
+        active = [r for r in range(n) if not all(c.is_zero() for c in V[r])]
+        for i, r in enumerate(active):
+            for s in active[i:]:
+                if speeds[r] in own or speeds[s] in own:
+                    M[r][s] += sp.Add(*[k.integrate(a, b) for a, b in zip(V[r], V[s])])
+            if speeds[r] in own:
+                rem[r] += sp.Add(*[k.integrate(a, b) for a, b in zip(V[r], a_rem)])
+        if bm.spin is not None:
+            W = [bm.spin.map(lambda c, u=u: chain.partial(c, u)) for u in speeds]
+            alpha_rem = bm.spin.map(chain.dt)
+            turning = [r for r in range(n) if not W[r].is_zero()]
+            for i, r in enumerate(turning):
+                for s in turning[i:]:
+                    if speeds[r] in own or speeds[s] in own:
+                        M[r][s] += k.polar_integrate(W[r], W[s])
+                if speeds[r] in own:
+                    # the own torsion speeds turn the sections about b1 only: the x component of dH/dt
+                    rem[r] += k.polar_integrate(W[r], alpha_rem)
+
+
+def beam_active_forces(kin, parts: dict, gravity) -> None:
+    """Add the beams' elastic forces ``-K q`` and distributed weight ``int rho v_P,r . g dx``."""
+    chain = kin.chain
+    speeds = chain.u
+    index = {u: r for r, u in enumerate(speeds)}
+    for name, bm in kin.beams.items():
+        k = bm.constants
+        for role, stiffness in (("mode_y", lambda i, j: k.bending_stiffness(i, j, "y")),
+                                ("mode_z", lambda i, j: k.bending_stiffness(i, j, "z")),
+                                ("torsion", k.torsion_stiffness), ("axial", k.axial_stiffness)):
+            coords = chain.of(name, role)
+            for cj in coords:
+                parts["elastic"][index[cj.u]] += -sp.Add(*[stiffness(ci.index, cj.index) * ci.q for ci in coords])
+        if gravity is None:
+            continue
+        g = bm.frame.rotation.inverse_apply(gravity)
+        for r, u in enumerate(speeds):
+            V = vec3_map(bm.v, lambda c: chain.partial(c, u))
+            parts["gravity"][r] += sp.Add(*[k.integrate1(c) * gc for c, gc in zip(V, g)])
+
+
+def strain_energy(kin, name: str) -> sp.Expr:
+    """``1/2 q^T K q`` of a beam's modal stiffness constants [J]."""
+    chain = kin.chain
+    k = kin.beams[name].constants
+    out = []
+    for role, stiffness in (("mode_y", lambda i, j: k.bending_stiffness(i, j, "y")),
+                            ("mode_z", lambda i, j: k.bending_stiffness(i, j, "z")),
+                            ("torsion", k.torsion_stiffness), ("axial", k.axial_stiffness)):
+        coords = chain.of(name, role)
+        for ci in coords:
+            for cj in coords:
+                out.append(stiffness(ci.index, cj.index) * ci.q * cj.q / 2)
+    return sp.Add(*out)
+
+
+def beam_outputs(kin, name: str, gravity) -> dict:
+    """Energies and momenta of one beam: ``kinetic``, ``strain``, ``potential_gravity`` [J], mass
+    [kg], first moment about N's origin (N axes) [kg m], linear momentum [kg m/s] and angular
+    momentum about N's origin [kg m^2/s] (N axes)."""
+    bm = kin.beams[name]
+    k = bm.constants
+    frame = bm.frame
+    R = frame.rotation
+    kinetic = sp.Add(*[k.integrate(c, c) for c in bm.v]) / 2
+    if bm.spin is not None:
+        kinetic += k.polar_integrate(bm.spin, bm.spin) / 2
+    m = k.pair(ONE, ONE)
+    S = tuple(k.integrate1(c) for c in bm.r)                       # B's axes, about the root
+    p = tuple(k.integrate1(c) for c in bm.v)                       # B's axes
+    X, Y, Z = bm.r
+    vx, vy, vz = bm.v
+    h = (k.integrate(Y, vz) - k.integrate(Z, vy), k.integrate(Z, vx) - k.integrate(X, vz),
+         k.integrate(X, vy) - k.integrate(Y, vx))                  # about the root, B's axes
+    if bm.spin is not None:
+        h = add(h, (k.polar_integrate1(bm.spin), 0, 0))
+    pN = R.apply(p)
+    first = add(tuple(m * c for c in frame.r), R.apply(S))
+    momentum = add(cross(frame.r, pN), R.apply(h))
+    potential = sp.Integer(0)
+    if gravity is not None:
+        potential = -(m * sum(g * c for g, c in zip(gravity, frame.r)) + sum(g * c for g, c in zip(R.inverse_apply(gravity), S)))
+    return {"kinetic": kinetic, "strain": strain_energy(kin, name), "potential_gravity": potential, "mass": m,
+            "first": first, "p": pN, "h": momentum}

@@ -1,0 +1,212 @@
+"""Modal constants of a spatial beam: two bending families, torsion and axial stretch.
+
+A spatial beam's atoms (:mod:`flexkane.kane.modal_field`) carry the direction of the family they
+come from: ``phi(i, "y")`` and ``phi(i, "z")`` are the i-th shape functions of the deflections along
+the section's y and z axes, ``dfs(i, j, "y")`` their foreshortening functions, ``theta(k)`` the
+torsion shape functions, ``psi(k)`` the axial ones. Their constants are named like the planar ones
+with the direction in the index (``E_y1 = int rho Phi_1^y dx``, ``G_y1_z2``, ``DD_y11_z22``) and:
+
+    Ip_B = int rho_Ip dx,  Et_k = int rho_Ip Theta_k dx,  Gt_kl = int rho_Ip Theta_k Theta_l dx,
+    H_yij = int EI_z Phi_i^y'' Phi_j^y'' dx,  H_zij = int EI_y Phi_i^z'' Phi_j^z'' dx,
+    Kt_kl = int GJ Theta_k' Theta_l' dx,  HA_kl = int EA Psi_k' Psi_l' dx
+
+(the deflection along y bends about the section's z axis, hence ``EI_z``). Values are computed by
+Gauss-Legendre quadrature of an order verified for every family involved (twice that with
+foreshortening atoms, as :mod:`flexkane.kane.beam_quadrature` does).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import sympy as sp
+
+from .beam_constants import BeamConstants, _idx
+from .beam_quadrature import AtomEvaluator, _leggauss
+from .modal_field import ONE, Atom, Field, atom_order, direction
+
+__all__ = ["SpatialBeamConstants", "SpatialAtomEvaluator"]
+
+#: Stem of the constant of a pair of atom kinds (sorted by :func:`atom_order`), as for planar beams.
+_STEMS = {("1", "phi"): "E", ("x", "phi"): "F", ("phi", "phi"): "G", ("phi", "psi"): "C", ("1", "d"): "D",
+          ("x", "d"): "Dx", ("phi", "d"): "Dphi", ("psi", "d"): "Dpsi", ("d", "d"): "DD"}
+
+
+def _piece(atom: Atom) -> str:
+    """Index text of an atom in a constant's name (``y1``, ``z12``, ``3``)."""
+    label = direction(atom)
+    return (label or "") + _idx(*[i for i in atom[1:] if isinstance(i, int)])
+
+
+class SpatialBeamConstants(BeamConstants):
+    """Symbols and values of the modal constants of one spatial beam (module docstring)."""
+
+    def pair(self, a: Atom, b: Atom) -> sp.Symbol:
+        """``int_0^L rho a(x) b(x) dx``."""
+        if direction(a) is None and direction(b) is None:
+            return super().pair(a, b)      # 1, x, psi: the planar names
+        a, b = sorted((a, b), key=atom_order)
+        kinds = (a[0], b[0])
+        pieces = [_piece(atom) for atom in (a, b) if atom[0] not in ("1", "x")]
+        stem = _STEMS[kinds]
+        if kinds in (("phi", "d"), ("psi", "d")):    # named with the foreshortening atom first
+            pieces = pieces[::-1]
+        return self._symbol(("pair", a, b), f"{stem}_{self.label + '_' if self.label else ''}{'_'.join(pieces)}")
+
+    def polar(self, a: Atom, b: Atom) -> sp.Symbol:
+        """``int_0^L rho_Ip a(x) b(x) dx`` for atoms ``ONE`` and ``theta(k)``."""
+        a, b = sorted((a, b), key=atom_order)
+        kinds = (a[0], b[0])
+        if kinds == ("1", "1"):
+            name = f"Ip_{self.name}"
+        elif kinds == ("1", "theta"):
+            name = self._modal("Et", b[1])
+        elif kinds == ("theta", "theta"):
+            name = self._modal("Gt", a[1], b[1])
+        else:
+            raise ValueError(f"no polar-inertia constant for the atoms {a!r}, {b!r}")
+        return self._symbol(("polar", a, b), name)
+
+    def polar_integrate(self, f: Field, g: Field) -> sp.Expr:
+        """``int_0^L rho_Ip f(x) g(x) dx`` for fields of the atoms ``ONE`` and ``theta(k)``."""
+        return sp.Add(*[ca * cb * self.polar(a, b) for a, ca in f.items() for b, cb in g.items()])
+
+    def polar_integrate1(self, f: Field) -> sp.Expr:
+        """``int_0^L rho_Ip f(x) dx``."""
+        return sp.Add(*[c * self.polar(ONE, a) for a, c in f.items()])
+
+    def bending_stiffness(self, i: int, j: int, label: str) -> sp.Symbol:
+        """``H_<label>ij``: ``int EI_z Phi_i^y'' Phi_j^y'' dx`` (label y) or with ``EI_y`` and the z
+        family (label z) [N/m]."""
+        i, j = min(i, j), max(i, j)
+        return self._symbol(("Hs", label, i, j), self._modal("H", f"{label}{_idx(i, j)}"))
+
+    def torsion_stiffness(self, k: int, l: int) -> sp.Symbol:
+        """``Kt_kl = int GJ Theta_k' Theta_l' dx`` [N m]."""
+        k, l = min(k, l), max(k, l)
+        return self._symbol(("Kt", k, l), self._modal("Kt", k, l))
+
+    def _modal(self, stem: str, *indices) -> str:
+        if all(isinstance(i, int) for i in indices):
+            return super()._modal(stem, *indices)
+        return f"{stem}_{self.label + '_' if self.label else ''}{''.join(map(str, indices))}"
+
+    def station(self, atom: Atom, x: sp.Expr, text: str, deriv: int = 0) -> sp.Expr:
+        """Value of an atom (or of its x-derivative) at the station ``x`` [m] (``Phi_y1(L)``,
+        ``Theta_1'(L/2)``)."""
+        if atom[0] in ("1", "x"):
+            return super().station(atom, x, text, deriv)
+        stem = {"phi": "Phi", "psi": "Psi", "d": "d", "theta": "Theta"}[atom[0]] + "'" * deriv
+        name = f"{stem}_{self.label + '_' if self.label else ''}{_piece(atom)}({text})"
+        return self._symbol(("station", atom, deriv, x), name)
+
+    # ------------------------------------------------------------------ numbers
+    def model_values(self, beam, fields, parameters, stations: dict | None = None) -> dict:
+        """Numeric value of every constant used, for a beam of a model.
+
+        Parameters
+        ----------
+        beam : flexkane.model.parts.Beam
+            The spatial beam.
+        fields : flexkane.model.field_values.FieldValues
+            Values of the model's fields.
+        parameters : dict
+            The model's parameter values (numeric options of the shape families).
+        stations : dict, optional
+            Numeric value [m] of each station expression used.
+
+        Returns
+        -------
+        dict of sympy.Symbol to float
+        """
+        from ..modes.from_spec import shape_family
+
+        path = f"beams.{beam.name}"
+
+        def number(key):
+            value = getattr(beam, key)
+            return None if value is None else fields.value(value, f"{path}.{key}")
+
+        families = {}
+        for label, count, key in (("y", beam.n_modes_y, "shape_y"), ("z", beam.n_modes_z, "shape_z"),
+                                  ("t", beam.n_torsion, "torsion_shape"), ("a", beam.n_axial, "axial_shape")):
+            if count:
+                families[label] = (shape_family(getattr(beam, key), f"{path}.{key}", parameters), count)
+        ev = SpatialAtomEvaluator(number("L"), families)
+        rho, rho_Ip = number("rho"), number("rho_Ip")
+        rigidity = {"y": number("EI_z"), "z": number("EI_y")}
+        out = {}
+        for symbol, spec in self.used.items():
+            kind = spec[0]
+            if kind == "pair":
+                out[symbol] = rho * ev.integral(spec[1], spec[2])
+            elif kind == "polar":
+                out[symbol] = rho_Ip * ev.integral(spec[1], spec[2])
+            elif kind == "Hs":
+                label = spec[1]
+                out[symbol] = rigidity[label] * ev.derivative_integral(("phi", spec[2], label),
+                                                                       ("phi", spec[3], label), 2)
+            elif kind == "Kt":
+                out[symbol] = number("GJ") * ev.derivative_integral(("theta", spec[1]), ("theta", spec[2]), 1)
+            elif kind == "station":
+                out[symbol] = ev.values_at(spec[1], np.array([float(stations[spec[3]]) / ev.L]), spec[2])[0]
+            elif kind == "HA":
+                out[symbol] = number("EA") * ev.derivative_integral(("psi", spec[1]), ("psi", spec[2]), 1)
+            else:  # pragma: no cover - the spatial engine makes no other constants
+                raise AssertionError(spec)
+        return {k: float(v) for k, v in out.items()}
+
+
+class SpatialAtomEvaluator:
+    """Values and integrals of a spatial beam's atoms, each through the evaluator of its family.
+
+    Parameters
+    ----------
+    L : float
+        Beam length [m].
+    families : dict
+        ``label -> (ShapeFamily, n)`` for the labels ``y``, ``z`` (bending), ``t`` (torsion) and
+        ``a`` (axial) that the beam has.
+    """
+
+    def __init__(self, L: float, families: dict):
+        from ..modes.integrals import quadrature_order
+
+        self.L = float(L)
+        self.evaluators = {}
+        order = 8
+        for label, (family, n) in families.items():
+            if label == "a":
+                self.evaluators[label] = AtomEvaluator(L=L, family=family, n=n, axial_family=family, n_axial=n)
+            else:
+                self.evaluators[label] = AtomEvaluator(L=L, family=family, n=n)
+            order = max(order, quadrature_order(family, n))
+        self.order = order
+
+    def values_at(self, atom: Atom, xi: np.ndarray, deriv: int = 0) -> np.ndarray:
+        """Values of an atom (or of its x-derivative) at ``xi = x/L``, shape (len(xi),)."""
+        kind = atom[0]
+        xi = np.asarray(xi, dtype=float)
+        if kind == "1":
+            return np.ones_like(xi) if deriv == 0 else np.zeros_like(xi)
+        if kind == "x":
+            return xi * self.L if deriv == 0 else (np.ones_like(xi) if deriv == 1 else np.zeros_like(xi))
+        if kind == "theta":
+            return self.evaluators["t"].values_at(("phi", atom[1]), xi, deriv)
+        if kind == "psi":
+            return self.evaluators["a"].values_at(atom, xi, deriv)
+        label = direction(atom)
+        return self.evaluators[label].values_at(atom[:-1], xi, deriv)
+
+    def _rule(self, fine: bool):
+        xi, w = _leggauss(2 * self.order if fine else self.order)
+        return xi, w * self.L
+
+    def integral(self, a: Atom, b: Atom) -> float:
+        """``int_0^L a(x) b(x) dx``."""
+        xi, w = self._rule(a[0] == "d" or b[0] == "d")
+        return float(np.sum(w * self.values_at(a, xi) * self.values_at(b, xi)))
+
+    def derivative_integral(self, a: Atom, b: Atom, deriv: int) -> float:
+        """``int_0^L a^(k)(x) b^(k)(x) dx`` with k = ``deriv``."""
+        xi, w = self._rule(False)
+        return float(np.sum(w * self.values_at(a, xi, deriv) * self.values_at(b, xi, deriv)))
