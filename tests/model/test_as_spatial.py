@@ -142,6 +142,11 @@ def test_every_planar_builtin_converts_and_is_refused_only_for_parts_not_yet_in_
             ("damping", bool(b.damping)), ("gravity", b.gravity != "distributed"),
             ("rotary_inertia", b.rotary_inertia is not None),
             ("elastic_forces", b.elastic_forces != "strain-energy")) if unsupported}
+    # a law that reads modal coordinates names them as the plane does (q_<beam>_<i>); the spatial names
+    # are q_<beam>_y<i>, and as_spatial does not rewrite expressions: such a field is refused by name
+    modal = {n for c in coordinate_names(planar) if c.owner in planar.beams for n in (c.q, c.u)}
+    refused |= {f"joints.{j.name}.torque" for j in planar.joints.values()
+                if modal & set(re.findall(r"\w+", str(j.torque)))}
     if not refused:
         assert spatial.validate() is not None    # a beam chain the spatial engine derives
         return
@@ -149,7 +154,7 @@ def test_every_planar_builtin_converts_and_is_refused_only_for_parts_not_yet_in_
         spatial.validate()
     errors = info.value.errors if isinstance(info.value, ModelErrors) else [info.value]
     assert errors and {e.path for e in errors} <= refused
-    assert all("not yet supported in 3D" in str(e) for e in errors)
+    assert all("not yet supported in 3D" in str(e) or "unknown name" in str(e) for e in errors)
     # with those parts taken away (and what hangs from them), the rest is a valid spatial model
     rigid = spatial.copy()
     removed = set(rigid.beams)
@@ -158,7 +163,6 @@ def test_every_planar_builtin_converts_and_is_refused_only_for_parts_not_yet_in_
     rigid.distributed_loads.clear()
     rigid.sensors.clear()
     rigid.controllers.clear()
-    modal = {n for c in coordinate_names(planar) if c.owner in planar.beams for n in (c.q, c.u)}
     reads_modes = any(modal & set(re.findall(r"\w+", str(j.torque))) for j in planar.joints.values())
     if planar.sensors or planar.controllers or reads_modes:   # the efforts that read them go with them
         for joint in rigid.joints.values():
