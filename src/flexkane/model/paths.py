@@ -14,7 +14,7 @@ import re
 
 from ..errors import ModelError
 from .model import Model
-from .parts import ShapeSpec
+from .parts import Beam, ShapeSpec
 
 __all__ = ["get_value", "set_value", "parse_path"]
 
@@ -35,6 +35,13 @@ def _keys(obj) -> list[str]:
     if isinstance(obj, dict):
         return [str(k) for k in obj]
     keys = [f.name for f in dataclasses.fields(obj)]
+    if isinstance(obj, Beam):     # the keys of a planar or of a spatial beam, not both
+        from .toml_io import _BEAM_KEYS, _SPATIAL_BEAM_KEYS
+
+        own, other = (_SPATIAL_BEAM_KEYS, _BEAM_KEYS) if obj.EI_y is not None or obj.EI_z is not None \
+            else (_BEAM_KEYS, _SPATIAL_BEAM_KEYS)
+        other = set(other) - set(own)
+        keys = [k for k in keys if k not in other]
     if isinstance(obj, ShapeSpec):
         keys += [str(k) for k in obj.options]
     return keys
