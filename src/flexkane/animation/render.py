@@ -11,7 +11,7 @@ import numpy as np
 
 from .scene import TRACE_NONE, Scene
 
-__all__ = ["FrameDrawing", "pyplot"]
+__all__ = ["BlittedFrames", "FrameDrawing", "pyplot"]
 
 _BODY_FACE = "#c9d6e3"
 _BODY_EDGE = "#2b4b6b"
@@ -59,7 +59,40 @@ def fill_axes(ax, bounds: tuple) -> None:
     ax.set_ylim(ymin, ymax)
 
 
-class FrameDrawing:
+class BlittedFrames:
+    """Frames of a figure drawn by blitting: the still background is drawn once and cached, each frame
+    restores it and draws only the moving artists. Subclasses set ``figure`` and ``_background = None``
+    and define ``frame(k)``."""
+
+    def _blit(self, artists, draw) -> np.ndarray:
+        """The image of the figure with ``artists`` drawn by ``draw`` over the background, shape
+        (height, width, 3), uint8."""
+        canvas = self.figure.canvas
+        if self._background is None:
+            canvas.draw()
+            self._background = canvas.copy_from_bbox(self.figure.bbox)
+        else:
+            canvas.restore_region(self._background)
+        for artist in artists:
+            draw(artist)
+        return np.asarray(canvas.buffer_rgba())[..., :3].copy()
+
+    def save_png(self, k: int, path) -> None:
+        """Write frame ``k`` (of output row ``k``) as a PNG file (atomically)."""
+        from PIL import Image
+
+        from ..atomic import atomic_writer
+
+        image = Image.fromarray(self.frame(k))
+        with atomic_writer(path) as handle:
+            image.save(handle, format="PNG", optimize=True)
+
+    def close(self) -> None:
+        """Release the figure."""
+        pyplot().close(self.figure)
+
+
+class FrameDrawing(BlittedFrames):
     """A figure of a :class:`Scene`, redrawn for any output row by :meth:`frame`.
 
     Parameters
@@ -163,26 +196,4 @@ class FrameDrawing:
             done = self.path[: k + 1]
             self.trace_line.set_data(done[:, 0], done[:, 1])
         self.time_text.set_text(f"t = {scene.t[k]:.3f} s")
-        canvas = self.figure.canvas
-        if self._background is None:
-            canvas.draw()
-            self._background = canvas.copy_from_bbox(self.figure.bbox)
-        else:
-            canvas.restore_region(self._background)
-        for artist in self._animated():
-            self.axes.draw_artist(artist)
-        return np.asarray(canvas.buffer_rgba())[..., :3].copy()
-
-    def save_png(self, k: int, path) -> None:
-        """Write the frame of output row ``k`` as a PNG file (atomically)."""
-        from PIL import Image
-
-        from ..atomic import atomic_writer
-
-        image = Image.fromarray(self.frame(k))
-        with atomic_writer(path) as handle:
-            image.save(handle, format="PNG", optimize=True)
-
-    def close(self) -> None:
-        """Release the figure."""
-        pyplot().close(self.figure)
+        return self._blit(self._animated(), self.axes.draw_artist)

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError
-from .render import _BEAM, _BODY_EDGE, _BODY_FACE, _TRACE, pyplot
+from .render import _BEAM, _BODY_EDGE, _BODY_FACE, _TRACE, BlittedFrames, pyplot
 
 __all__ = ["SpatialPolyline", "SpatialDrawing", "check_view", "DEFAULT_VIEW", "POLYLINE_KINDS"]
 
@@ -99,7 +99,7 @@ def cube_bounds(polylines: list[SpatialPolyline], trace: np.ndarray | None, rows
     return np.column_stack([centre - half, centre + half])
 
 
-class SpatialDrawing:
+class SpatialDrawing(BlittedFrames):
     """A 3D figure of per-frame polylines, redrawn for any frame by :meth:`frame`.
 
     Parameters
@@ -178,27 +178,5 @@ class SpatialDrawing:
             done = self.trace[: k + 1]
             self.trace_line.set_data_3d(done[:, 0], done[:, 1], done[:, 2])
         self.time_text.set_text(f"t = {self.t[k]:.3f} s")
-        canvas = self.figure.canvas
-        if self._background is None:
-            canvas.draw()
-            self._background = canvas.copy_from_bbox(self.figure.bbox)
-        else:
-            canvas.restore_region(self._background)
         moving = ([self.trace_line] if self.trace_line is not None else []) + [a for _, a in self.lines]
-        for artist in moving + [self.time_text]:
-            self.figure.draw_artist(artist)
-        return np.asarray(canvas.buffer_rgba())[..., :3].copy()
-
-    def save_png(self, k: int, path) -> None:
-        """Write frame ``k`` as a PNG file (atomically)."""
-        from PIL import Image
-
-        from ..atomic import atomic_writer
-
-        image = Image.fromarray(self.frame(k))
-        with atomic_writer(path) as handle:
-            image.save(handle, format="PNG", optimize=True)
-
-    def close(self) -> None:
-        """Release the figure."""
-        pyplot().close(self.figure)
+        return self._blit(moving + [self.time_text], self.figure.draw_artist)
