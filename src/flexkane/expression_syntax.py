@@ -469,8 +469,9 @@ def _condition(node, env) -> bool:
     return not _condition(node.operand, env)
 
 
-def _simple_tree(text, names) -> tuple[ast.AST, set[str]]:
-    """The checked syntax tree of a simple expression and the names it uses."""
+def _checked_tree(text) -> ast.Expression:
+    """The syntax tree of ``text`` checked against the language's syntax and limits; raises
+    :class:`NeedsSymbolic` for anything else (the SymPy conversion then says why)."""
     if isinstance(text, bool) or not isinstance(text, str) or len(text) > MAX_LENGTH:
         raise NeedsSymbolic
     source = _Source(text)
@@ -481,6 +482,12 @@ def _simple_tree(text, names) -> tuple[ast.AST, set[str]]:
     except ModelError:
         raise NeedsSymbolic from None
     _check_size(tree, _give_up)
+    return tree
+
+
+def _simple_tree(text, names) -> tuple[ast.AST, set[str]]:
+    """The checked syntax tree of a simple expression and the names it uses."""
+    tree = _checked_tree(text)
     scan = _Scan(names)
     scan.value(tree.body, {}, 1.0)
     return tree.body, scan.used
@@ -494,16 +501,7 @@ def expression_names(text) -> set[str]:
     """
     if isinstance(text, numbers.Real) and not isinstance(text, bool):
         return set()
-    if not isinstance(text, str) or len(text) > MAX_LENGTH:
-        raise NeedsSymbolic
-    source = _Source(text)
-    if not source.body.strip():
-        raise NeedsSymbolic
-    try:
-        tree = _syntax_tree(text, source, "")
-    except ModelError:
-        raise NeedsSymbolic from None
-    _check_size(tree, _give_up)
+    tree = _checked_tree(text)
     called = {id(node.func) for node in ast.walk(tree) if isinstance(node, ast.Call)}
     return {node.id for node in ast.walk(tree)
             if isinstance(node, ast.Name) and id(node) not in called and node.id != "pi"}
