@@ -39,29 +39,29 @@ def spatial_gravity_vector(kin):
     return tuple(g * c for c in n)
 
 
-def joint_coordinate_values(kin, joint, field: str, name: str) -> list:
-    """Per coordinate of a joint, the expression of a field given for one coordinate (a value)
-    or for each (a list); None where not given."""
+def _per_coordinate(kin, joint, field: str, convert) -> list:
+    """Per coordinate of a joint, ``convert(path, value, label)`` of a field given for one coordinate
+    (a value, the first coordinate's; label the joint's name) or for each (a list; label the
+    coordinate's name); None where not given."""
     coords = kin.chain.of(joint.name)
     value = getattr(joint, field, None)
     path = f"joints.{joint.name}.{field}"
     if value is None:
         return [None] * len(coords)
     if isinstance(value, (list, tuple)):
-        return [None if v is None else kin.value(f"{path}[{k}]", v, f"{name}_{c.q.name}")
+        return [None if v is None else convert(f"{path}[{k}]", v, c.q.name)
                 for k, (v, c) in enumerate(zip(value, coords))]
-    return [kin.value(path, value, f"{name}_{joint.name}")] + [None] * (len(coords) - 1)
+    return [convert(path, value, joint.name)] + [None] * (len(coords) - 1)
+
+
+def joint_coordinate_values(kin, joint, field: str, name: str) -> list:
+    """Per coordinate of a joint, the expression of a constant field (symbols ``<name>_<label>``)."""
+    return _per_coordinate(kin, joint, field, lambda path, v, label: kin.value(path, v, f"{name}_{label}"))
 
 
 def _joint_time_functions(kin, joint, field: str) -> list:
-    coords = kin.chain.of(joint.name)
-    value = getattr(joint, field, None)
-    path = f"joints.{joint.name}.{field}"
-    if value is None:
-        return [None] * len(coords)
-    if isinstance(value, (list, tuple)):
-        return [None if v is None else kin.symbols.time_function(f"{path}[{k}]", v) for k, v in enumerate(value)]
-    return [kin.symbols.time_function(path, value)] + [None] * (len(coords) - 1)
+    """Per coordinate of a joint, the expression of t of a field (actuator efforts)."""
+    return _per_coordinate(kin, joint, field, lambda path, v, label: kin.symbols.time_function(path, v))
 
 
 def spatial_active_forces(kin) -> dict[str, list]:
