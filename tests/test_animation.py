@@ -182,3 +182,10 @@ def test_progress_bar_is_silent_off_a_terminal_when_quiet_and_for_short_runs():
     with ProgressBar(1.0, delay=60.0, stream=short) as bar:
         bar.update(1.0)
     assert plain.getvalue() == quiet.getvalue() == short.getvalue() == ""
+
+
+def test_animate_of_a_model_without_beams_names_no_beam_magnification(tmp_path, capsys):
+    synthetic_results("four-bar", rows=8).write(tmp_path)
+    assert main(["animate", str(tmp_path), "--frames", "3", "--no-mp4"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("animation: 3 frames, trace ") and "beam deflection" not in out

@@ -28,7 +28,8 @@ def test_the_time_budget_stops_a_derivation_that_runs_too_long(monkeypatch):
     assert "time budget of 120 s" in str(info.value) and "FLEXKANE_DERIVE_SECONDS" in str(info.value)
 
 
-def test_a_budget_exceeded_exits_2_from_the_command_line(monkeypatch, capsys):
+def test_a_budget_exceeded_exits_2_from_the_command_line(monkeypatch, capsys, tmp_path):
+    monkeypatch.setenv("FLEXKANE_CACHE_DIR", str(tmp_path))   # an empty cache: the derivation must run
     monkeypatch.setenv("FLEXKANE_DERIVE_NODES", "50")
     assert main(["derive", "pendulum-beam"]) == 2
     err = capsys.readouterr().err

@@ -45,8 +45,8 @@ class Animation:
         None when no ffmpeg was found (or none was asked for).
     frames : int
         Number of frames.
-    magnify : float
-        Magnification of beam displacements used [-].
+    magnify : float or None
+        Magnification of beam displacements used [-]; None for a model without beams.
     trace : str
         Traced point.
     messages : list of str
@@ -56,7 +56,7 @@ class Animation:
     gif: Path
     mp4: Path | None
     frames: int
-    magnify: float
+    magnify: float | None
     trace: str
     messages: list = field(default_factory=list)
 
@@ -244,11 +244,11 @@ def animate(results: Results, gif, *, magnify=1.0, trace=None, fps: float = 20, 
             _magnification_number(magnify)
         rows = frame_rows(len(results.t), frames)
         drawing, point = _spatial_drawing(results, model, trace, view, rows, dpi)
-        return _write_movie(drawing, rows, gif, fps, mp4, progress, 1.0, point)
+        return _write_movie(drawing, rows, gif, fps, mp4, progress, 1.0 if model.beams else None, point)
     scene, factor, point = _setup(results, magnify, trace)
     rows = frame_rows(len(scene.t), frames)
     drawing = FrameDrawing(scene, rows, magnify=factor, trace=point, dpi=dpi)
-    return _write_movie(drawing, rows, gif, fps, mp4, progress, factor, point)
+    return _write_movie(drawing, rows, gif, fps, mp4, progress, factor if scene.beams else None, point)
 
 
 def animate_polylines(t, polylines: list[SpatialPolyline], gif, *, trace=None, trace_label: str = "", view=None,
@@ -299,7 +299,7 @@ def _check_movie(gif, fps) -> Path:
     return gif
 
 
-def _write_movie(drawing, rows: np.ndarray, gif: Path, fps: float, mp4: bool, progress, factor: float,
+def _write_movie(drawing, rows: np.ndarray, gif: Path, fps: float, mp4: bool, progress, factor: float | None,
                  point: str) -> Animation:
     """Write the frames ``rows`` of a drawing (:class:`~.render.FrameDrawing` or
     :class:`~.spatial_render.SpatialDrawing`) as a GIF and, where ffmpeg exists, an MP4; closes it."""

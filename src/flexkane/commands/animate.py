@@ -72,6 +72,7 @@ def animate_run(results, out: Path, args, *, quiet: bool) -> list[Path]:
         print(f"flexkane: {message}", file=sys.stderr)
     written = [movie.gif] + ([movie.mp4] if movie.mp4 else [])
     if not quiet:
-        print(f"animation: {movie.frames} frames, beam deflection x {movie.magnify:g}, trace {movie.trace}; "
+        magnified = "" if movie.magnify is None else f", beam deflection x {movie.magnify:g}"
+        print(f"animation: {movie.frames} frames{magnified}, trace {movie.trace}; "
               f"wrote {', '.join(str(p) for p in written)}")
     return written
