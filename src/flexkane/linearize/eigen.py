@@ -264,7 +264,7 @@ class ModalAnalysis:
 def _labelled(linear: LinearModel, modes: list) -> list:
     """The modes of ``(mode, du)`` pairs with their participations and labels (module docstring),
     ``du`` the speed part of the eigenvector (the shape ``dq`` stands for it when it is None or zero)."""
-    from .participation import MotionFamilies, motion_families
+    from .participation import motion_families
 
     families = motion_families(linear)
     ranks: dict = {}
@@ -276,7 +276,7 @@ def _labelled(linear: LinearModel, modes: list) -> list:
             continue
         vector = speeds if speeds is not None and np.any(np.abs(speeds) > 0) else mode.shape_complex
         share = families.participation(linear.M, vector)
-        motion = MotionFamilies.dominant(share)
+        motion = families.dominant(share)
         if mode.kind in ("overdamped", "divergent") and motion in pending:
             rank = pending.pop(motion)
         else:

@@ -16,8 +16,9 @@ The speeds of a linear model fall into families, each a kind of motion:
 The participation of a family in a mode is its share of the mode's kinetic energy on the diagonal
 of the mass matrix, ``sum_k M_kk |du_k|^2`` over the family's speeds (in the turned flap/lag speeds
 for spatial beams), ``du`` the speed part of the eigenvector (its coordinate part ``dq`` for a
-mode of zero eigenvalue, which does not move). A mode's motion is the family of the largest share;
-with several beams the beam's name follows (``flap blade_a``). The spin axis is the beam frame's
+mode of zero eigenvalue, which does not move). A mode's motion is the kind of motion of the largest
+share summed over the beams (``flap``); with several beams the name of the beam that carries at least
+3/4 of it follows (``flap blade_a``; a mode shared by two symmetric panels is ``flap``). The spin axis is the beam frame's
 angular velocity per unit spin rate at the operating point, in the beam frame's axes.
 """
 
@@ -29,6 +30,8 @@ __all__ = ["MotionFamilies", "motion_families"]
 
 #: A spin axis closer than this (sine of the angle) to the beam's axis gives no flap and lag.
 _ALONG_BEAM = 1e-6
+#: Share of a kind of motion one beam must carry for a mode to be named after it.
+_OWNS = 0.75
 
 
 class MotionFamilies:
@@ -38,14 +41,17 @@ class MotionFamilies:
     ----------
     names : list of str
         Family names, in the order of first appearance along the speeds.
+    kinds : list of (str, str or None)
+        The kind of motion (``flap``, ``torsion``, ``joint hub``) and the beam of each family.
     transform : numpy.ndarray
         Orthogonal map from the speeds to the family speeds (flap/lag pairs turned), shape (n, n).
     weights : numpy.ndarray
         Share of each family speed in each family, shape (n, len(names)); rows sum to 1.
     """
 
-    def __init__(self, names: list, transform: np.ndarray, weights: np.ndarray):
+    def __init__(self, names: list, transform: np.ndarray, weights: np.ndarray, kinds: list | None = None):
         self.names = names
+        self.kinds = kinds if kinds is not None else [(name, None) for name in names]
         self.transform = transform
         self.weights = weights
 
@@ -61,14 +67,18 @@ class MotionFamilies:
             return {}
         return {name: float(s / total) for name, s in zip(self.names, shares)}
 
-    @staticmethod
-    def dominant(participation: dict) -> str:
-        """The family of the largest share ('' when none)."""
-        return max(participation, key=lambda k: (participation[k], k)) if participation else ""
-
-
-def _beam_families(beam, count_beams: int) -> str:
-    return "" if count_beams <= 1 else f" {beam}"
+    def dominant(self, participation: dict) -> str:
+        """The motion of a mode (module docstring) from its participation ('' when empty)."""
+        if not participation:
+            return ""
+        kinds: dict = {}
+        for name, (kind, beam) in zip(self.names, self.kinds):
+            kinds.setdefault(kind, {})[name] = participation.get(name, 0.0)
+        kind = max(kinds, key=lambda k: (round(sum(kinds[k].values()), 12), k))
+        name = max(kinds[kind], key=lambda k: (kinds[kind][k], k))
+        beam = self.kinds[self.names.index(name)][1]
+        total = sum(kinds[kind].values())
+        return name if beam is None or kinds[kind][name] >= _OWNS * total else kind
 
 
 def motion_families(linear) -> MotionFamilies | None:
@@ -92,12 +102,16 @@ def motion_families(linear) -> MotionFamilies | None:
     spatial = model.dimensions == 3
     axes = _spin_axes(linear) if linear.about == "spin" else {}
     names: list[str] = []
+    kinds: list[tuple] = []
     rows: list[dict] = [dict() for _ in range(n)]
     transform = np.eye(n)
+    several = len(model.beams) > 1
 
-    def family(name: str) -> str:
+    def family(kind: str, beam: str | None = None) -> str:
+        name = f"{kind} {beam}" if beam is not None and several else kind
         if name not in names:
             names.append(name)
+            kinds.append((kind, beam if several else None))
         return name
 
     bending: dict = {}
@@ -106,40 +120,38 @@ def motion_families(linear) -> MotionFamilies | None:
         if c is None:
             rows[k][family("joint")] = 1.0
             continue
-        suffix = _beam_families(c.owner, len(model.beams))
         if c.role in ("mode_y", "mode_z"):
             bending.setdefault(c.owner, {}).setdefault(c.index, {})[c.role[-1]] = k
         elif c.role == "mode":
-            rows[k][family(("lag" if linear.about == "spin" else "bending") + suffix)] = 1.0
+            rows[k][family("lag" if linear.about == "spin" else "bending", c.owner)] = 1.0
         elif c.role in ("torsion", "axial"):
-            rows[k][family(c.role + suffix)] = 1.0
+            rows[k][family(c.role, c.owner)] = 1.0
         else:
             rows[k][family(f"joint {c.owner}")] = 1.0
     for beam, pairs in bending.items():
-        suffix = _beam_families(beam, len(model.beams))
         flap = _flap_direction(lin, model.beams[beam], axes.get(beam)) if spatial else None
         for index in sorted(pairs):
             pair = pairs[index]
             if flap is None:
                 for key, k in sorted(pair.items()):
-                    rows[k][family(f"bending {key}" + suffix)] = 1.0
+                    rows[k][family(f"bending {key}", beam)] = 1.0
                 continue
             cosines = {"y": flap[0], "z": flap[1]}    # y_p . a_s and z_p . a_s
             if len(pair) == 2:       # turn (q_y, q_z) into (flap, lag)
                 ky, kz = pair["y"], pair["z"]
                 transform[np.ix_([ky, kz], [ky, kz])] = [[flap[0], flap[1]], [-flap[1], flap[0]]]
-                rows[ky][family("flap" + suffix)] = 1.0
-                rows[kz][family("lag" + suffix)] = 1.0
+                rows[ky][family("flap", beam)] = 1.0
+                rows[kz][family("lag", beam)] = 1.0
             else:
                 (key, k), = pair.items()
                 share = cosines[key] ** 2
-                rows[k][family("flap" + suffix)] = share
-                rows[k][family("lag" + suffix)] = 1.0 - share
+                rows[k][family("flap", beam)] = share
+                rows[k][family("lag", beam)] = 1.0 - share
     weights = np.zeros((n, len(names)))
     for k, row in enumerate(rows):
         for name, share in row.items():
             weights[k, names.index(name)] = share
-    return MotionFamilies(names, transform, weights)
+    return MotionFamilies(names, transform, weights, kinds)
 
 
 def _flap_direction(lin, beam, axis) -> tuple | None:
