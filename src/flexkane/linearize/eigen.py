@@ -127,8 +127,8 @@ def _rest_states(linear: LinearModel) -> np.ndarray:
     shape (2n + nz, r), from its block rows ``[V, W, 0]``, ``[K, C, K_z]`` (M times A's second
     block row) and ``[Z_q, Z_u, Z_z]``, each scaled by its largest entry."""
     n, nz = linear.n, linear.nz
-    blocks = [np.hstack([linear.V, linear.W, np.zeros((n, nz))]),
-              np.hstack([linear.K, linear.C, np.asarray(linear.K_z if nz else np.zeros((n, 0)), dtype=float).reshape(n, nz)])]
+    K_z = np.asarray(linear.K_z if nz else np.zeros((n, 0)), dtype=float).reshape(n, nz)
+    blocks = [np.hstack([linear.V, linear.W, np.zeros((n, nz))]), np.hstack([linear.K, linear.C, K_z])]
     if nz:
         blocks.append(np.asarray(linear.Z_x, dtype=float).reshape(nz, 2 * n + nz))
     scaled = [b / max(float(np.max(np.abs(b), initial=0.0)), 1e-300) for b in blocks]

@@ -18,15 +18,21 @@ of the mass matrix, ``sum_k M_kk |du_k|^2`` over the family's speeds (in the tur
 for spatial beams), ``du`` the speed part of the eigenvector (its coordinate part ``dq`` for a
 mode of zero eigenvalue, which does not move). A mode's motion is the kind of motion of the largest
 share summed over the beams (``flap``); with several beams the name of the beam that carries at least
-3/4 of it follows (``flap blade_a``; a mode shared by two symmetric panels is ``flap``). The spin axis is the beam frame's
-angular velocity per unit spin rate at the operating point, in the beam frame's axes.
+3/4 of it follows (``flap blade_a``; a mode shared by two symmetric panels is ``flap``). The spin
+axis is the beam frame's angular velocity per unit spin rate at the operating point, in the beam
+frame's axes.
 """
 
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
 
 __all__ = ["MotionFamilies", "motion_families"]
+
+#: The beams' angular velocities as numeric functions, per linearization.
+_ANGULAR_VELOCITIES: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
 #: A spin axis closer than this (sine of the angle) to the beam's axis gives no flap and lag.
 _ALONG_BEAM = 1e-6
@@ -182,20 +188,22 @@ def _spin_axes(linear) -> dict:
         return {}
     import sympy as sp
 
-    from ..expressions import time_derivative
-
-    chain = lin.eom.chain
-    drivers = {}            # drivers' laws, as Kane's equations substitute them
-    for c in chain.coordinates:
-        if c.driver == "coordinate":
-            drivers[c.q] = c.law
-            drivers[c.u] = time_derivative(c.law, chain.t, path=f"joints.{c.owner}.driver.coordinate")
-        elif c.driver == "speed":
-            drivers[c.u] = c.law
     beams = sorted(lin.model.beams)
-    exprs = [[chain.intermediates.expand(c).xreplace(drivers) for c in lin.eom.kinematics.beams[b].frame.omega]
-             for b in beams]
-    evaluate = sp.lambdify(lin._args_symbols, exprs, modules="numpy")
+    evaluate = _ANGULAR_VELOCITIES.get(lin)
+    if evaluate is None:        # formed once per linearization (a Campbell diagram asks at every spin)
+        from ..expressions import time_derivative
+
+        chain = lin.eom.chain
+        drivers = {}            # drivers' laws, as Kane's equations substitute them
+        for c in chain.coordinates:
+            if c.driver == "coordinate":
+                drivers[c.q] = c.law
+                drivers[c.u] = time_derivative(c.law, chain.t, path=f"joints.{c.owner}.driver.coordinate")
+            elif c.driver == "speed":
+                drivers[c.u] = c.law
+        exprs = [[chain.intermediates.expand(c).xreplace(drivers) for c in lin.eom.kinematics.beams[b].frame.omega]
+                 for b in beams]
+        evaluate = _ANGULAR_VELOCITIES[lin] = sp.lambdify(lin._args_symbols, exprs, modules="numpy")
     w = np.concatenate([lin.full_operating_point(linear), np.asarray(linear.z0, dtype=float)])
     with np.errstate(all="ignore"):
         per_spin = [np.array(evaluate(*lin._args(w, lin.parameter_values(s), lin.steady_speeds(s))), dtype=float)
