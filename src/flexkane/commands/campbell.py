@@ -5,8 +5,11 @@ Example::
     flexkane campbell spin-up --spin 0:8:33
     flexkane campbell spin-up-linear --spin 0:8:33 --n-modes 6
 
-writes ``campbell.csv`` (Omega [rad/s], the frequencies in the rotating frame [rad/s], the largest
-growth rate [1/s]) and ``campbell.png`` to DIR and prints the table.
+writes ``campbell.csv`` (Omega [rad/s], the frequencies in the rotating frame [rad/s] in ascending
+order, the largest growth rate [1/s]), ``campbell_modes.csv`` (one row per spin rate and mode: its
+label by dominant motion, ``flap 1``, ``lag 1``, ``torsion 1``..., its frequency and the participation
+of each family of motion), ``campbell.json`` (the labelled curves and modes) and ``campbell.png``
+(the curves, labelled in the legend) to DIR and prints the curves.
 """
 
 from __future__ import annotations
@@ -23,8 +26,9 @@ def register(subparsers) -> None:
     p = subparsers.add_parser(
         "campbell", help="Campbell diagram: frequencies against the spin rate of a hub",
         description="Linearize a model about steady spins of a hub (revolute joint) and tabulate and plot "
-                    "its frequencies in the rotating frame against the spin rate; write campbell.csv and "
-                    "campbell.png to DIR.")
+                    "its frequencies in the rotating frame against the spin rate, each mode labelled by its dominant "
+                    "motion (flap, lag, torsion, axial, a joint); write campbell.csv, campbell_modes.csv, "
+                    "campbell.json and campbell.png to DIR.")
     add_model_arguments(p, default=None)
     p.add_argument("--spin", required=True, metavar="START:STOP:COUNT",
                    help="spin rates [rad/s]: COUNT values from START to STOP (e.g. 0:8:33), or a list A,B,C")
@@ -49,6 +53,8 @@ def _handle(args) -> int:
     out = prepare_out(Path(args.out) if args.out else default_out(model.name, "-campbell"), force=args.force)
     diagram = campbell_diagram(model, spins, hub=args.hub, spin_axis=args.spin_axis)
     atomic_write_text(out / "campbell.csv", diagram.csv_text())
+    atomic_write_text(out / "campbell_modes.csv", diagram.modes_csv_text())
+    atomic_write_text(out / "campbell.json", diagram.json_text())
     diagram.plot(out / "campbell.png")
     if not args.quiet:
         print(f"{model.name}: Campbell diagram, joint {diagram.hub} spinning at {spins.size} rates "
@@ -60,5 +66,5 @@ def _handle(args) -> int:
             print(f"unstable (a mode grows) from Omega = {unstable.min():g} rad/s "
                   f"({int(diagram.unstable.sum())} of {spins.size} rates)")
         print(diagram.table())
-        print(f"wrote 2 files to {out}")
+        print(f"wrote 4 files to {out}")
     return 0

@@ -23,7 +23,8 @@ __all__ = ["register"]
 def register(subparsers) -> None:
     p = subparsers.add_parser(
         "converge", help="convergence study: frequencies and an output as modes are added",
-        description="Linearize a model with 1, 2, ... N shape functions per beam and tabulate its first "
+        description="Linearize a model with 1, 2, ... N shape functions per beam (a spatial beam: per bending "
+                    "plane and of torsion) and tabulate its first "
                     "natural frequencies and, with --output and --at, an output at a time; write "
                     "convergence.csv to DIR.")
     p.add_argument("model", metavar="MODEL", help="built-in model name or model file (.toml)")

@@ -130,7 +130,7 @@ def _handle(args) -> int:
     linear.save_npz(out / "linear_model.npz")
     linear.save_mat(out / "linear_model.mat")
     atomic_write_text(out / "modes.csv", modal.csv_text())
-    spatial = model.dimensions == 3     # mode shapes are drawn for planar chains only
+    spatial = model.dimensions == 3 and not model.beams     # rigid 3D chains: shapes in modes.csv only
     if not spatial:
         plot_mode_shapes(modal, out / "mode_shapes.png", count=args.plot_modes)
     exports = sorted(set(args.export))
@@ -146,6 +146,7 @@ def _handle(args) -> int:
             print("the operating point is unstable (a mode grows)")
         print(modal.table())
         if spatial:
-            print("note: mode_shapes.png is drawn for planar models only (the shapes are in modes.csv)")
+            print("note: mode_shapes.png is drawn for planar models and spatial models with beams only "
+                  "(the shapes are in modes.csv)")
         print(f"wrote {4 - spatial + len(exports)} files to {out}")
     return 0

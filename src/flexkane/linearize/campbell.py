@@ -7,11 +7,18 @@ frequency of a mode is the imaginary part of its eigenvalue (the frequency seen 
 [rad/s]; a mode that has become statically unstable (a real pair ``+-sigma``, as the first bending
 mode of a rotating beam without geometric stiffening once Omega exceeds its frequency) has frequency 0,
 and the largest growth rate ``max Re(lambda)`` [1/s] is reported for every Omega. Modes are sorted by
-frequency at each Omega (they are not tracked through crossings).
+frequency at each Omega in :attr:`CampbellDiagram.frequencies`; each is labelled by its dominant
+motion and its rank among the modes of that motion (``flap 1``, ``lag 1``, ``torsion 1``, ``axial 1``,
+``joint <name> 1``: the modal participation of its eigenvector in the chain's coordinate families,
+:mod:`flexkane.linearize.participation`), and the curves of the diagram join the modes of one label
+across the spin rates (:meth:`CampbellDiagram.curves`), so that they cross where the frequencies do.
+For a blade on a hub spinning about an axis normal to it, flap is the bending out of the plane of
+rotation (along the spin axis) and lag the bending in it.
 """
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -75,6 +82,12 @@ class CampbellDiagram:
         Largest real part of the eigenvalues [1/s], shape (s,); positive where the steady spin is
         unstable.
     notes : list of str
+    labels : numpy.ndarray
+        The label of each frequency (``flap 1``, ``lag 1``, ``torsion 1``, ...), shape (s, k), ''
+        where a row has fewer modes.
+    participations : list of list of dict
+        Per spin rate and mode (as ``frequencies``): the share of each family of motion in the
+        mode's kinetic energy [-].
     """
 
     name: str
@@ -83,6 +96,59 @@ class CampbellDiagram:
     frequencies: np.ndarray
     growth_rates: np.ndarray
     notes: list = field(default_factory=list)
+    labels: np.ndarray | None = None
+    participations: list = field(default_factory=list)
+
+    def curves(self) -> dict:
+        """The frequencies of each label against the spin rates [rad/s], label -> shape (s,) (NaN
+        where no mode has it), labels ordered by their frequency at the first spin rate that has them."""
+        out: dict = {}
+        if self.labels is None:
+            return out
+        for i in range(self.spins.size):
+            for label, value in zip(self.labels[i], self.frequencies[i]):
+                if label and label not in out:
+                    out[label] = np.full(self.spins.size, np.nan)
+                if label and np.isnan(out[label][i]):
+                    out[label][i] = value
+        first = {label: next(v for v in values if not np.isnan(v)) for label, values in out.items()}
+        return {label: out[label] for label in sorted(out, key=lambda k: (np.flatnonzero(~np.isnan(out[k]))[0],
+                                                                           first[k], k))}
+
+    def modes_csv_text(self) -> str:
+        """One row per spin rate and mode: Omega [rad/s], the mode's rank by frequency, its label,
+        its frequency [rad/s] and the participation of every family of motion [-]."""
+        families: list[str] = []
+        for row in self.participations:
+            for share in row:
+                families += [k for k in share if k not in families]
+        lines = [",".join(["Omega [rad/s]", "mode", "label", "omega [rad/s]"]
+                          + [f"participation {f}" for f in families])]
+        for i, spin in enumerate(self.spins):
+            for k, value in enumerate(self.frequencies[i]):
+                if np.isnan(value):
+                    continue
+                share = self.participations[i][k] if self.participations else {}
+                label = self.labels[i, k] if self.labels is not None else ""
+                lines.append(",".join([repr(float(spin)), str(k + 1), label, repr(float(value))]
+                                      + [repr(float(share.get(f, 0.0))) for f in families]))
+        return "\n".join(lines) + "\n"
+
+    def json_text(self) -> str:
+        """The diagram as JSON: model, hub, spin rates [rad/s], growth rates [1/s], the labelled
+        curves (label -> frequencies [rad/s], null where absent) and every mode with its label and
+        participations."""
+        clean = lambda v: None if np.isnan(v) else float(v)    # noqa: E731
+        data = {"model": self.name, "hub": self.hub, "spins": [float(v) for v in self.spins],
+                "growth_rates": [float(v) for v in self.growth_rates],
+                "curves": {label: [clean(v) for v in values] for label, values in self.curves().items()},
+                "modes": [[{"omega": float(value),
+                            "label": self.labels[i, k] if self.labels is not None else "",
+                            "participation": self.participations[i][k] if self.participations else {}}
+                           for k, value in enumerate(self.frequencies[i]) if not np.isnan(value)]
+                          for i in range(self.spins.size)],
+                "notes": list(self.notes)}
+        return json.dumps(data, indent=1, sort_keys=False) + "\n"
 
     @property
     def unstable(self) -> np.ndarray:
@@ -102,14 +168,21 @@ class CampbellDiagram:
             lines.append(",".join(cells + [repr(float(growth))]))
         return "\n".join(lines) + "\n"
 
-    def table(self, columns: int = 4) -> str:
-        """A text table of the first ``columns`` frequencies."""
-        k = min(columns, self.frequencies.shape[1])
-        head = f"{'Omega [rad/s]':>14}" + "".join(f"{f'omega_{i + 1} [rad/s]':>18}" for i in range(k)) \
-            + f"{'growth [1/s]':>16}"
-        lines = [head]
-        for spin, row, growth in zip(self.spins, self.frequencies, self.growth_rates):
-            cells = "".join(f"{v:>18.8g}" if not np.isnan(v) else f"{'-':>18}" for v in row[:k])
+    def table(self, columns: int = 6) -> str:
+        """A text table of the first ``columns`` curves (by label, :meth:`curves`; the first
+        ``columns`` frequencies of each row when the modes are not labelled)."""
+        curves = self.curves()
+        if curves:
+            names = list(curves)[:columns]
+            data = np.column_stack([curves[k] for k in names]) if names else np.zeros((self.spins.size, 0))
+            heads = [f"{k} [rad/s]" for k in names]
+        else:
+            k = min(columns, self.frequencies.shape[1])
+            data, heads = self.frequencies[:, :k], [f"omega_{i + 1} [rad/s]" for i in range(k)]
+        width = max([18] + [len(h) + 2 for h in heads])
+        lines = [f"{'Omega [rad/s]':>14}" + "".join(f"{h:>{width}}" for h in heads) + f"{'growth [1/s]':>16}"]
+        for spin, row, growth in zip(self.spins, data, self.growth_rates):
+            cells = "".join(f"{v:>{width}.8g}" if not np.isnan(v) else f"{'-':>{width}}" for v in row)
             lines.append(f"{spin:>14.6g}{cells}{growth:>16.4g}")
         return "\n".join(lines)
 
@@ -120,12 +193,21 @@ class CampbellDiagram:
 
         from ..atomic import atomic_writer
 
-        figure = Figure(figsize=(7.0, 4.8), layout="constrained")
+        figure = Figure(figsize=(8.2, 4.8), layout="constrained")
         FigureCanvasAgg(figure)
         axes = figure.add_subplot()
-        for i in range(self.frequencies.shape[1]):
-            axes.plot(self.spins, self.frequencies[:, i], "-", marker=".", markersize=3,
-                      label=f"mode {i + 1}" if i < 8 else None)
+        curves = self.curves()
+        if curves:
+            colours: dict = {}
+            for label, values in curves.items():
+                motion, rank = label.rsplit(" ", 1) if " " in label else (label, "1")
+                colour = colours.setdefault(motion, f"C{len(colours) % 10}")
+                style = ("-", "--", "-.", ":")[(int(rank) - 1) % 4 if rank.isdigit() else 0]
+                axes.plot(self.spins, values, style, marker=".", markersize=3, color=colour, label=label)
+        else:
+            for i in range(self.frequencies.shape[1]):
+                axes.plot(self.spins, self.frequencies[:, i], "-", marker=".", markersize=3,
+                          label=f"mode {i + 1}" if i < 8 else None)
         top = np.nanmax(self.frequencies) if np.any(np.isfinite(self.frequencies)) else 1.0
         for multiple, style in ((1, ":"), (2, "--")):
             axes.plot(self.spins, multiple * self.spins, style, color="0.5", linewidth=0.8,
@@ -140,7 +222,7 @@ class CampbellDiagram:
         axes.set_xlabel("spin rate Omega [rad/s]")
         axes.set_ylabel("frequency in the rotating frame [rad/s]")
         axes.set_title(f"Campbell diagram of {self.name} (joint {self.hub} spinning)")
-        axes.legend(fontsize="small", loc="center right")
+        axes.legend(fontsize="small", loc="center left", bbox_to_anchor=(1.01, 0.5))
         with atomic_writer(path, "path") as temporary:
             figure.savefig(temporary, format="png", dpi=120)
         return Path(path)
@@ -180,14 +262,22 @@ def campbell_diagram(model: Model, spins, *, hub: str | None = None, t0: float =
         linear = lin.at(spin=float(spin), q_start=q, outputs=False)
         q = lin.full_operating_point(linear)
         modal = modal_analysis(linear)
-        frequencies = [m.damped_frequency for m in modal.modes if m.kind == "oscillatory"]
-        real = sum(1 for m in modal.modes if m.kind in ("overdamped", "divergent"))
-        frequencies += [0.0] * ((real + 1) // 2)
-        rows.append(sorted(frequencies))
+        entries = [(m.damped_frequency, m.label, m.participation) for m in modal.modes if m.kind == "oscillatory"]
+        real = [m for m in modal.modes if m.kind in ("overdamped", "divergent")]
+        labelled: dict = {}     # the real eigenvalues of one label (a mode's pair): frequency 0 once
+        for m in real:
+            labelled.setdefault(m.label, []).append(m)
+        for label, members in labelled.items():
+            entries += [(0.0, label, members[0].participation)] * (1 if label else (len(members) + 1) // 2)
+        rows.append(sorted(entries, key=lambda e: (e[0], e[1])))
         growth.append(modal.max_growth_rate())
     width = max((len(r) for r in rows), default=0)
     table = np.full((spins.size, width), np.nan)
+    labels = np.full((spins.size, width), "", dtype=object)
+    shares = []
     for i, r in enumerate(rows):
-        table[i, :len(r)] = r
+        table[i, :len(r)] = [e[0] for e in r]
+        labels[i, :len(r)] = [e[1] for e in r]
+        shares.append([e[2] for e in r])
     notes = [n for n in lin.notes if "spins at the constant rate" not in n and "spins freely at" not in n]
-    return CampbellDiagram(model.name, lin.prepared.hub, spins, table, np.array(growth), notes)
+    return CampbellDiagram(model.name, lin.prepared.hub, spins, table, np.array(growth), notes, labels, shares)

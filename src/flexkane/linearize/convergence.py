@@ -1,11 +1,13 @@
 """Convergence studies: how a chain's frequencies and a chosen output change as modes are added.
 
-For each number of modes n (every beam gets n shape functions, :meth:`Model.with_modes`) the model is
-linearized (as :func:`~flexkane.linearize.linearization.linearize`) and its first natural frequencies
-are recorded; optionally the model is also integrated from its initial state to the time ``at`` and the
-value of one output (e.g. ``tip_<beam>``, the tip deflection [m]) there is recorded. Assumed-modes
+For each number of modes n (every beam gets n shape functions, a spatial beam n in each bending
+plane and of torsion that it has, :meth:`Model.with_modes`) the model is linearized (as
+:func:`~flexkane.linearize.linearization.linearize`) and its first natural frequencies are recorded;
+optionally the model is also integrated from its initial state to the time ``at`` and the value of
+one output (e.g. ``tip_<beam>``, the tip deflection [m]) there is recorded. Assumed-modes
 frequencies are Rayleigh-Ritz values: with shape functions that are admissible they decrease towards
-the exact ones as modes are added.
+the exact ones as modes are added. Each frequency carries the label of its mode (``bending 1``,
+``flap 1``, ``torsion 2``, :mod:`flexkane.linearize.participation`).
 """
 
 from __future__ import annotations
@@ -65,6 +67,8 @@ class ConvergenceStudy:
     output_values : numpy.ndarray
         The output at ``time`` for each n, shape (s,) (empty without an output).
     notes : list of str
+    labels : list of list of str
+        The label of each frequency (``torsion 1``), per row.
     """
 
     name: str
@@ -74,9 +78,13 @@ class ConvergenceStudy:
     time: float | None = None
     output_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
     notes: list = field(default_factory=list)
+    labels: list = field(default_factory=list)
 
-    def header(self) -> list[str]:
-        cells = ["n_modes"] + [f"omega_{i + 1} [rad/s]" for i in range(self.frequencies.shape[1])]
+    def header(self, labels: bool = False) -> list[str]:
+        k = self.frequencies.shape[1]
+        cells = ["n_modes"] + [f"omega_{i + 1} [rad/s]" for i in range(k)]
+        if labels:
+            cells += [f"motion_{i + 1}" for i in range(k)]
         if self.output:
             cells.append(f"{self.output}(t={self.time:g} s)")
         return cells
@@ -89,19 +97,45 @@ class ConvergenceStudy:
             yield n, row
 
     def csv_text(self) -> str:
-        """The study as CSV, one row per number of modes."""
-        lines = [",".join(self.header())]
-        for n, row in self._rows():
-            lines.append(",".join([str(n)] + ["" if math.isnan(v) else repr(float(v)) for v in row]))
+        """The study as CSV, one row per number of modes: the frequencies, their labels
+        (``motion_<i>``) and the output."""
+        labelled = any(any(row) for row in self.labels)
+        lines = [",".join(self.header(labels=labelled))]
+        k = self.frequencies.shape[1]
+        for i, (n, row) in enumerate(self._rows()):
+            cells = ["" if math.isnan(v) else repr(float(v)) for v in row]
+            if labelled:
+                names = list(self.labels[i]) + [""] * (k - len(self.labels[i]))
+                cells = cells[:k] + names + cells[k:]
+            lines.append(",".join([str(n)] + cells))
         return "\n".join(lines) + "\n"
 
+    def curves(self) -> dict:
+        """The frequency of each label against the number of modes [rad/s], label -> shape (s,) (NaN
+        where absent), in the order of the last row (the most modes); empty without labels."""
+        if not self.labels or not any(self.labels[-1]):
+            return {}
+        out = {label: np.full(len(self.n_modes), np.nan) for label in self.labels[-1] if label}
+        for i, names in enumerate(self.labels):
+            for label, value in zip(names, self.frequencies[i]):
+                if label in out:
+                    out[label][i] = value
+        return out
+
     def table(self) -> str:
-        """A text table, with the relative change from the previous row of each column."""
-        header = self.header()
+        """A text table, with the relative change from the previous row of each column; the columns
+        are the modes by label (:meth:`curves`) when they are labelled, so that a change compares a
+        mode with itself when added modes fall between."""
+        curves = self.curves()
+        header, rows = self.header(), list(self._rows())
+        if curves:
+            header = ["n_modes"] + [f"{label} [rad/s]" for label in curves] + header[1 + self.frequencies.shape[1]:]
+            rows = [(n, [curves[label][i] for label in curves] + row[self.frequencies.shape[1]:])
+                    for i, (n, row) in enumerate(rows)]
         widths = [8] + [max(18, len(h) + 2) for h in header[1:]]
         lines = ["".join(f"{h:>{w}}" for h, w in zip(header, widths))]
         previous = None
-        for n, row in self._rows():
+        for n, row in rows:
             lines.append(f"{n:>8}" + "".join(f"{v:>{w}.10g}" if not math.isnan(v) else f"{'-':>{w}}"
                                               for v, w in zip(row, widths[1:])))
             if previous is not None:
@@ -153,13 +187,14 @@ def convergence_study(model: Model, n_modes, *, about: str = "equilibrium", spin
     if at is not None and not (isinstance(at, (int, float)) and math.isfinite(at) and at > 0):
         raise ModelError("--at", "a positive time [s]", at)
     counts = list(n_modes)
-    rows, values, notes = [], [], []
+    rows, values, notes, labels = [], [], [], []
     sim = model.simulation
     for n in counts:
         variant = model.with_modes(int(n))
         lin = Linearization(variant, about=about, spin=spin, hub=hub)
         modal = modal_analysis(lin.at(outputs=False))
         rows.append(modal.frequencies[:count])
+        labels.append([m.label for m in modal.modes if m.kind == "oscillatory"][:count])
         for note in lin.notes:
             if note not in notes:
                 notes.append(note)
@@ -179,4 +214,4 @@ def convergence_study(model: Model, n_modes, *, about: str = "equilibrium", spin
     for k, r in enumerate(rows):
         table[k, :len(r)] = r
     return ConvergenceStudy(model.name, counts, table, output, float(at) if at is not None else None,
-                            np.array(values), notes)
+                            np.array(values), notes, labels)

@@ -2,10 +2,15 @@
 
 The eigenvalues lambda of the state matrix A (:meth:`LinearModel.state_space`) are sorted into
 
-* **rigid-body modes**: the directions dq with ``K dq = 0`` (null space of the stiffness, found
-  by singular values below ``1e-9`` of the largest): the chain moves without deforming and nothing
-  pulls it back. They give zero eigenvalues of A (``|lambda| <= 1e-6 max |lambda|``), reported
-  with frequency 0;
+* **rigid-body modes**: the states that stay put, ``A x = 0`` (the null space of the state matrix,
+  i.e. of ``[[V, W, 0], [K, C, K_z], [Z_q, Z_u, Z_z]]`` with each block row scaled to its largest
+  entry, found by singular values below ``1e-9`` of the largest): the chain moves without
+  deforming and nothing pulls it back. Without a steady spin (``V = 0``, W invertible) these are
+  the directions ``K dq = 0`` (the null space of the stiffness); about a steady spin they are fewer:
+  a body spinning freely keeps its turn about the spin axis (and its shift along it) as rigid-body
+  modes, while its turns about the other axes, seen from the spinning frame, are oscillations at
+  the spin rate. Rigid-body modes give zero eigenvalues of A (``|lambda| <= 1e-6 max |lambda|``),
+  reported with frequency 0;
 * **oscillatory modes**: conjugate pairs, one per mode, with natural frequency
   ``omega_n = |lambda|`` [rad/s], ``f = omega_n / (2 pi)`` [Hz], damping ratio
   ``zeta = -Re(lambda) / |lambda|`` and damped frequency ``Im(lambda)`` (negative zeta: flutter;
@@ -15,13 +20,16 @@ The eigenvalues lambda of the state matrix A (:meth:`LinearModel.state_space`) a
   stiffening beyond its first bending frequency.
 
 A mode shape is the dq part of the eigenvector (or the null vector), scaled so that its largest
-component is 1 (real for undamped modes).
+component is 1 (real for undamped modes). Each mode is labelled by its dominant motion (``flap``,
+``lag``, ``torsion``, ``bending``, ``axial``, ``joint <name>``, :mod:`flexkane.linearize.participation`)
+and its rank among the modes of that motion (``flap 1``, ``flap 2``; the two real eigenvalues of a
+statically unstable or overdamped mode share one label).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import scipy.linalg
@@ -50,12 +58,25 @@ class Mode:
         dq, shape (n,), largest component 1 (real part of ``shape_complex``).
     shape_complex : numpy.ndarray
         The complex dq of the eigenvector, shape (n,), same scaling.
+    label : str
+        Dominant motion and rank among the modes of that motion (``flap 1``, ``torsion 1``,
+        ``joint hub 1``; :mod:`flexkane.linearize.participation`); '' when the linear model does not
+        know its chain.
+    participation : dict of str to float
+        Share of each family of motion in the mode's kinetic energy (summing to 1).
     """
 
     kind: str
     eigenvalue: complex
     shape: np.ndarray
     shape_complex: np.ndarray
+    label: str = ""
+    participation: dict = field(default_factory=dict)
+
+    @property
+    def motion(self) -> str:
+        """The dominant motion (the label without its rank)."""
+        return self.label.rsplit(" ", 1)[0] if self.label else ""
 
     @property
     def omega(self) -> float:
@@ -91,14 +112,27 @@ def _normalise(vector: np.ndarray) -> np.ndarray:
 
 
 def _null_space(K: np.ndarray) -> np.ndarray:
-    """Orthonormal basis of the null space of K, shape (n, r)."""
-    n = K.shape[0]
+    """Orthonormal basis of the null space of K, shape (columns, r)."""
+    n = K.shape[1]
     if n == 0:
         return np.zeros((0, 0))
     _, s, vh = scipy.linalg.svd(K)
     largest = s[0] if s.size else 0.0
     rank = int(np.sum(s > RIGID_TOLERANCE[0] * largest)) if largest > 0 else 0
     return vh[rank:].conj().T
+
+
+def _rest_states(linear: LinearModel) -> np.ndarray:
+    """The states that stay put (module docstring): basis of the null space of the state matrix,
+    shape (2n + nz, r), from its block rows ``[V, W, 0]``, ``[K, C, K_z]`` (M times A's second
+    block row) and ``[Z_q, Z_u, Z_z]``, each scaled by its largest entry."""
+    n, nz = linear.n, linear.nz
+    K_z = np.asarray(linear.K_z if nz else np.zeros((n, 0)), dtype=float).reshape(n, nz)
+    blocks = [np.hstack([linear.V, linear.W, np.zeros((n, nz))]), np.hstack([linear.K, linear.C, K_z])]
+    if nz:
+        blocks.append(np.asarray(linear.Z_x, dtype=float).reshape(nz, 2 * n + nz))
+    scaled = [b / max(float(np.max(np.abs(b), initial=0.0)), 1e-300) for b in blocks]
+    return _null_space(np.vstack(scaled))
 
 
 class ModalAnalysis:
@@ -127,11 +161,14 @@ class ModalAnalysis:
             return
         values, vectors = scipy.linalg.eig(A)
         self.eigenvalues = values
-        modes: list[Mode] = []
-        null = _null_space(linear.K)
+        modes: list[tuple] = []       # (mode, speed part of its eigenvector or None)
+        null = _rest_states(linear)[:n]
+        if null.shape[1]:       # the dq parts, orthonormal
+            u, s, _ = scipy.linalg.svd(null, full_matrices=False)
+            null = u[:, :int(np.sum(s > RIGID_TOLERANCE[0] * s[0]))] if s[0] > 0 else null[:, :0]
         for k in range(null.shape[1]):
             shape = _normalise(null[:, k].astype(complex))
-            modes.append(Mode("rigid", 0j, shape.real, shape))
+            modes.append((Mode("rigid", 0j, shape.real, shape), None))
         scale = float(np.max(np.abs(values), initial=0.0))
         zero = np.abs(values) <= RIGID_TOLERANCE[1] * max(scale, 1e-300)
         others = []
@@ -148,9 +185,9 @@ class ModalAnalysis:
                 value = complex(value.real, 0.0)
                 kind = "divergent" if value.real > 0 else "overdamped"
             shape = _normalise(vector[:n])
-            others.append(Mode(kind, complex(value), shape.real, shape))
-        others.sort(key=lambda m: (m.omega, m.eigenvalue.real))
-        self.modes = modes + others
+            others.append((Mode(kind, complex(value), shape.real, shape), vector[n:2 * n]))
+        others.sort(key=lambda pair: (pair[0].omega, pair[0].eigenvalue.real))
+        self.modes = _labelled(linear, modes + others)
 
     # ------------------------------------------------------------------ selections
     @property
@@ -182,6 +219,14 @@ class ModalAnalysis:
     HEADER = ("mode", "kind", "omega_n [rad/s]", "f_n [Hz]", "zeta [-]", "Re(lambda) [1/s]",
               "Im(lambda) [rad/s]")
 
+    @property
+    def families(self) -> list[str]:
+        """The families of motion of the chain, in the order of first appearance in the modes."""
+        names: list[str] = []
+        for mode in self.modes:
+            names += [k for k in mode.participation if k not in names]
+        return names
+
     def rows(self) -> list[tuple]:
         """One row per mode: (number, kind, omega_n, f_n, zeta, Re lambda, Im lambda)."""
         return [(k + 1, m.kind, m.omega, m.frequency, m.damping_ratio, m.eigenvalue.real,
@@ -190,23 +235,56 @@ class ModalAnalysis:
     def table(self) -> str:
         """The modes as a text table, one line per mode."""
         widths = (4, 11, 16, 14, 11, 17, 18)
-        lines = ["  ".join(f"{h:>{w}}" for h, w in zip(self.HEADER, widths))]
-        for row in self.rows():
+        labelled = any(m.label for m in self.modes)
+        lines = ["  ".join(f"{h:>{w}}" for h, w in zip(self.HEADER, widths)) + ("  motion" if labelled else "")]
+        for row, mode in zip(self.rows(), self.modes):
             cells = [f"{row[0]:>{widths[0]}}", f"{row[1]:>{widths[1]}}"]
             for value, w in zip(row[2:], widths[2:]):
                 cells.append(f"{value + 0.0:>{w}.10g}" if not math.isnan(value) else f"{'-':>{w}}")
+            if labelled:
+                cells.append(f"{mode.label} ({100 * mode.participation.get(mode.motion, 0.0):.0f} %)")
             lines.append("  ".join(cells))
         return "\n".join(lines)
 
     def csv_text(self) -> str:
-        """The modes as CSV, with the mode shapes (one column per coordinate)."""
+        """The modes as CSV: the table, the label (dominant motion and rank), the participation of
+        each family of motion [-] and the mode shapes (one column per coordinate)."""
         names = self.linear.coordinates
-        lines = [",".join(list(self.HEADER) + [f"shape {c}" for c in names])]
+        families = self.families
+        lines = [",".join(list(self.HEADER) + ["motion"] + [f"participation {f}" for f in families]
+                          + [f"shape {c}" for c in names])]
         for row, mode in zip(self.rows(), self.modes):
-            cells = [str(row[0]), row[1]] + [repr(float(v) + 0.0) for v in row[2:]]
+            cells = [str(row[0]), row[1]] + [repr(float(v) + 0.0) for v in row[2:]] + [mode.label]
+            cells += [repr(float(mode.participation.get(f, 0.0))) for f in families]
             cells += [repr(float(v)) for v in mode.shape]
             lines.append(",".join(cells))
         return "\n".join(lines) + "\n"
+
+
+def _labelled(linear: LinearModel, modes: list) -> list:
+    """The modes of ``(mode, du)`` pairs with their participations and labels (module docstring),
+    ``du`` the speed part of the eigenvector (the shape ``dq`` stands for it when it is None or zero)."""
+    from .participation import motion_families
+
+    families = motion_families(linear)
+    ranks: dict = {}
+    pending: dict = {}       # the motion of a real mode whose partner may follow
+    out = []
+    for mode, speeds in modes:
+        if families is None:
+            out.append(mode)
+            continue
+        vector = speeds if speeds is not None and np.any(np.abs(speeds) > 0) else mode.shape_complex
+        share = families.participation(linear.M, vector)
+        motion = families.dominant(share)
+        if mode.kind in ("overdamped", "divergent") and motion in pending:
+            rank = pending.pop(motion)
+        else:
+            rank = ranks[motion] = ranks.get(motion, 0) + 1
+            if mode.kind in ("overdamped", "divergent"):
+                pending[motion] = rank
+        out.append(replace(mode, label=f"{motion} {rank}" if motion else "", participation=share))
+    return out
 
 
 def modal_analysis(linear: LinearModel) -> ModalAnalysis:

@@ -386,10 +386,12 @@ class Linearization:
         if gravity:
             values = dict(zip(self.parameters, p))
             size = float(sp.sqrt(sum(c ** 2 for c in gravity)).xreplace(values))
-        if u0 is not None and np.any(u0):
+        if u0 is not None and np.any(u0):   # the velocity forces of the spin, also where they balance
             x = self._numbers(q_all, p, u0)
             try:
-                size = max(size, float(np.max(np.abs(np.linalg.solve(x["M"], x["F_u"] @ u0)))))
+                gyroscopic = np.linalg.solve(x["M"], x["F_u"])
+                size = max(size, float(np.max(np.abs(gyroscopic @ u0))),
+                           float(np.max(np.abs(gyroscopic))) * float(np.max(np.abs(u0))))
             except np.linalg.LinAlgError:
                 pass
         if self.r:

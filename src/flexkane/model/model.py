@@ -140,7 +140,9 @@ class Model:
         return new.validate() if validate else new
 
     def with_modes(self, n_modes: int) -> "Model":
-        """A copy in which every beam has ``n_modes`` transverse shape functions.
+        """A copy in which every beam has ``n_modes`` transverse shape functions (a spatial beam:
+        ``n_modes`` in each bending plane and of torsion that it has, ``n_modes_y``, ``n_modes_z``,
+        ``n_torsion`` > 0).
 
         Beams whose shape roots were typed explicitly keep them only when their count matches.
         """
@@ -148,13 +150,25 @@ class Model:
 
         if isinstance(n_modes, bool) or not isinstance(n_modes, int) or not 1 <= n_modes <= MAX_MODES:
             raise ModelError("n_modes", f"an integer from 1 to {MAX_MODES}", n_modes)
-        total = n_modes * len(self.beams) + sum(beam.n_axial or 0 for beam in self.beams.values())
+        families = {name: sum(1 for n in (beam.n_modes_y, beam.n_modes_z, beam.n_torsion) if n) or 1
+                    for name, beam in self.beams.items()}
+        total = n_modes * sum(families.values()) + sum(beam.n_axial or 0 for beam in self.beams.values())
         if total > MAX_ELASTIC_COORDINATES:
             raise ModelError("n_modes", f"at most {MAX_ELASTIC_COORDINATES} shape functions over all beams "
                              "(n_modes + n_axial summed)", n_modes,
                              f"{total} with n_modes {n_modes} on {len(self.beams)} beam(s)")
         new = self.copy()
         for beam in new.beams.values():
+            if new.dimensions == 3:       # a spatial beam
+                for key, shape in (("n_modes_y", "shape_y"), ("n_modes_z", "shape_z"), ("n_torsion", "torsion_shape")):
+                    if not getattr(beam, key):
+                        continue
+                    setattr(beam, key, n_modes)
+                    spec = getattr(beam, shape)
+                    if spec is not None and spec.roots is not None and len(spec.roots) != n_modes:
+                        raise ModelError(f"beams.{beam.name}.{shape}.roots",
+                                         f"{n_modes} roots to match {key} (or a model without typed roots)", spec.roots)
+                continue
             beam.n_modes = n_modes
             if beam.shape.roots is not None and len(beam.shape.roots) != n_modes:
                 raise ModelError(f"beams.{beam.name}.shape.roots",
