@@ -248,7 +248,7 @@ class EquationsOfMotion:
         A_full = sub(chain.intermediates.expand(A))
         A0 = np.array(A_full.xreplace({k: sp.Float(v) for k, v in numeric.items()}).evalf(), dtype=float)
         roles = {c_.u: c_.role for c_ in chain.coordinates}
-        preferred = [roles[u] not in ("mode", "axial") for u in u_free]
+        preferred = [roles[u] not in ("mode", "axial", "mode_y", "mode_z", "torsion") for u in u_free]
         dep = choose_dependent(A0, u_free, preferred, cons.dependent)
         ind = [j for j in range(len(u_free)) if j not in dep]
         Ad = A[:, dep]
@@ -310,7 +310,8 @@ class EquationsOfMotion:
         """Power of non-conservative forces with the drivers' efforts corrected for constraint forces."""
         from .outputs import output_expressions
 
-        return sub(output_expressions(self)["power_nonconservative"])
+        outputs = spatial_output_expressions if self.chain.dimensions == 3 else output_expressions
+        return sub(outputs(self)["power_nonconservative"])
 
     def _initial_guess(self, model, values) -> dict:
         """Coordinates and speeds from the model's [initial] table (others 0), as numbers
