@@ -254,15 +254,23 @@ class EquationsOfMotion:
         Ad = A[:, dep]
         Ai = A[:, ind]
         # A_d^-1 as adjugate / determinant: no symbolic pivot that could vanish at some configuration
-        det = sp.factor_terms(Ad.det(method="berkowitz"))
-        adj = Ad.adjugate(method="berkowitz")
+        spatial = chain.dimensions == 3    # the loops' solution, named: it enters every equation
+        named = (lambda m, label: m.applyfunc(lambda x: chain.name(x, label))) if spatial \
+            else (lambda m, label: m)  # noqa: E731
+        if spatial:
+            from .spatial_constraints import named_det_adjugate
+
+            det, adj = named_det_adjugate(Ad, chain)
+        else:
+            det = sp.factor_terms(Ad.det(method="berkowitz"))
+            adj = Ad.adjugate(method="berkowitz")
         solve = lambda rhs: (adj * rhs) / det  # noqa: E731
-        X = solve(Ai)
+        X = named(solve(Ai), "C_loops")
         y = solve(a)
         ui = sp.Matrix([u_free[j] for j in ind])
-        u_dep = -X * ui - y
+        u_dep = named(-X * ui - y, "u_loops")
         dep_subs = {u_free[j]: u_dep[k] for k, j in enumerate(dep)}
-        e_dep = -solve(c.xreplace(dep_subs))
+        e_dep = named(-solve(c.xreplace(dep_subs)), "ud_loops")
         n, ni = len(u_free), len(ind)
         P = sp.zeros(n, ni)
         e = sp.zeros(n, 1)

@@ -45,7 +45,7 @@ def _per_coordinate(kin, joint, field: str, convert) -> list:
     """Per coordinate of a joint, ``convert(path, value, label)`` of a field given for one coordinate
     (a value, the first coordinate's; label the joint's name) or for each (a list; label the
     coordinate's name); None where not given."""
-    coords = kin.chain.of(joint.name)
+    coords = kin.chain.joint_coordinates(joint.name)
     value = getattr(joint, field, None)
     path = f"joints.{joint.name}.{field}"
     if value is None:
@@ -106,7 +106,7 @@ def spatial_active_forces(kin) -> dict[str, list]:
             parts["loads"][r] += term
 
     for joint in chain.joints:
-        coords = chain.of(joint.name)
+        coords = chain.joint_coordinates(joint.name)
         stiffness = joint_coordinate_values(kin, joint, "stiffness", "k")
         damping = joint_coordinate_values(kin, joint, "damping", "c")
         rest = joint_coordinate_values(kin, joint, "rest", "rest") if joint.stiffness is not None else []

@@ -24,11 +24,13 @@ drift is driven back by the constraint's ``stabilization`` rate, as in the plane
 A dependent speed of a spherical or free joint moves Euler parameters (``e' = 1/2 E(e) w``), not a
 coordinate of its own; so the initial state is closed (:func:`project_coordinates`) by Newton's
 method along the directions the dependent speeds move the coordinates, ``dq = K_d(q) dx`` with
-``K_d = dq'/du_d``, whose constraint Jacobian is the velocity constraints' ``A_d``; each step
-renormalizes the Euler parameters.
+``K_d = dq'/du_d``, whose constraint Jacobian is the velocity constraints' ``A_d`` (taken by central
+differences); each step renormalizes the Euler parameters.
 """
 
 from __future__ import annotations
+
+from itertools import combinations
 
 import numpy as np
 import sympy as sp
@@ -37,7 +39,7 @@ from ..errors import ModelError
 from .spatial_frame import dot
 from .spatial_joints import direction, orientation, plane_axes
 
-__all__ = ["closure_equations", "needs_turning_projection", "project_coordinates"]
+__all__ = ["closure_equations", "named_det_adjugate", "needs_turning_projection", "project_coordinates"]
 
 
 def _vect(E: sp.Matrix) -> list:
@@ -64,16 +66,64 @@ def closure_equations(kin, con, path: str) -> list:
     a, b = kin.end_frame(con, "a", path), kin.end_frame(con, "b", path)
     d = [y - x for x, y in zip(a.r, b.r)]
     if con.type == "spherical":
-        return d
-    if con.type == "point_on_line":
+        eqs = d
+    elif con.type == "point_on_line":
         n = direction(kin.symbols, f"{path}.axis", con.axis, f"n_{con.name}")
         e1, e2 = plane_axes(n, f"{path}.axis")
         local = a.rotation.inverse_apply(d)
-        return [dot(e1, local), dot(e2, local)]
-    if con.type == "weld":
+        eqs = [dot(e1, local), dot(e2, local)]
+    elif con.type == "weld":
         target = a.rotation * orientation(kin.symbols, f"{path}.orientation", con.orientation, f"O_{con.name}")
-        return d + _vect(target.matrix.T * b.rotation.matrix)
-    raise ModelError(f"{path}.type", "spherical, point_on_line or weld", con.type)
+        eqs = d + _vect(target.matrix.T * b.rotation.matrix)
+    else:
+        raise ModelError(f"{path}.type", "spherical, point_on_line or weld", con.type)
+    # named: their rates and partial derivatives (the constraint matrix) stay small, whatever the
+    # frames at the ends (a beam section turned by its slopes and twist)
+    return [kin.chain.name(e, f"Phi{k + 1}_{con.name}") for k, e in enumerate(eqs)]
+
+
+def named_det_adjugate(A: sp.Matrix, chain, label: str = "loops") -> tuple:
+    """Determinant and adjugate of a square matrix, every minor a named intermediate.
+
+    Each minor is expanded along its last row from the minors of one size less (Laplace, with the
+    minors memoized by their set of columns), so the work grows as ``m^2 2^m`` named sums of at most
+    m products however large the entries, where Berkowitz's adjugate of a 6 x 6 matrix of
+    intermediates (a weld) multiplies them out. No pivot: the determinant is the only divisor.
+
+    Parameters
+    ----------
+    A : sympy.Matrix, shape (m, m)
+    chain : Chain
+        Whose registry names the minors (``minor_<label>``, ``det_<label>``).
+    label : str
+
+    Returns
+    -------
+    det : sympy.Expr
+    adj : sympy.Matrix, shape (m, m)
+        ``adj * A = det * I``.
+    """
+    m = A.shape[0]
+
+    def last_minors(rows):
+        """det of the rows ``rows`` (in order) and each set of len(rows) columns."""
+        level = {(): sp.Integer(1)}
+        for k, i in enumerate(rows):
+            nxt = {}
+            for cols in combinations(range(m), k + 1):
+                terms = [(-1) ** (k + pos) * A[i, j] * level[cols[:pos] + cols[pos + 1:]]
+                         for pos, j in enumerate(cols) if A[i, j] != 0]
+                nxt[cols] = chain.name(sp.Add(*terms), f"minor_{label}")
+            level = nxt
+        return level
+
+    cofactor = sp.zeros(m, m)
+    for i in range(m):
+        minors = last_minors([r for r in range(m) if r != i])
+        for j in range(m):
+            cofactor[i, j] = (-1) ** (i + j) * minors[tuple(c for c in range(m) if c != j)]
+    det = chain.name(sp.Add(*[A[0, j] * cofactor[0, j] for j in range(m)]), f"det_{label}")
+    return det, cofactor.T
 
 
 def needs_turning_projection(eom) -> bool:
@@ -92,7 +142,7 @@ def _euler_blocks(chain, q: list) -> list:
     blocks = []
     for joint in chain.joints:
         if joint.type in ("spherical", "free"):
-            e = [c.q for c in chain.of(joint.name)][-4:]
+            e = [c.q for c in chain.joint_coordinates(joint.name)][-4:]
             blocks.append([q.index(s) for s in e])
     return blocks
 
@@ -129,7 +179,6 @@ def project_coordinates(eom, q: np.ndarray, p_values: dict, t: float = 0.0) -> n
     directions = qdot.jacobian(dep).xreplace(subs_const)     # K_d: q' is linear in the speeds
     args = [eom.t] + list(eom.q)
     f = sp.lambdify(args, phi, "numpy")
-    jac = sp.lambdify(args, phi.jacobian(list(eom.q)) * directions, "numpy")
     move = sp.lambdify(args, directions, "numpy")
     blocks = _euler_blocks(chain, list(eom.q))
     q = np.array(q, dtype=float)
@@ -137,18 +186,29 @@ def project_coordinates(eom, q: np.ndarray, p_values: dict, t: float = 0.0) -> n
     def residual(x):
         return np.asarray(f(t, *x), dtype=float).ravel()
 
+    def moved(x, K, step):
+        y = x + K @ step
+        for block in blocks:
+            y[block] /= np.linalg.norm(y[block])
+        return y
+
+    def jacobian(x, K, h=1e-7):
+        """A_d = Phi_q K_d by central differences along the dependent directions (Newton's
+        iteration only needs it approximately: the residual judges convergence)."""
+        eye = np.eye(len(dep))
+        return np.column_stack([(residual(moved(x, K, h * eye[k])) - residual(moved(x, K, -h * eye[k]))) / (2 * h)
+                                for k in range(len(dep))])
+
     r = residual(q)
     for _ in range(50):
         if np.abs(r).max() <= 1e-13:
             break
-        A = np.asarray(jac(t, *q), dtype=float)
+        K = np.asarray(move(t, *q), dtype=float)
         try:
-            step = np.linalg.solve(A, -r)
+            step = np.linalg.solve(jacobian(q, K), -r)
         except np.linalg.LinAlgError:
             break
-        trial = q + np.asarray(move(t, *q), dtype=float) @ step
-        for block in blocks:
-            trial[block] /= np.linalg.norm(trial[block])
+        trial = moved(q, K, step)
         r_trial = residual(trial)
         if not np.all(np.isfinite(r_trial)):
             break
