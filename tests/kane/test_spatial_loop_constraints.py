@@ -188,19 +188,63 @@ def test_rssr_four_bar_follows_its_closed_form_and_conserves_energy():
     closure = max(np.abs(run.outputs[f"constraint_loop_{k}"]).max() for k in (1, 2, 3))
     assert closure <= 1e-9, closure
     energy = run.outputs["energy"]
-    assert np.ptp(energy) <= 1e-8 * np.ptp(run.outputs["kinetic"]) * 100, np.ptp(energy)
+    assert np.ptp(energy) <= 1e-8 * np.ptp(run.outputs["kinetic"]), np.ptp(energy)
 
 
 @pytest.mark.slow
-def test_planar_four_bar_through_the_spatial_engine_gives_the_planar_results():
-    """The rigid four-bar run by both engines for 2 s: coordinates and energies agree to 1e-10
-    (relative to their range)."""
-    planar = flexkane.builtin_model("four-bar")
-    runs = [_run(m, 2.0, 1e-12, 1e-13) for m in (planar, as_spatial(planar))]
+@pytest.mark.parametrize("name, t_end", [("four-bar", 2.0), ("slider-crank", 0.02)])
+def test_planar_loops_through_the_spatial_engine_give_the_planar_results(name, t_end):
+    """The rigid four-bar and the flexible slider-crank (an elastic rod in a closed loop, its crank
+    driven) run by both engines: coordinates and energies agree to 1e-10 (relative to their range)."""
+    planar = flexkane.builtin_model(name)
+    runs = [_run(m, t_end, 1e-12, 1e-13) for m in (planar, as_spatial(planar))]
+    modal = {f"{x}_rod_{i}": f"{x}_rod_y{i}" for i in (1, 2) for x in "qu"}
     for k, column in enumerate(runs[0].state_names):
         a = runs[0].state[:, k]
-        b = runs[1].state[:, runs[1].state_names.index(column)]
+        b = runs[1].state[:, runs[1].state_names.index(modal.get(column, column))]
         assert np.abs(b - a).max() <= 1e-10 * max(1.0, np.abs(a).max()), column
     for output in ("kinetic", "energy"):
         a, b = runs[0].outputs[output], runs[1].outputs[output]
         assert np.abs(b - a).max() <= 1e-10 * max(1.0, np.abs(a).max()), output
+
+
+@pytest.mark.slow
+def test_flexible_spatial_slider_crank_keeps_its_loop_closed_and_its_energy_balance():
+    """The flexible spatial slider-crank (driven crank, elastic rod on a universal joint, raised
+    slider, spherical closure) for 0.5 s: the loop stays closed to solver tolerance, the driver's work
+    equals the change of the energy (kinetic + strain), and the slider stays within the rod's small
+    deflection of the rigid mechanism's closed-form travel a cos(t) + sqrt(L^2 - h^2 - a^2 sin(t)^2)."""
+    model = flexkane.load_model(HERE / "spatial_slider_crank.toml")
+    run = _run(model, 0.5)
+    closure = max(np.abs(run.outputs[f"constraint_piston_{k}"]).max() for k in (1, 2, 3))
+    assert closure <= 1e-9, closure
+    energy = run.outputs["energy"]
+    assert np.ptp(run.outputs["strain"]) > 1e-4 and np.ptp(energy) > 0.1
+    assert np.abs(run.outputs["energy_balance"]).max() <= 1e-8 * np.ptp(energy)
+    crank = 10.0 * run.t
+    rigid = 0.15 * np.cos(crank) + np.sqrt(0.3 ** 2 - 0.05 ** 2 - (0.15 * np.sin(crank)) ** 2)
+    slider = run.state[:, run.state_names.index("q_slider")]
+    assert np.abs(slider - rigid).max() <= 1e-4
+
+
+@pytest.mark.slow
+def test_welded_pair_moves_as_one_body_and_conserves_energy():
+    """A body on a free joint welded to a pendulum (six scalar constraints, the free joint's six
+    speeds dependent): its frame stays at the pendulum's turned by the weld's orientation, and the
+    energy is constant to solver tolerance over 1 s."""
+    model = flexkane.load_model(HERE / "welded_pair.toml")
+    run = _run(model, 1.0)
+    state = {name: run.state[:, k] for k, name in enumerate(run.state_names)}
+    n = np.array([1.0, 1.0, 0.0]) / np.sqrt(2.0)
+    for k in (0, 50, 100):
+        angle = state["q_hinge"][k]
+        arm = np.concatenate([[np.cos(angle / 2)], np.sin(angle / 2) * n])
+        weld = np.array([np.cos(0.2), 0.0, np.sin(0.2), 0.0])
+        expected = _product(arm, weld)
+        e = np.array([state[f"q_float_e{i}"][k] for i in range(4)])
+        assert min(np.abs(e - expected).max(), np.abs(e + expected).max()) <= 1e-9
+    closure = max(np.abs(run.outputs[f"constraint_glue_{k}"]).max() for k in range(1, 7))
+    assert closure <= 1e-9, closure
+    energy = run.outputs["energy"]
+    assert np.ptp(run.outputs["kinetic"]) > 0.01
+    assert np.ptp(energy) <= 1e-8 * np.ptp(run.outputs["kinetic"]), np.ptp(energy)
