@@ -508,7 +508,7 @@ class LoopConstraint:
     name : str
         Unique name.
     type : str
-        ``revolute`` or ``prismatic``.
+        ``revolute`` or ``prismatic`` (planar); ``spherical``, ``point_on_line`` or ``weld`` (spatial).
     body_a, body_b : str
         ``ground``, a body or a beam.
     point_a, point_b : str, optional
