@@ -7,7 +7,6 @@ at any state), and the planar engine (a planar beam chain run through the spatia
 
 import numpy as np
 import pytest
-import sympy as sp
 
 import flexkane
 from flexkane.model import loads_model

@@ -17,7 +17,8 @@ from ..errors import ModelError
 from .orientation import orientation_matrix, unit_vector, vector3
 from .parts import SPATIAL_JOINT_DOFS, Gravity, Joint, Load, RigidBody
 
-__all__ = ["check_body", "check_constraint_kind", "CONSTRAINT_EQUATIONS", "check_joint_geometry", "check_gravity", "check_load", "check_position", "refuse_part",
+__all__ = ["check_body", "check_constraint_kind", "CONSTRAINT_EQUATIONS", "check_joint_geometry", "check_gravity",
+           "check_load", "check_position", "refuse_part",
            "joint_counts", "PERPENDICULAR_TOLERANCE", "INERTIA_TOLERANCE"]
 
 #: Largest |cos| of the angle between a universal joint's two axes [-].
