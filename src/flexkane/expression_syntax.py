@@ -34,7 +34,7 @@ from .errors import ModelError
 
 __all__ = ["FUNCTIONS", "MAX_DEPTH", "MAX_EXPONENT", "MAX_INTEGER", "MAX_LENGTH", "MAX_NODES",
            "NeedsSymbolic", "RESERVED_NAMES", "check_parameter_name", "dependency_order",
-           "expression_names", "field_value", "simple_names", "simple_value"]
+           "expression_names", "field_value", "rename_names", "simple_names", "simple_value"]
 
 MAX_LENGTH = 2000  #: Maximum number of characters of an expression.
 MAX_NODES = 500  #: Maximum number of syntax elements (numbers, names, operations, calls).
@@ -505,6 +505,29 @@ def expression_names(text) -> set[str]:
     called = {id(node.func) for node in ast.walk(tree) if isinstance(node, ast.Call)}
     return {node.id for node in ast.walk(tree)
             if isinstance(node, ast.Name) and id(node) not in called and node.id != "pi"}
+
+
+def rename_names(text, names: Mapping[str, str]):
+    """``text`` with each name that ``names`` maps replaced by its new name, every other character
+    kept (functions and ``pi`` are never renamed).
+
+    A number, or a text outside the language's syntax and limits, is returned unchanged (its
+    validation then says what is wrong with it).
+    """
+    if not isinstance(text, str):
+        return text
+    try:
+        tree = _checked_tree(text)
+    except NeedsSymbolic:
+        return text
+    source = _Source(text)
+    called = {id(node.func) for node in ast.walk(tree) if isinstance(node, ast.Call)}
+    spans = sorted(((source.start(node), source.end(node), names[node.id]) for node in ast.walk(tree)
+                    if isinstance(node, ast.Name) and id(node) not in called and node.id in names), reverse=True)
+    body = source.body
+    for start, end, new in spans:
+        body = body[:start] + new + body[end:]
+    return text[: len(text) - len(source.body)] + body
 
 
 def simple_names(text, names) -> set[str]:

@@ -129,3 +129,46 @@ def accelerations(eom):
         return np.linalg.solve(np.array(M, dtype=float), np.array(f, dtype=float).ravel())
 
     return rhs
+
+
+def compact_functions(eom, expressions):
+    """``f(q, u)`` evaluating expressions of the compact form (in terms of the named intermediates,
+    evaluated in order first), with the constants of the derived model."""
+    import numpy as np
+    import sympy as sp
+
+    values = eom.constant_values()
+    constants = [values[c] for c in eom.constants]
+    symbols = [s for s, _ in eom.intermediates]
+    args = [eom.t, *eom.q, *eom.u, *eom.constants, *symbols]
+    definitions = [sp.lambdify(args, e) for _, e in eom.intermediates]
+    function = sp.lambdify(args, list(expressions))
+
+    def evaluate(q, u, t=0.0):
+        base = [t, *q, *u, *constants]
+        known = [0.0] * len(definitions)
+        for k, definition in enumerate(definitions):
+            known[k] = definition(*base, *known)
+        return np.array(function(*base, *known), dtype=float)
+
+    return evaluate
+
+
+def output_rates(eom, outputs, states):
+    """d/dt of outputs along the equations of motion at states (Richardson-extrapolated central
+    differences along (q', u')), one row per state."""
+    import numpy as np
+
+    acc = accelerations(eom)
+    functions = compact_functions(eom, [eom.compact.outputs[name] for name in outputs])
+    qdot = compact_functions(eom, list(eom.compact.qdot))
+    rows = []
+    for q, u in states:
+        ud = acc(q, u)
+        qd = qdot(q, u)
+
+        def central(h):
+            return (functions(q + h * qd, u + h * ud) - functions(q - h * qd, u - h * ud)) / (2 * h)
+
+        rows.append((4 * central(5e-5) - central(1e-4)) / 3)
+    return np.array(rows)

@@ -7,12 +7,11 @@ at any state), and the planar engine (a planar beam chain run through the spatia
 
 import numpy as np
 import pytest
-import sympy as sp
 
 import flexkane
 from flexkane.model import loads_model
 from flexkane.model.as_spatial import as_spatial
-from spatial_models import accelerations
+from spatial_models import accelerations, compact_functions as _compact_functions, output_rates as _rates
 
 LAMBDA = np.array([1.8751040687119611, 4.6940911329741745])   # clamped-free roots, eq. 8.4
 
@@ -142,44 +141,6 @@ stiffness = 2.0
 g = 9.81
 direction = [0, 0.3, -1]
 """
-
-
-def _compact_functions(eom, expressions):
-    """``f(q, u)`` evaluating expressions of the compact form (in terms of the named intermediates,
-    evaluated in order first), with the constants of the derived model."""
-    values = eom.constant_values()
-    constants = [values[c] for c in eom.constants]
-    symbols = [s for s, _ in eom.intermediates]
-    args = [eom.t, *eom.q, *eom.u, *eom.constants, *symbols]
-    definitions = [sp.lambdify(args, e) for _, e in eom.intermediates]
-    function = sp.lambdify(args, list(expressions))
-
-    def evaluate(q, u, t=0.0):
-        base = [t, *q, *u, *constants]
-        known = [0.0] * len(definitions)
-        for k, definition in enumerate(definitions):
-            known[k] = definition(*base, *known)
-        return np.array(function(*base, *known), dtype=float)
-
-    return evaluate
-
-
-def _rates(eom, outputs, states):
-    """d/dt of outputs along the equations of motion at states (Richardson-extrapolated central
-    differences along (q', u')), one row per state."""
-    acc = accelerations(eom)
-    functions = _compact_functions(eom, [eom.compact.outputs[name] for name in outputs])
-    qdot = _compact_functions(eom, list(eom.compact.qdot))
-    rows = []
-    for q, u in states:
-        ud = acc(q, u)
-        qd = qdot(q, u)
-
-        def central(h):
-            return (functions(q + h * qd, u + h * ud) - functions(q - h * qd, u - h * ud)) / (2 * h)
-
-        rows.append((4 * central(5e-5) - central(1e-4)) / 3)
-    return np.array(rows)
 
 
 def _random_states(eom, euler_slice, count=4, seed=7):

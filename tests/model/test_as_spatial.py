@@ -128,25 +128,21 @@ def test_free_joint_speeds_along_the_child_axes_become_rates_of_x_and_y():
 
 @pytest.mark.parametrize("name", [n for n in builtin_names() if builtin_model(n).dimensions == 2])
 def test_every_planar_builtin_converts_and_is_refused_only_for_parts_not_yet_in_3d(name):
-    """Every built-in model converts; spatial models refuse for now loop constraints, distributed
-    loads, sensors, controllers and the beam options the spatial
+    """Every built-in model converts; spatial models refuse for now prismatic loop constraints,
+    sensors, controllers and the beam options the spatial
     beams do not have (modal damping, midpoint gravity, rotary inertia, shear-moment forces): the
-    spatial form validates, or is refused for such parts only, each named."""
+    spatial form validates, or is refused for such parts only, each named. Loop constraints and
+    distributed loads convert, and laws that read modal coordinates are renamed."""
     planar = builtin_model(name)
     spatial = as_spatial(planar, validate=False)
     assert loads_model(dumps_model(planar)) == planar   # not changed
-    refused = {f"constraints.{c}" for c in planar.constraints} \
-        | {f"distributed_loads.{d}" for d in planar.distributed_loads} \
+    refused = {f"constraints.{c.name}.type" for c in planar.constraints.values() if c.type == "prismatic"} \
         | {f"sensors.{s}" for s in planar.sensors} | {f"controllers.{c}" for c in planar.controllers} \
         | {f"beams.{b.name}.{key}" for b in planar.beams.values() for key, unsupported in (
             ("damping", bool(b.damping)), ("gravity", b.gravity != "distributed"),
             ("rotary_inertia", b.rotary_inertia is not None),
             ("elastic_forces", b.elastic_forces != "strain-energy")) if unsupported}
-    # a law that reads modal coordinates names them as the plane does (q_<beam>_<i>); the spatial names
-    # are q_<beam>_y<i>, and as_spatial does not rewrite expressions: such a field is refused by name
     modal = {n for c in coordinate_names(planar) if c.owner in planar.beams for n in (c.q, c.u)}
-    refused |= {f"joints.{j.name}.torque" for j in planar.joints.values()
-                if modal & set(re.findall(r"\w+", str(j.torque)))}
     if not refused:
         assert spatial.validate() is not None    # a beam chain the spatial engine derives
         return
@@ -154,7 +150,7 @@ def test_every_planar_builtin_converts_and_is_refused_only_for_parts_not_yet_in_
         spatial.validate()
     errors = info.value.errors if isinstance(info.value, ModelErrors) else [info.value]
     assert errors and {e.path for e in errors} <= refused
-    assert all("not yet supported in 3D" in str(e) or "unknown name" in str(e) for e in errors)
+    assert all("not yet supported" in str(e) or "loop joints are planar" in str(e) for e in errors)
     # with those parts taken away (and what hangs from them), the rest is a valid spatial model
     rigid = spatial.copy()
     removed = set(rigid.beams)
@@ -188,3 +184,37 @@ def test_only_planar_models_convert():
     spatial = as_spatial(loads_model(RIGID))
     with pytest.raises(ModelError, match="dimensions: expected a planar model"):
         as_spatial(spatial)
+
+
+def test_laws_that_read_planar_modal_coordinates_are_renamed():
+    """A torque law reading q_<beam>_<i> and u_<beam>_<i> reads q_<beam>_y<i>, u_<beam>_y<i> in the
+    spatial model (names only; q_<beam>_10 is not q_<beam>_1), and the spatial model validates."""
+    planar = builtin_model("flexible-arm-lqr")
+    joint = next(j for j in planar.joints.values() if isinstance(j.torque, str) and "q_link_1" in j.torque)
+    spatial = as_spatial(planar)
+    torque = spatial.joints[joint.name].torque
+    assert torque == re.sub(r"\b([qu])_link_(\d)\b", r"\1_link_y\2", joint.torque)
+    assert "q_link_y1" in torque and "u_link_y3" in torque and "k_q_link_1*" in torque   # parameters kept
+    assert not re.search(r"\bq_link_1\b", torque)
+
+
+def test_rename_names_changes_names_only():
+    from flexkane.expression_syntax import rename_names
+
+    names = {"q_b_1": "q_b_y1", "u_b_1": "u_b_y1", "sin": "cos"}
+    assert rename_names(" -k*q_b_1 + sin(q_b_1)*u_b_1 - q_b_10 + 1e-3", names) == \
+        " -k*q_b_y1 + sin(q_b_y1)*u_b_y1 - q_b_10 + 1e-3"
+    assert rename_names("where(q_b_1 > 0, q_b_1, 0)", names) == "where(q_b_y1 > 0, q_b_y1, 0)"
+    assert rename_names(2.5, names) == 2.5 and rename_names("q_b_1 +", names) == "q_b_1 +"
+
+
+def test_loop_constraints_and_distributed_loads_convert():
+    """A planar revolute loop joint becomes point_on_line along z; a distributed load keeps fx, fy."""
+    four_bar = as_spatial(builtin_model("four-bar"))
+    loop = four_bar.constraints["loop"]
+    assert (loop.type, loop.axis, loop.dependent) == ("point_on_line", (0, 0, 1), ["u_coupler", "u_rocker"])
+    mast = as_spatial(builtin_model("wind-mast"), validate=False)
+    planar = builtin_model("wind-mast")
+    for name, load in planar.distributed_loads.items():
+        converted = mast.distributed_loads[name]
+        assert (converted.fx, converted.fy, converted.fz, converted.frame) == (load.fx, load.fy, 0, load.frame)

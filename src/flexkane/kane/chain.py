@@ -31,7 +31,10 @@ from ..model.values import TIME, FieldSymbols, GeneratedSymbol
 from .intermediates import NAME_ABOVE, Intermediates
 from .spatial_joints import kinematic_equations
 
-__all__ = ["Chain", "Coordinate", "build_chain"]
+__all__ = ["BEAM_ROLES", "Chain", "Coordinate", "build_chain"]
+
+#: Roles of a beam's own coordinates (planar and spatial).
+BEAM_ROLES = ("mode", "axial", "mode_y", "mode_z", "torsion")
 
 
 @dataclass
@@ -113,6 +116,11 @@ class Chain:
         """Coordinates of a joint or a beam (optionally of one role)."""
         return [c for c in self.coordinates if c.owner == owner and (role is None or c.role == role)]
 
+    def joint_coordinates(self, joint: str) -> list[Coordinate]:
+        """Coordinates of a joint, without those of a beam of the same name (a joint ``rod``
+        carrying the beam ``rod``)."""
+        return [c for c in self.of(joint) if c.role not in BEAM_ROLES]
+
     @property
     def q(self) -> list[sp.Symbol]:
         return [c.q for c in self.coordinates]
@@ -190,7 +198,7 @@ def build_chain(model: Model) -> Chain:
     for coord in chain.speed_coordinates:
         chain.ud[coord.u] = GeneratedSymbol(f"{coord.u.name}'", real=True)
     for joint in chain.joints:
-        coords = chain.of(joint.name)
+        coords = chain.joint_coordinates(joint.name) if chain.dimensions == 3 else chain.of(joint.name)
         if chain.dimensions == 3:
             chain.qdot.update(kinematic_equations(joint, coords))
         elif joint.type == "free":

@@ -55,10 +55,15 @@ def loop_constraints(kin: Kinematics) -> ConstraintSet:
     names, phi, rates, dependent = [], [], [], []
     for con in kin.chain.model.constraints.values():
         path = f"constraints.{con.name}"
-        a, b = kin.end_frame(con, "a", path), kin.end_frame(con, "b", path)
-        if con.type == "revolute":
+        if getattr(kin, "dimensions", 2) == 3:   # spherical, point_on_line, weld
+            from .spatial_constraints import closure_equations
+
+            eqs = closure_equations(kin, con, path)
+        elif con.type == "revolute":
+            a, b = kin.end_frame(con, "a", path), kin.end_frame(con, "b", path)
             eqs = [b.r[0] - a.r[0], b.r[1] - a.r[1]]
         else:
+            a, b = kin.end_frame(con, "a", path), kin.end_frame(con, "b", path)
             axis = kin.value(f"{path}.axis", con.axis, f"alpha_{con.name}")
             angle = kin.value(f"{path}.angle", con.angle, f"theta_{con.name}")
             normal = rot(a.theta + axis, (sp.Integer(0), sp.Integer(1)))
@@ -100,7 +105,12 @@ def choose_dependent(A: np.ndarray, speeds: list, preferred: list[bool], given: 
     m = A.shape[0]
     work = A.copy()
     if chosen:
-        # remove the directions spanned by the given columns
+        # remove the directions spanned by the given columns (which must be independent)
+        singular = np.linalg.svd(work[:, chosen], compute_uv=False)
+        if singular.min() <= 1e-12 * max(1.0, np.abs(A).max()):
+            raise ModelError("constraints.dependent", "dependent speeds whose columns of the constraint matrix "
+                             "are independent at the initial configuration (the loops can be solved for them)",
+                             [names[j] for j in chosen])
         Q, _ = np.linalg.qr(work[:, chosen])
         work = work - Q @ (Q.T @ work)
     candidates = [j for j in range(len(speeds)) if preferred[j] and j not in chosen]

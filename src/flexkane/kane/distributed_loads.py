@@ -27,7 +27,10 @@ whose atom values ``a(x_k)`` are station constants (``Phi_1(0.5*L)``); ``N`` is 
 ``2N`` in x, and converges quickly for smooth loads).
 
 Components given in the ``ground`` frame are turned into the beam frame with the angle of the beam's
-root frame (``f_B = R(-theta) f_N``); the rotation does not depend on x.
+root frame (``f_B = R(-theta) f_N``); the rotation does not depend on x. On a spatial beam
+(:func:`spatial_distributed_load_forces`) the load has three components and the point at x the
+three partial-velocity fields of :mod:`flexkane.kane.spatial_beam`; ground components are turned by
+the transpose of the beam frame's direction cosines.
 """
 
 from __future__ import annotations
@@ -38,7 +41,7 @@ import sympy as sp
 from ..model.values import TIME
 from .modal_field import Field
 
-__all__ = ["POSITION", "separate", "distributed_load_forces", "load_profile"]
+__all__ = ["POSITION", "separate", "distributed_load_forces", "spatial_distributed_load_forces", "load_profile"]
 
 #: Position along a beam, from its root [m], in the expressions of distributed loads.
 POSITION = sp.Symbol("x", real=True)
@@ -91,6 +94,63 @@ def _partial(kin, field: Field, u) -> Field:
     return field.map(lambda c: kin.chain.partial(c, u))
 
 
+class _LoadIntegrals:
+    """``int_0^L V(x) f_c(x, t) dx`` for the components ``f_c`` of one distributed load and fields V
+    of partial-velocity components (module docstring): separable terms through load constants, the
+    others at Gauss-Legendre nodes.
+
+    Parameters
+    ----------
+    kin : Kinematics or SpatialKinematics
+    load : DistributedLoad
+    keys : tuple of str
+        The load's component fields (``fx``, ``fy`` and, in 3D, ``fz``).
+    """
+
+    def __init__(self, kin, load, keys):
+        from ..expressions import parse_expression
+
+        path = f"distributed_loads.{load.name}"
+        bm = kin.beams[load.beam]
+        self.name = load.name
+        self.consts = bm.constants
+        names = {**kin.symbols.parameters, "t": TIME, "x": POSITION}
+        components = [parse_expression(getattr(load, key), names, path=f"{path}.{key}") for key in keys]
+        self.L = L = kin.value(f"beams.{load.beam}.L", bm.beam.L, f"L_{load.beam}")
+        self.L_text = bm.beam.L.strip() if isinstance(bm.beam.L, str) else repr(bm.beam.L)
+        xi, w = np.polynomial.legendre.leggauss(int(load.quadrature_nodes))
+        nodes = [((float(a) + 1.0) / 2.0, float(b) / 2.0) for a, b in zip(xi, w)]
+        # per component: separable profiles (h -> g(t)) and the remainder evaluated at the nodes
+        self.parts = []
+        for f in components:
+            profiles, rest = separate(f)
+            labels = {h: k + 1 for k, h in enumerate(profiles)}
+            at_nodes = [] if rest == 0 else [(xi_k, w_k, rest.xreplace({POSITION: L * sp.Float(xi_k)}))
+                                             for xi_k, w_k in nodes]
+            self.parts.append((profiles, labels, at_nodes))
+
+    def loaded(self, k: int) -> bool:
+        """Whether component k has any term."""
+        profiles, _, at_nodes = self.parts[k]
+        return bool(profiles or at_nodes)
+
+    def integral(self, V: Field, k: int, component: str) -> sp.Expr:
+        """int_0^L V(x) f_k(x, t) dx for a field V of partial velocity components."""
+        profiles, labels, at_nodes = self.parts[k]
+        consts, L = self.consts, self.L
+        terms = []
+        for h, g in profiles.items():
+            for atom, coeff in V.items():
+                label = f"{self.name}_{component}{labels[h]}"
+                terms.append(g * coeff * consts.load_integral(atom, h, label))
+        for xi_k, w_k, f_k in at_nodes:
+            x_k = L * sp.Float(xi_k)
+            text = f"{xi_k:.15g}*{self.L_text}"
+            value = V.evaluate(lambda a: consts.station(a, x_k, text))
+            terms.append(sp.Float(w_k) * L * f_k * value)
+        return sp.Add(*terms)
+
+
 def distributed_load_forces(kin, load, speeds) -> list:
     """``F_r`` of one distributed load, one expression per speed.
 
@@ -105,57 +165,64 @@ def distributed_load_forces(kin, load, speeds) -> list:
     list of sympy.Expr
         Shape (len(speeds),).
     """
-    from ..expressions import parse_expression
-
-    path = f"distributed_loads.{load.name}"
     bm = kin.beams[load.beam]
-    consts = bm.constants
-    names = {**kin.symbols.parameters, "t": TIME, "x": POSITION}
-    components = [parse_expression(getattr(load, key), names, path=f"{path}.{key}") for key in ("fx", "fy")]
+    loads = _LoadIntegrals(kin, load, ("fx", "fy"))
     if load.frame == "ground":
         c, s = sp.cos(bm.frame.theta), sp.sin(bm.frame.theta)
         # beam-frame components of the unit vectors i0 and j0
         directions = [(c, -s), (s, c)]
     else:
         directions = [(sp.Integer(1), sp.Integer(0)), (sp.Integer(0), sp.Integer(1))]
-    L = kin.value(f"beams.{load.beam}.L", bm.beam.L, f"L_{load.beam}")
-    L_text = bm.beam.L.strip() if isinstance(bm.beam.L, str) else repr(bm.beam.L)
-    xi, w = np.polynomial.legendre.leggauss(int(load.quadrature_nodes))
-    nodes = [((float(a) + 1.0) / 2.0, float(b) / 2.0) for a, b in zip(xi, w)]
-
-    # per component: separable profiles (h -> g(t)) and the remainder evaluated at the nodes
-    parts = []
-    for f in components:
-        profiles, rest = separate(f)
-        labels = {h: k + 1 for k, h in enumerate(profiles)}
-        at_nodes = [] if rest == 0 else [(xi_k, w_k, rest.xreplace({POSITION: L * sp.Float(xi_k)}))
-                                         for xi_k, w_k in nodes]
-        parts.append((profiles, labels, at_nodes))
-
-    def integral(V: Field, profiles, labels, at_nodes, component: str) -> sp.Expr:
-        """int_0^L V(x) f(x, t) dx for a field V of partial velocity components."""
-        terms = []
-        for h, g in profiles.items():
-            for atom, coeff in V.items():
-                label = f"{load.name}_{component}{labels[h]}"
-                terms.append(g * coeff * consts.load_integral(atom, h, label))
-        for xi_k, w_k, f_k in at_nodes:
-            x_k = L * sp.Float(xi_k)
-            text = f"{xi_k:.15g}*{L_text}"
-            value = V.evaluate(lambda a: consts.station(a, x_k, text))
-            terms.append(sp.Float(w_k) * L * f_k * value)
-        return sp.Add(*terms)
-
     out = []
     for u in speeds:
         Vx, Vy = _partial(kin, bm.v[0], u), _partial(kin, bm.v[1], u)
         total = sp.Integer(0)
-        for (profiles, labels, at_nodes), (ex, ey), component in zip(parts, directions, ("x", "y")):
-            if not profiles and not at_nodes:
+        for k, ((ex, ey), component) in enumerate(zip(directions, ("x", "y"))):
+            if not loads.loaded(k):
                 continue
             if ex != 0 and not Vx.is_zero():
-                total += ex * integral(Vx, profiles, labels, at_nodes, component)
+                total += ex * loads.integral(Vx, k, component)
             if ey != 0 and not Vy.is_zero():
-                total += ey * integral(Vy, profiles, labels, at_nodes, component)
+                total += ey * loads.integral(Vy, k, component)
+        out.append(total)
+    return out
+
+
+def spatial_distributed_load_forces(kin, load, speeds) -> list:
+    """``F_r`` of one distributed load on a spatial beam, one expression per speed.
+
+    The load ``(fx, fy, fz)`` [N/m] has components along the beam frame's axes (``frame = "beam"``)
+    or N's (``ground``: turned into the beam frame by ``R_B^T``, whose row k holds the beam-frame
+    components of N's k-th axis); the point at x moves with the three fields of partial velocities
+    of :mod:`flexkane.kane.spatial_beam`.
+
+    Parameters
+    ----------
+    kin : SpatialKinematics
+    load : DistributedLoad
+    speeds : list of sympy.Symbol
+
+    Returns
+    -------
+    list of sympy.Expr
+        Shape (len(speeds),).
+    """
+    bm = kin.beams[load.beam]
+    loads = _LoadIntegrals(kin, load, ("fx", "fy", "fz"))
+    if load.frame == "ground":
+        R = bm.frame.rotation.matrix
+        directions = [tuple(R[k, j] for j in range(3)) for k in range(3)]
+    else:
+        directions = [tuple(sp.Integer(1 if j == k else 0) for j in range(3)) for k in range(3)]
+    out = []
+    for u in speeds:
+        V = [_partial(kin, c, u) for c in bm.v]
+        total = sp.Integer(0)
+        for k, component in enumerate("xyz"):
+            if not loads.loaded(k):
+                continue
+            for e, Vj in zip(directions[k], V):
+                if e != 0 and not Vj.is_zero():
+                    total += e * loads.integral(Vj, k, component)
         out.append(total)
     return out

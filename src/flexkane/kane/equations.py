@@ -248,21 +248,29 @@ class EquationsOfMotion:
         A_full = sub(chain.intermediates.expand(A))
         A0 = np.array(A_full.xreplace({k: sp.Float(v) for k, v in numeric.items()}).evalf(), dtype=float)
         roles = {c_.u: c_.role for c_ in chain.coordinates}
-        preferred = [roles[u] not in ("mode", "axial") for u in u_free]
+        preferred = [roles[u] not in ("mode", "axial", "mode_y", "mode_z", "torsion") for u in u_free]
         dep = choose_dependent(A0, u_free, preferred, cons.dependent)
         ind = [j for j in range(len(u_free)) if j not in dep]
         Ad = A[:, dep]
         Ai = A[:, ind]
         # A_d^-1 as adjugate / determinant: no symbolic pivot that could vanish at some configuration
-        det = sp.factor_terms(Ad.det(method="berkowitz"))
-        adj = Ad.adjugate(method="berkowitz")
+        spatial = chain.dimensions == 3    # the loops' solution, named: it enters every equation
+        named = (lambda m, label: m.applyfunc(lambda x: chain.name(x, label))) if spatial \
+            else (lambda m, label: m)  # noqa: E731
+        if spatial:
+            from .spatial_constraints import named_det_adjugate
+
+            det, adj = named_det_adjugate(Ad, chain)
+        else:
+            det = sp.factor_terms(Ad.det(method="berkowitz"))
+            adj = Ad.adjugate(method="berkowitz")
         solve = lambda rhs: (adj * rhs) / det  # noqa: E731
-        X = solve(Ai)
+        X = named(solve(Ai), "C_loops")
         y = solve(a)
         ui = sp.Matrix([u_free[j] for j in ind])
-        u_dep = -X * ui - y
+        u_dep = named(-X * ui - y, "u_loops")
         dep_subs = {u_free[j]: u_dep[k] for k, j in enumerate(dep)}
-        e_dep = -solve(c.xreplace(dep_subs))
+        e_dep = named(-solve(c.xreplace(dep_subs)), "ud_loops")
         n, ni = len(u_free), len(ind)
         P = sp.zeros(n, ni)
         e = sp.zeros(n, 1)
@@ -310,7 +318,8 @@ class EquationsOfMotion:
         """Power of non-conservative forces with the drivers' efforts corrected for constraint forces."""
         from .outputs import output_expressions
 
-        return sub(output_expressions(self)["power_nonconservative"])
+        outputs = spatial_output_expressions if self.chain.dimensions == 3 else output_expressions
+        return sub(outputs(self)["power_nonconservative"])
 
     def _initial_guess(self, model, values) -> dict:
         """Coordinates and speeds from the model's [initial] table (others 0), as numbers

@@ -75,7 +75,7 @@ def constant_values(eom, model=None) -> dict:
             elif spec[0] == "load":
                 profiles[spec[2]] = load_profile(spec[2], values)
         if hasattr(consts, "model_values"):   # a spatial beam (flexkane.kane.spatial_beam_constants)
-            values.update(consts.model_values(beam, fields, params, stations))
+            values.update(consts.model_values(beam, fields, params, stations, profiles))
             continue
         with np.errstate(over="raise", invalid="raise"):
             try:
@@ -196,6 +196,11 @@ def project_coordinates(eom, q: np.ndarray, p_values: dict, t: float = 0.0) -> n
 
     if not eom.dependent_speeds:
         return q
+    if eom.chain.dimensions == 3:
+        from .spatial_constraints import needs_turning_projection, project_coordinates as along_speeds
+
+        if needs_turning_projection(eom):   # a spherical or free joint's speed is dependent
+            return along_speeds(eom, q, p_values, t)
     dep = [eom.q.index(s) for s in eom.dependent_coordinates]
     subs_const = {k: sp.Float(v) for k, v in p_values.items()}
     phi = [e.xreplace(subs_const) for e in eom._phi]

@@ -7,7 +7,8 @@ axes of the frame at P, where the velocities are expressed.
 * ``gravity``: ``m g`` at each mass centre, ``g`` a 3D vector in N;
 * ``joints``: springs ``-k (q - rest)`` and dampers ``-c u`` on the coordinates of revolute,
   prismatic, cylindrical, universal and planar joints (their speeds are the coordinates' rates);
-* ``loads``: applied forces and torques (ground or local components, expressions of t) and
+* ``loads``: applied forces and torques (ground or local components, expressions of t), forces per
+  length on beams (:func:`flexkane.kane.distributed_loads.spatial_distributed_load_forces`) and
   actuator torques or forces of joints along their coordinates;
 * ``springs``: linear springs and dampers between points.
 
@@ -22,6 +23,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from .distributed_loads import spatial_distributed_load_forces
 from .spatial_beam import beam_active_forces
 from .spatial_frame import dot
 from .spatial_joints import direction
@@ -43,7 +45,7 @@ def _per_coordinate(kin, joint, field: str, convert) -> list:
     """Per coordinate of a joint, ``convert(path, value, label)`` of a field given for one coordinate
     (a value, the first coordinate's; label the joint's name) or for each (a list; label the
     coordinate's name); None where not given."""
-    coords = kin.chain.of(joint.name)
+    coords = kin.chain.joint_coordinates(joint.name)
     value = getattr(joint, field, None)
     path = f"joints.{joint.name}.{field}"
     if value is None:
@@ -99,9 +101,12 @@ def spatial_active_forces(kin) -> dict[str, list]:
             m = kin.mass(name)
             add("gravity", frame, tuple(m * c for c in frame.rotation.inverse_apply(g)))
     beam_active_forces(kin, parts, g)
+    for load in model.distributed_loads.values():   # int v_P,r . f dx on beams
+        for r, term in enumerate(spatial_distributed_load_forces(kin, load, speeds)):
+            parts["loads"][r] += term
 
     for joint in chain.joints:
-        coords = chain.of(joint.name)
+        coords = chain.joint_coordinates(joint.name)
         stiffness = joint_coordinate_values(kin, joint, "stiffness", "k")
         damping = joint_coordinate_values(kin, joint, "damping", "c")
         rest = joint_coordinate_values(kin, joint, "rest", "rest") if joint.stiffness is not None else []

@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from .chain import BEAM_ROLES
 from .modal_field import ONE, X, Field, cross3, dfs, phi, psi, rigid, theta, vec3, vec3_map
 from .spatial_beam_constants import SpatialBeamConstants
 from .spatial_frame import SpatialFrame, add, cross
@@ -62,7 +63,7 @@ class SpatialBeamMotion:
 
     def own_speeds(self, chain) -> set:
         """The beam's own modal speeds (which deform it)."""
-        return {c.u for c in chain.of(self.beam.name)}
+        return {c.u for c in chain.of(self.beam.name) if c.role in BEAM_ROLES}
 
 
 def _nonzero(value) -> bool:

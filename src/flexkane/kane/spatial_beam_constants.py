@@ -99,8 +99,17 @@ class SpatialBeamConstants(BeamConstants):
         name = f"{stem}_{self.label + '_' if self.label else ''}{_piece(atom)}({text})"
         return self._symbol(("station", atom, deriv, x), name)
 
+    def load_integral(self, atom: Atom, profile: sp.Expr, label: str) -> sp.Symbol:
+        """``int_0^L a(x) h(x) dx`` for the x-profile ``h`` of a distributed load
+        (``K_<load>_<component><k>_Phi_y1``)."""
+        if atom[0] in ("1", "x"):
+            return super().load_integral(atom, profile, label)
+        stem = {"phi": "Phi", "psi": "Psi", "d": "d", "theta": "Theta"}[atom[0]]
+        return self._symbol(("load", atom, profile), f"K_{label}_{stem}_{_piece(atom)}")
+
     # ------------------------------------------------------------------ numbers
-    def model_values(self, beam, fields, parameters, stations: dict | None = None) -> dict:
+    def model_values(self, beam, fields, parameters, stations: dict | None = None,
+                     profiles: dict | None = None) -> dict:
         """Numeric value of every constant used, for a beam of a model.
 
         Parameters
@@ -113,6 +122,9 @@ class SpatialBeamConstants(BeamConstants):
             The model's parameter values (numeric options of the shape families).
         stations : dict, optional
             Numeric value [m] of each station expression used.
+        profiles : dict, optional
+            For each x-profile of a distributed load used, a function of x [m] (array to array)
+            with the parameters' values substituted.
 
         Returns
         -------
@@ -149,6 +161,8 @@ class SpatialBeamConstants(BeamConstants):
                 out[symbol] = number("GJ") * ev.derivative_integral(("theta", spec[1]), ("theta", spec[2]), 1)
             elif kind == "station":
                 out[symbol] = ev.values_at(spec[1], np.array([float(stations[spec[3]]) / ev.L]), spec[2])[0]
+            elif kind == "load":
+                out[symbol] = ev.profile_integral(spec[1], profiles[spec[2]])
             elif kind == "HA":
                 out[symbol] = number("EA") * ev.derivative_integral(("psi", spec[1]), ("psi", spec[2]), 1)
             else:  # pragma: no cover - the spatial engine makes no other constants
@@ -205,6 +219,14 @@ class SpatialAtomEvaluator:
         """``int_0^L a(x) b(x) dx``."""
         xi, w = self._rule(a[0] == "d" or b[0] == "d")
         return float(np.sum(w * self.values_at(a, xi) * self.values_at(b, xi)))
+
+    def profile_integral(self, a: Atom, profile) -> float:
+        """``int_0^L a(x) h(x) dx`` for a function ``h`` of x [m] (a distributed load's profile),
+        with twice the verified order, as for planar beams."""
+        xi, w = self._rule(True)
+        x = xi * self.L
+        h = np.broadcast_to(np.asarray(profile(x), dtype=float), x.shape)
+        return float(np.sum(w * self.values_at(a, xi) * h))
 
     def derivative_integral(self, a: Atom, b: Atom, deriv: int) -> float:
         """``int_0^L a^(k)(x) b^(k)(x) dx`` with k = ``deriv``."""

@@ -27,6 +27,7 @@ import sympy as sp
 
 from .inertia import InertiaForces
 from .spatial_beam import acceleration_remainder as beam_acceleration_remainder
+from .chain import BEAM_ROLES
 from .spatial_beam import add_beam_rows, beam_own_properties
 from .spatial_frame import acceleration_remainder, add, cross, dot
 
@@ -129,7 +130,7 @@ def spatial_inertia_forces(kin) -> InertiaForces:
         composite[link] = total.named(chain, f"{link}_composite" if children.get(link) else link)
     # the links whose frames a speed starts to move rigidly: its joint's child link, or for a
     # beam's own speeds (which deform the beam) the links attached to the beam's stations
-    roots = {c.u: [j.child for j in joints if (j.parent == c.owner if c.owner in kin.beams else j.name == c.owner)]
+    roots = {c.u: [j.child for j in joints if (j.parent == c.owner if c.role in BEAM_ROLES else j.name == c.owner)]
              for c in chain.coordinates if c.u is not None}
     twist: dict = {}
 

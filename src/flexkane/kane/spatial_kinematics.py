@@ -149,7 +149,7 @@ class SpatialKinematics:
     def _add_joint(self, joint) -> None:
         chain = self.chain
         path = f"joints.{joint.name}"
-        motion = joint_motion(joint, chain.of(joint.name), self.symbols)
+        motion = joint_motion(joint, chain.joint_coordinates(joint.name), self.symbols)
         Op = orientation(self.symbols, f"{path}.orientation", getattr(joint, "orientation", None),
                          f"Op_{joint.name}")
         Oc = orientation(self.symbols, f"{path}.child_orientation", getattr(joint, "child_orientation", None),

@@ -69,7 +69,7 @@ def spatial_output_expressions(eom) -> dict:
         out[f"H_{axis}"] = c
     for joint in chain.joints:
         if joint.type in ("spherical", "free"):
-            e = [c.q for c in chain.of(joint.name)][-4:]
+            e = [c.q for c in chain.joint_coordinates(joint.name)][-4:]
             out[f"quaternion_norm_{joint.name}"] = sp.Add(*[x ** 2 for x in e]) - 1
     # ---------------------------------------------------------------- potential energy
     gravity = []
@@ -81,7 +81,7 @@ def spatial_output_expressions(eom) -> dict:
     springs = []
     power = []
     for joint in chain.joints:
-        coords = chain.of(joint.name)
+        coords = chain.joint_coordinates(joint.name)
         stiffness = joint_coordinate_values(kin, joint, "stiffness", "k")
         rest = joint_coordinate_values(kin, joint, "rest", "rest") if joint.stiffness is not None else []
         damping = joint_coordinate_values(kin, joint, "damping", "c")
@@ -110,7 +110,7 @@ def spatial_output_expressions(eom) -> dict:
         power.append(sp.Add(*[u * f for u, f in zip(speeds, eom.F_r["springs"]) if f != 0])
                      + chain.dt(sp.Add(*point_springs)))
     for owner, effort in eom.driver_efforts.items():
-        power.append(effort * chain.of(owner)[0].u)
+        power.append(effort * chain.joint_coordinates(owner)[0].u)
     out["power_nonconservative"] = sp.Add(*power)
     for owner, effort in eom.driver_efforts.items():
         out[f"effort_{owner}"] = effort

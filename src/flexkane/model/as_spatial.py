@@ -22,10 +22,19 @@ engines can be compared on the same chain (a planar chain is the special case of
   does not enter); axial modes are kept. Its modal coordinates are named ``q_<beam>_y<i>`` (planar
   ``q_<beam>_<i>``), the only names that differ from the planar model's.
 
-Distributed loads and loop constraints are carried over unchanged: spatial models refuse them until
-spatial loops exist, and so they refuse (for now) beams with modal damping, rotary inertia, the
-midpoint gravity model or shear-moment elastic forces, so the result of a model that has them does
-not validate.
+* a ``revolute`` loop constraint becomes a spatial ``point_on_line`` constraint along z (point b on
+  the normal through point a: the two in-plane equations of the planar one); its dependent speeds
+  keep their names (modal ones renamed);
+* a distributed load keeps its components fx, fy (fz = 0) and its frame;
+* every expression that may read the state (joint torques and rest positions, load components,
+  controllers' rates and outputs) has the planar modal coordinate and speed names replaced by the
+  spatial ones (:func:`flexkane.expression_syntax.rename_names`: names only, the text kept).
+
+A ``prismatic`` loop constraint has no spatial counterpart with its two scalar constraints (a
+spatial prismatic closure keeps the orientation in three equations, redundant for a planar
+motion): it is carried over unchanged and the spatial model refuses it by name. Spatial models also
+refuse (for now) beams with modal damping, rotary inertia, the midpoint gravity model or
+shear-moment elastic forces, so the result of a model that has them does not validate.
 """
 
 from __future__ import annotations
@@ -77,8 +86,8 @@ def as_spatial(model: Model, *, validate: bool = True) -> Model:
     model : Model
         A valid planar model (``dimensions = 2``); it is not changed.
     validate : bool
-        Validate the result (:meth:`Model.validate`); a model with beams, distributed loads or loop
-        constraints then raises ModelError naming them (not yet supported in 3D).
+        Validate the result (:meth:`Model.validate`); a model with parts spatial models do not have
+        yet (a prismatic loop constraint, some beam options) then raises ModelError naming them.
 
     Returns
     -------
@@ -129,8 +138,40 @@ def as_spatial(model: Model, *, validate: bool = True) -> Model:
             load.torque = (0, 0, load.torque)
     for spring in out.springs.values():
         spring.position_a, spring.position_b = _pad(spring.position_a), _pad(spring.position_b)
+    for con in out.constraints.values():
+        con.position_a, con.position_b = _pad(con.position_a), _pad(con.position_b)
+        if con.type == "revolute":
+            con.type, con.axis = "point_on_line", _Z
     _free_joint_speeds(model, out)
+    _rename_modal_names(model, out)
     return out.validate() if validate else out
+
+
+def _rename_modal_names(planar: Model, spatial: Model) -> None:
+    """Planar modal coordinate and speed names (``q_<b>_<i>``, ``u_<b>_<i>``) replaced by the spatial
+    ones (``q_<b>_y<i>``) in the expressions that may read the state and in constraints' dependent
+    speeds."""
+    from ..expression_syntax import rename_names
+    from .paths import set_value
+    from .signals import effort_fields
+
+    if planar.naming == "sequential":
+        return
+    names = {old: f"{prefix}_{c.owner}_y{c.index}" for c in coordinate_names(planar) if c.role == "mode"
+             for old, prefix in ((c.q, "q"), (c.u, "u"))}
+    if not names:
+        return
+    for path, value in effort_fields(spatial):
+        renamed = rename_names(value, names)
+        if renamed != value:
+            set_value(spatial, path, renamed)
+    for ctrl in spatial.controllers.values():
+        if isinstance(ctrl.states, dict):
+            ctrl.states = {z: rename_names(rate, names) for z, rate in ctrl.states.items()}
+        ctrl.output, ctrl.min, ctrl.max = (rename_names(v, names) for v in (ctrl.output, ctrl.min, ctrl.max))
+    for con in spatial.constraints.values():
+        if isinstance(con.dependent, list):
+            con.dependent = [names.get(u, u) if isinstance(u, str) else u for u in con.dependent]
 
 
 def _beam_mode_names(planar: Model, spatial: Model) -> None:

@@ -436,7 +436,7 @@ class DistributedLoad:
         beam's root [m]), ``t`` [s] and the parameters; an omitted component is zero.
     frame : str
         ``beam`` (components along the axes of the undeformed beam's frame, which turn with the
-        beam's root) or ``ground`` (along i0, j0).
+        beam's root) or ``ground`` (along i0, j0, and k0 in a spatial model).
     quadrature_nodes : int
         Gauss-Legendre nodes along the beam for the terms of the load that do not separate into a
         function of t times a function of x.
@@ -448,6 +448,8 @@ class DistributedLoad:
     fy: Value = 0
     frame: str = "beam"
     quadrature_nodes: int = 16
+    #: Component along the beam frame's z axis (or k0) [N/m], spatial models only.
+    fz: Value = 0
 
 
 @dataclass
@@ -496,22 +498,28 @@ class LoopConstraint:
     ``prismatic`` one keeps point b on the line through point a along ``axis`` (in frame a) and the
     angle of frame b relative to frame a equal to ``angle`` (two scalar constraints).
 
+    In a spatial model (``dimensions = 3``, :mod:`flexkane.kane.spatial_constraints`) the types are
+    ``spherical`` (point b at point a: three scalar constraints), ``point_on_line`` (point b on the
+    line through point a along ``axis``, a 3-vector of numbers in frame a: two) and ``weld`` (frame b
+    at frame a turned by ``orientation``: six).
+
     Parameters
     ----------
     name : str
         Unique name.
     type : str
-        ``revolute`` or ``prismatic``.
+        ``revolute`` or ``prismatic`` (planar); ``spherical``, ``point_on_line`` or ``weld`` (spatial).
     body_a, body_b : str
         ``ground``, a body or a beam.
     point_a, point_b : str, optional
         Points of bodies (the mass centre when omitted).
     station_a, station_b : Value, optional
         Stations on beams [m].
-    position_a, position_b : (Value, Value), optional
+    position_a, position_b : tuple of Value, optional
         Positions on the ground [m].
     axis : Value
-        Direction of the slide in frame a [rad] (prismatic).
+        Direction of the slide in frame a [rad] (prismatic); in a spatial model the line's
+        direction ``[x, y, z]`` in frame a [-] (point_on_line).
     angle : Value
         Angle of frame b relative to frame a [rad] (prismatic).
     dependent : list of str, optional
@@ -520,6 +528,9 @@ class LoopConstraint:
     stabilization : Value
         Rate [1/s] at which a drift of the constraint is driven back to zero (Baumgarte-type
         velocity stabilization, ``Phi' = -rate * Phi``); 0 keeps the exact velocity constraint.
+    orientation : Orientation, optional
+        Spatial ``weld``: the orientation of frame b relative to frame a that the loop keeps
+        (identity when omitted).
     """
 
     name: str
@@ -536,6 +547,7 @@ class LoopConstraint:
     angle: Value = 0
     dependent: list[str] | None = None
     stabilization: Value = 0.0
+    orientation: Orientation | None = None
 
 
 @dataclass

@@ -9,7 +9,7 @@ The file has one table per kind of part, keyed by name::
     [joints.NAME]           # type, parent, child, parent_point | parent_position | station, ...
     [gravity]               # g, direction
     [loads.NAME]            # body, point | station, force, torque, frame
-    [distributed_loads.NAME]  # beam, fx, fy (expressions of x, t), frame, quadrature_nodes
+    [distributed_loads.NAME]  # beam, fx, fy, fz (3D) (expressions of x, t), frame, quadrature_nodes
     [springs.NAME]          # body_a, point_a | station_a | position_a, body_b, ..., stiffness, damping, rest_length
     [constraints.NAME]      # loop-closure joints: type, body_a, point_a | station_a | position_a, ...
     [sensors.NAME]          # type, beam | body, point | station, joint, distance, frame, component
@@ -72,7 +72,7 @@ _DISTRIBUTED_KEYS = ("beam", "fx", "fy", "frame", "quadrature_nodes")
 _SPRING_KEYS = ("body_a", "point_a", "station_a", "position_a", "body_b", "point_b", "station_b", "position_b",
                 "stiffness", "damping", "rest_length")
 _CONSTRAINT_KEYS = ("type", "body_a", "point_a", "station_a", "position_a", "body_b", "point_b", "station_b",
-                    "position_b", "axis", "angle", "dependent", "stabilization")
+                    "position_b", "axis", "angle", "dependent", "stabilization", "orientation")
 _SENSOR_KEYS = ("type", "beam", "body", "point", "joint", "station", "distance", "frame", "component")
 _CONTROLLER_KEYS = ("states", "initial", "output", "min", "max")
 _SIM_KEYS = ("t_end", "dt_out", "rtol", "atol", "method", "max_steps", "deflection_warning", "spin_warning")
@@ -283,11 +283,11 @@ def _model_from_dict(data: dict) -> Model:
                                  point=load.get("point"), station=load.get("station"),
                                  force=_pair(load, "force", path), torque=_vectors(load.get("torque")),
                                  frame=load.get("frame", "ground"))
-    for name, table in _parts(data, "distributed_loads", _DISTRIBUTED_KEYS).items():
+    for name, table in _parts(data, "distributed_loads", _DISTRIBUTED_KEYS + (("fz",) if spatial else ())).items():
         path = f"distributed_loads.{name}"
         model.distributed_loads[name] = DistributedLoad(
             name, _get(table, "beam", path, "the name of the loaded beam"), fx=table.get("fx", 0),
-            fy=table.get("fy", 0), frame=table.get("frame", "beam"),
+            fy=table.get("fy", 0), fz=table.get("fz", 0), frame=table.get("frame", "beam"),
             quadrature_nodes=table.get("quadrature_nodes", DistributedLoad.quadrature_nodes))
     for name, spring in _parts(data, "springs", _SPRING_KEYS).items():
         path = f"springs.{name}"
@@ -307,8 +307,10 @@ def _model_from_dict(data: dict) -> Model:
             point_a=con.get("point_a"), point_b=con.get("point_b"),
             station_a=con.get("station_a"), station_b=con.get("station_b"),
             position_a=_pair(con, "position_a", path), position_b=_pair(con, "position_b", path),
-            axis=con.get("axis", 0), angle=con.get("angle", 0), dependent=con.get("dependent"),
-            stabilization=_float(con, "stabilization", 0.0))
+            axis=_vectors(con.get("axis", 0)), angle=con.get("angle", 0), dependent=con.get("dependent"),
+            stabilization=_float(con, "stabilization", 0.0),
+            orientation=(orientation_from_table(con["orientation"], f"{path}.orientation")
+                         if "orientation" in con else None))
     for name, table in _parts(data, "sensors", _SENSOR_KEYS).items():
         model.sensors[name] = Sensor(
             name, _get(table, "type", f"sensors.{name}", "the kind of sensor (" + ", ".join(SENSOR_TYPES) + ")"),
@@ -488,8 +490,9 @@ def model_to_dict(model: Model) -> dict:
     if model.distributed_loads:
         loads = {}
         for d in model.distributed_loads.values():
-            t = {"beam": d.beam, "fx": d.fx, "fy": d.fy, "frame": d.frame, "quadrature_nodes": d.quadrature_nodes}
-            for key in ("fx", "fy", "quadrature_nodes"):
+            t = {"beam": d.beam, "fx": d.fx, "fy": d.fy, "fz": d.fz, "frame": d.frame,
+                 "quadrature_nodes": d.quadrature_nodes}
+            for key in ("fx", "fy", "fz", "quadrature_nodes"):
                 if t[key] == getattr(DistributedLoad, key):
                     del t[key]
             loads[d.name] = t
@@ -512,6 +515,8 @@ def model_to_dict(model: Model) -> dict:
                 t["angle"] = c.angle
             if c.stabilization:
                 t["stabilization"] = c.stabilization
+            if c.orientation is not None:
+                t["orientation"] = _drop_none(dataclasses.asdict(c.orientation))
             cons[c.name] = t
         out["constraints"] = cons
     if model.sensors:

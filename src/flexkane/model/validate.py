@@ -290,8 +290,7 @@ def validate_model(model: Model, *, units: dict | None = None) -> None:
     if dimensions == 3:   # parts that spatial models do not have yet, all named at once
         from . import validate_spatial as spatial   # NumPy, for spatial models only
 
-        for kind, what in (("distributed_loads", "distributed loads"),
-                           ("constraints", "loop constraints"), ("sensors", "sensors"),
+        for kind, what in (("sensors", "sensors"),
                            ("controllers", "controllers")):
             for name in tables[kind]:
                 with problems.part():
@@ -661,7 +660,10 @@ def _check_distributed_load(model: Model, load: DistributedLoad, values: _Values
                          "(x is the position along the beam)", "x")
     kind = "force per unit length [N/m], a number or an expression of x [m], t [s] and the parameters"
     length = lengths[load.beam]
-    for key in ("fx", "fy"):
+    keys = ("fx", "fy", "fz") if model.dimensions == 3 else ("fx", "fy")
+    if model.dimensions != 3 and not (isinstance(load.fz, (int, float)) and load.fz == 0):
+        raise ModelError(f"{path}.fz", "no fz in a planar model (forces per length in the plane: fx, fy)", load.fz)
+    for key in keys:
         value = getattr(load, key)
         if not _is_value(value):
             raise ModelError(f"{path}.{key}", kind, value)
@@ -672,8 +674,8 @@ def _check_distributed_load(model: Model, load: DistributedLoad, values: _Values
             except ModelError as exc:
                 raise ModelError(f"{path}.{key}", f"{kind}, finite at t = 0 along the beam", value,
                                  f"at x = {x:g} m: {exc.hint or exc.expected}") from None
-    if all(isinstance(v, (int, float)) and v == 0 for v in (load.fx, load.fy)):
-        raise ModelError(path, "a non-zero component fx or fy [N/m]", None, show_given=False)
+    if all(isinstance(v, (int, float)) and v == 0 for v in (getattr(load, key) for key in keys)):
+        raise ModelError(path, f"a non-zero component {' or '.join(keys)} [N/m]", None, show_given=False)
 
 
 def _parses(path: str, value, values: _Values, names: tuple[str, ...]) -> None:
@@ -739,11 +741,23 @@ def _check_constraint(model: Model, con: LoopConstraint, values: _Values, length
     path = f"constraints.{con.name}"
     if con.name in model.joints:
         raise ModelError(path, "a name different from every joint's", con.name)
-    _choice(f"{path}.type", con.type, ("revolute", "prismatic"))
+    if model.dimensions == 3:
+        from . import validate_spatial as spatial
+
+        count = spatial.check_constraint_kind(con, values)
+    else:
+        _choice(f"{path}.type", con.type, ("revolute", "prismatic"))
     for end in ("a", "b"):
         _check_end(model, path, con, end, values, lengths)
     if con.body_a == con.body_b:
         raise ModelError(f"{path}.body_b", "a link other than body_a", con.body_b)
+    if model.dimensions == 3:
+        _names_list(f"{path}.dependent", con.dependent, count, "dependent speed")
+        values.non_negative(f"{path}.stabilization", con.stabilization, "constraint stabilization rate", "1/s")
+        return
+    if con.orientation is not None:
+        raise ModelError(f"{path}.orientation", "no orientation in a planar model (a prismatic loop joint has "
+                         "angle)", con.orientation)
     values.number(f"{path}.axis", con.axis, "slide direction angle in frame a", "rad")
     values.number(f"{path}.angle", con.angle, "angle of frame b relative to frame a", "rad")
     _names_list(f"{path}.dependent", con.dependent, 2, "dependent speed")

@@ -2,8 +2,8 @@
 
 :func:`flexkane.model.validate.validate_model` checks what planar and spatial models share (names,
 references, masses, the joint tree, run settings) and calls these functions for the rest: inertia
-tensors, three-component vectors, joint axes and orientations, torque vectors, and the parts that
-spatial models do not have yet (beams, distributed loads, loop constraints). Each problem is a
+tensors, three-component vectors, joint axes and orientations, torque vectors, the kinds of loop
+constraints, and the parts that spatial models do not have yet. Each problem is a
 :class:`~flexkane.errors.ModelError` naming the key path, what was expected (with the unit) and what
 was given. ``values`` is the model's evaluator of field values
 (:class:`~flexkane.model.field_values.FieldValues`, with the number checks of validation).
@@ -17,7 +17,8 @@ from ..errors import ModelError
 from .orientation import orientation_matrix, unit_vector, vector3
 from .parts import SPATIAL_JOINT_DOFS, Gravity, Joint, Load, RigidBody
 
-__all__ = ["check_body", "check_joint_geometry", "check_gravity", "check_load", "check_position", "refuse_part",
+__all__ = ["check_body", "check_constraint_kind", "CONSTRAINT_EQUATIONS", "check_joint_geometry", "check_gravity",
+           "check_load", "check_position", "refuse_part",
            "joint_counts", "PERPENDICULAR_TOLERANCE", "INERTIA_TOLERANCE"]
 
 #: Largest |cos| of the angle between a universal joint's two axes [-].
@@ -29,6 +30,40 @@ _ONE_COORDINATE = ("revolute", "prismatic")
 #: Joint types whose ``axis`` is required, and what it is for each.
 _AXIS_MEANING = {"revolute": "rotation axis", "prismatic": "slide direction", "cylindrical": "rotation and slide "
                  "axis", "planar": "normal of the plane"}
+
+
+#: Loop-constraint types of spatial models and their numbers of scalar constraints.
+CONSTRAINT_EQUATIONS = {"spherical": 3, "point_on_line": 2, "weld": 6}
+
+
+def check_constraint_kind(con, values) -> int:
+    """Type, axis and orientation of a spatial loop constraint; returns its number of scalar
+    constraints (:data:`CONSTRAINT_EQUATIONS`)."""
+    path = f"constraints.{con.name}"
+    if con.type not in CONSTRAINT_EQUATIONS:
+        raise ModelError(f"{path}.type", "a spatial loop-constraint type: spherical (coincident points), "
+                         "point_on_line (point b on the line through point a along axis) or weld "
+                         "(coincident frames)", con.type,
+                         "revolute and prismatic loop joints are planar" if con.type in ("revolute", "prismatic")
+                         else None)
+    if con.angle != 0:
+        raise ModelError(f"{path}.angle", "no angle in a model with dimensions = 3 (a weld keeps frame b at frame "
+                         "a turned by orientation = { axis = [...], angle = ... })", con.angle)
+    if con.type == "point_on_line":
+        axis = con.axis
+        if not isinstance(axis, (list, tuple)) or len(axis) != 3 or not all(
+                isinstance(c, (int, float)) and not isinstance(c, bool) and np.isfinite(c) for c in axis):
+            raise ModelError(f"{path}.axis", "the line's direction in frame a as three numbers [x, y, z] [-]", axis)
+        if not any(c != 0 for c in axis):
+            raise ModelError(f"{path}.axis", "a non-zero direction [x, y, z]", list(axis))
+    elif con.axis != 0:
+        raise ModelError(f"{path}.axis", "no axis on a spatial loop constraint that is not point_on_line", con.axis)
+    if con.type == "weld":
+        orientation_matrix(con.orientation, f"{path}.orientation", values)
+    elif con.orientation is not None:
+        raise ModelError(f"{path}.orientation", "no orientation on a spatial loop constraint that is not a weld",
+                         con.orientation)
+    return CONSTRAINT_EQUATIONS[con.type]
 
 
 def refuse_part(path: str, what: str, given) -> None:
