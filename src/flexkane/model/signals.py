@@ -11,9 +11,14 @@ outputs are expressions of ``t``, the parameters and the *signals* of the model:
 * the controller states (``[controllers.NAME] states = { z = "rate" }``) by their names, and the
   controller outputs by the controllers' names (refused in a cycle: ``a`` uses ``b`` uses ``a``).
 
-Drivers' laws stay functions of ``t`` and the parameters: a prescribed coordinate enters the
-equations with its first and second time derivatives, which for a law of the state would need the
-accelerations of that state.
+A coordinate driver's law (``driver = { coordinate = ... }``) of a planar model may read the
+coordinates (not its own, nor one driven by another law of the state), the sensors of position
+(every kind but velocity, joint rate and acceleration), the controller states whose rates read no
+speed, and the controller outputs built from those: it is then a holonomic constraint
+(:mod:`flexkane.kane.driver_laws`). It may not read speeds: the driven speed is the law's time
+derivative, which for a law of speeds would contain the accelerations u', and the driven
+acceleration u''. A speed driver's law and a spatial model's driver stay laws of t and the
+parameters.
 
 Everything here works on names and syntax only (no SymPy unless an expression needs it, as
 everywhere in validation); :mod:`flexkane.kane.sensors` and :mod:`flexkane.kane.controllers` build
@@ -83,6 +88,7 @@ class Signals:
     def __init__(self, model, coordinates, fields):
         self.model = model
         self.fields = fields
+        self.coordinates = list(coordinates)
         self.parameters = list(fields.parameters)
         kinds: dict[str, str] = {}
         for c in coordinates:
@@ -205,17 +211,83 @@ class Signals:
             if state.get(name) is None:
                 visit(name, [name])
 
-    def refuse_in_driver(self, path: str, value) -> None:
-        """A driver's law uses t and the parameters only: say why when it names a signal."""
+    def check_driver(self, path: str, value, uses: dict[str, set[str]]) -> set[str]:
+        """The signals a driver's law uses; refuses those a prescribed coordinate cannot follow.
+
+        Parameters
+        ----------
+        path : str
+            ``joints.<joint>.driver.coordinate`` or ``...speed``.
+        value : int, float or str
+            The law.
+        uses : dict of str to set of str
+            Controller name -> signal names its output uses (:func:`check_controller`).
+
+        Returns
+        -------
+        set of str
+            The signal names the law uses (empty for a law of t and the parameters).
+        """
         if not isinstance(value, str):
-            return
+            return set()
+        joint = path.split(".")[1]
+        if not path.endswith(".coordinate") or self.model.dimensions == 3:
+            self._refuse_state_in_driver(path, value)
+            return set()
+        found = self.used(path, value, "a prescribed coordinate [m or rad]: a law of t, the parameters, "
+                          "coordinates, position sensors and controller states")
+        reads = set(found)
+        pending = [n for n in found if self.kinds[n] == "controller output"]
+        while pending:            # through controller outputs, the names they use
+            name = pending.pop()
+            for other in uses.get(name, ()):
+                if other not in reads:
+                    reads.add(other)
+                    if self.kinds.get(other) == "controller output":
+                        pending.append(other)
+        driven = {c.q: c.owner for c in self.coordinates if c.driver is not None}
+        sensors = self.model.sensors
+        bad = []
+        for name in sorted(reads):
+            kind = self.kinds[name]
+            sensor = sensors.get(name) if kind == "sensor" else None
+            if kind == "speed" or (sensor is not None and sensor.type in ("velocity", "joint_rate")):
+                bad.append(f"{name} (a speed)" if kind == "speed" else f"{name} (a {sensor.type} sensor)")
+            elif kind == "coordinate" and name in driven:
+                bad.append(f"{name} (its own coordinate)" if driven[name] == joint else
+                           f"{name} (a coordinate prescribed by the driver of {driven[name]})")
+            elif sensor is not None and sensor.type == "joint_angle" and sensor.joint == joint:
+                bad.append(f"{name} (the angle of the joint it drives)")
+        for ctrl in self.model.controllers.values():
+            for state, rate in ctrl.states.items():
+                if state in reads:
+                    fast = sorted(n for n in self.used(f"controllers.{ctrl.name}.states.{state}", rate, "a rate")
+                                  if self.kinds[n] == "speed" or (self.kinds[n] == "sensor" and sensors[n].type in
+                                                                  ("velocity", "joint_rate")))
+                    if fast:
+                        bad.append(f"{state} (a controller state whose rate reads {', '.join(fast)})")
+        if bad:
+            raise ModelError(path, "a law of t, the parameters, the other coordinates, position sensors and "
+                             "controller states whose rates read no speed: a driver prescribes its coordinate, whose "
+                             "speed and acceleration are the law's first and second time derivatives; a law of the "
+                             "speeds would need the accelerations u' (and u''), and a law of its own coordinate is "
+                             "an equation, not a prescription", value,
+                             f"uses {', '.join(bad)}; for feedback of speeds, drive the joint by a torque "
+                             "(torque = ...) computed from them")
+        return found
+
+    def _refuse_state_in_driver(self, path: str, value) -> None:
+        """A speed driver's law, and a spatial model's driver, use t and the parameters only."""
         try:
             found = self.used(path, value, "a prescribed motion")
         except ModelError:
             return     # the driver's own check reports it with the message of a law of time
         if found:
-            raise ModelError(path, "a law of t and the parameters only: a driver prescribes the motion, and its "
-                             "speed and acceleration (first and second time derivatives of the law) would need "
+            where = ("in a spatial model (dimensions = 3)" if self.model.dimensions == 3 else
+                     "for a prescribed speed (a coordinate driver, driver = { coordinate = ... }, may read "
+                     "coordinates, position sensors and controller states)")
+            raise ModelError(path, f"a law of t and the parameters only {where}: a driver prescribes the motion, and "
+                             "its speed and acceleration (first and second time derivatives of the law) would need "
                              "the rates and accelerations of the state it depends on", value,
                              f"uses {', '.join(sorted(found))}; for feedback, drive the joint by a torque "
                              "(torque = ...) computed from them")
