@@ -14,6 +14,7 @@ from sympy.physics.mechanics import KanesMethod, Point, ReferenceFrame, RigidBod
 
 import flexkane
 from flexkane.errors import ModelError
+from flexkane.expressions import parse_expression
 
 #: Two rigid links on revolute joints, the second driven by a law of the first's angle.
 GEARED = """
@@ -112,3 +113,134 @@ def test_a_gear_law_is_kanes_method_with_the_holonomic_constraint():
     for qa, ua, t in rng.uniform(-2.0, 2.0, size=(6, 3)):
         expected = theirs(qa, ua, t)
         assert abs(ours(qa, ua, t) - expected) <= 1e-10 * max(1.0, abs(expected))
+
+
+#: A rigid link with an actuator torque carrying, on a joint at its tip, a beam driven by a law of
+#: the link's angle and of t; no gravity.
+GEARED_BEAM = """
+name = "geared-beam"
+[parameters]
+c = 0.5
+[bodies.a]
+mass = 1.0
+inertia = 0.05
+points = { hinge = [-0.4, 0.0], tip = [0.4, 0.0] }
+[beams.link]
+L = 1.0
+EI = 12.0
+rho = 0.6
+n_modes = 2
+[joints.sa]
+type = "revolute"
+parent = "ground"
+child = "a"
+child_point = "hinge"
+torque = "0.8*sin(2*t) - 0.3*q_sa"
+[joints.sb]
+type = "revolute"
+parent = "a"
+parent_point = "tip"
+child = "link"
+driver = { coordinate = "c*q_sa + 0.1*sin(3*t)" }
+"""
+
+
+def test_power_of_the_driver_and_the_actuator_is_the_rate_of_kinetic_and_strain_energy():
+    """d(T + V_strain)/dt = tau u_sa + lambda (u_sb - c u_sa) at random states: the driver's effort
+    lambda acts on its joint and, as a gear does, -c lambda on the joint its law reads."""
+    eom = flexkane.derive(flexkane.loads_model(GEARED_BEAM))
+    assert [u.name for u in eom.u] == ["u_sa", "u_link_1", "u_link_2"]
+    values = eom.constant_values()
+    t = eom.t
+    ud = sp.symbols("a0:3")
+    rates = dict(zip(eom.ud, ud))
+    out = {k: eom.outputs[k].xreplace(values).xreplace(rates) for k in
+           ("kinetic", "strain", "effort_sb", "effort_sa", "power_nonconservative")}
+    energy = out["kinetic"] + out["strain"]
+    qdot = list(eom.qdot.xreplace(values))
+    rate = (sum(energy.diff(q) * qd for q, qd in zip(eom.q, qdot)) + sum(energy.diff(u) * a for u, a in zip(eom.u, ud))
+            + energy.diff(t))
+    q_sa, u_sa = eom.q[0], eom.u[0]
+    u_sb = 0.5 * u_sa + 0.3 * sp.cos(3 * t)        # the law's time derivative, written here
+    supplied = out["effort_sa"] * u_sa + out["effort_sb"] * (u_sb - 0.5 * u_sa)
+    assert sp.simplify(out["effort_sa"] - (0.8 * sp.sin(2 * t) - 0.3 * q_sa)) == 0
+    args = [*eom.q, *eom.u, t]
+    M, f = (sp.lambdify(args, e.xreplace(values), "numpy") for e in (eom.mass_matrix, eom.forcing))
+    check = sp.lambdify([*args, *ud], [rate, supplied, out["power_nonconservative"]], "numpy")
+    rng = np.random.default_rng(7)
+    for state in rng.uniform(-1.0, 1.0, size=(5, 7)):
+        acc = np.linalg.solve(M(*state), np.ravel(f(*state)))
+        de, power, reported = check(*state, *acc)
+        assert abs(de - power) <= 1e-10 * max(1.0, abs(de))
+        assert abs(reported - power) <= 1e-10 * max(1.0, abs(power))
+
+
+def _finite_difference_jacobian(fun, x, h=1e-6):
+    columns = [(fun(x + h * e) - fun(x - h * e)) / (2 * h) for e in np.eye(len(x))]
+    return np.array(columns).T
+
+
+def test_linearize_with_a_gear_reduces_the_driven_coordinate():
+    """The geared pendulum at its hanging equilibrium: the linear model's states are (q_sa, u_sa) only,
+    and A equals the finite-difference Jacobian of the nonlinear right-hand side there."""
+    from flexkane import linearize
+
+    model = flexkane.loads_model(GEARED.format(law="c*q_sa"))
+    linear = linearize(model, about="equilibrium")
+    A, _ = linear.state_space()
+    assert A.shape == (2, 2)
+    eom = flexkane.derive(model)
+    accelerations = _flexkane_accelerations(eom)
+
+    def rhs(x):
+        return np.array([x[1], accelerations(x[0], x[1], 0.0)])
+
+    assert linear.state_names == ["q_sa", "u_sa"]
+    q0 = float(linear.q0[0])
+    assert abs(rhs(np.array([q0, 0.0]))[1]) < 1e-10
+    J = _finite_difference_jacobian(rhs, np.array([q0, 0.0]))
+    assert np.max(np.abs(A - J)) <= 1e-7 * np.max(np.abs(J))
+
+
+#: A first-order filter z_f' = (r(t) - z_f)/tau of the reference r = R sin(w t), z_f(0) = 0, and its
+#: closed form.
+FILTER = '\n[controllers.filter]\nstates = { z_f = "(0.4*sin(3*t) - z_f)/0.2" }\n'
+FILTERED = "0.4/(1 + 0.36)*(sin(3*t) - 0.6*cos(3*t) + 0.6*exp(-t/0.2))"
+
+
+def test_a_driver_following_a_filtered_reference_is_the_closed_form_law():
+    """q_sb = c q_sa + z_f with the filter's state equals q_sb = c q_sa + (its closed form in t):
+    the accelerations agree at random states where z_f has its closed-form value, and z_f' is the
+    closed form's derivative there."""
+    with_state = flexkane.derive(flexkane.loads_model(GEARED.format(law="c*q_sa + z_f") + FILTER))
+    closed = flexkane.derive(flexkane.loads_model(GEARED.format(law=f"c*q_sa + {FILTERED}")))
+    assert [z.name for z in with_state.z] == ["z_f"]
+    t = closed.t
+    z_of_t = parse_expression(FILTERED, {"t": t}, path="law")
+    values = with_state.constant_values()
+    args = [*with_state.q, *with_state.u, *with_state.z, t]
+    M, f, zdot = (sp.lambdify(args, e.xreplace(values), "numpy")
+                  for e in (with_state.mass_matrix, with_state.forcing, with_state.zdot))
+    reference = _flexkane_accelerations(closed)
+    z_f, z_rate = sp.lambdify([t], z_of_t), sp.lambdify([t], z_of_t.diff(t))
+    rng = np.random.default_rng(3)
+    for qa, ua, time in rng.uniform([-2.0, -2.0, 0.0], [2.0, 2.0, 3.0], size=(6, 3)):
+        z = z_f(time)
+        ours = np.linalg.solve(np.atleast_2d(M(qa, ua, z, time)), np.ravel(f(qa, ua, z, time)))[0]
+        expected = reference(qa, ua, time)
+        assert abs(ours - expected) <= 1e-10 * max(1.0, abs(expected))
+        assert abs(float(np.ravel(zdot(qa, ua, z, time))[0]) - z_rate(time)) <= 1e-12
+
+
+@pytest.mark.slow
+def test_a_run_following_a_filtered_reference_is_the_run_with_the_closed_form_law():
+    """The same two models integrated for 3 s: q_sa, u_sa and the driver's effort agree to 1e-8."""
+    runs = []
+    for text in (GEARED.format(law="c*q_sa + z_f") + FILTER, GEARED.format(law=f"c*q_sa + {FILTERED}")):
+        compiled = flexkane.compile_model(flexkane.derive(flexkane.loads_model(text)))
+        runs.append(flexkane.simulate(compiled, t_end=3.0, dt_out=0.01, rtol=1e-12, atol=1e-12))
+    ours, theirs = runs
+    for name in ("q_sa", "u_sa", "effort_sb"):
+        scale = max(1.0, float(np.max(np.abs(theirs[name]))))
+        assert np.max(np.abs(ours[name] - theirs[name])) <= 1e-8 * scale, name
+    assert np.max(np.abs(ours["energy_balance"])) <= 1e-8 * max(1.0, float(np.max(np.abs(ours["energy"]))))

@@ -259,9 +259,19 @@ class Linearization:
             if c.driver is None or (self.about == "spin" and c.owner == self.prepared.hub):
                 continue
             path = f"joints.{c.owner}.driver"
-            rate = c.law if c.driver == "speed" else time_derivative(c.law, self.t, path=path)
+            if c.state_law:     # a law of the state: at rest with the state, its rate is dL/dt at fixed q, z
+                law = self.eom.expand(c.law)
+                rate = time_derivative(law, self.t, path=path)
+                if rate == 0:
+                    continue
+                state = dict(zip([*self.eom.q, *self.eom.u, *self.z], self.eom.initial_state(self.model)))
+                values = {**values, **state}
+                law = law.xreplace(self.eom.substitutions)
+            else:
+                law = c.law
+                rate = c.law if c.driver == "speed" else time_derivative(c.law, self.t, path=path)
             speed = to_float(rate, values, path=path)
-            if abs(speed) > 1e-12 * max(1.0, abs(to_float(c.law, values, path=path))):
+            if abs(speed) > 1e-12 * max(1.0, abs(to_float(law, values, path=path))):
                 raise NoEquilibriumError(
                     self.about, f"{self.model.name} has no equilibrium at t0 = {self.t0:g} s: joint {c.owner} "
                     f"is driven at {speed:.6g} (rad/s or m/s) there, so the chain is not at rest; linearize "
