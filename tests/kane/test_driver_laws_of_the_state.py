@@ -244,3 +244,37 @@ def test_a_run_following_a_filtered_reference_is_the_run_with_the_closed_form_la
         scale = max(1.0, float(np.max(np.abs(theirs[name]))))
         assert np.max(np.abs(ours[name] - theirs[name])) <= 1e-8 * scale, name
     assert np.max(np.abs(ours["energy_balance"])) <= 1e-8 * max(1.0, float(np.max(np.abs(ours["energy"]))))
+
+
+VELOCITY_SENSOR = '\n[sensors.v]\ntype = "velocity"\nbody = "a"\npoint = "tip"\ncomponent = "x"\n'
+
+
+@pytest.mark.parametrize("law, extra, says", [
+    ("c*u_sa", "", "u_sa (a speed)"),
+    ("v", VELOCITY_SENSOR, "v (a velocity sensor)"),
+    ("z", '\n[controllers.k]\nstates = { z = "u_sa - z" }\n', "rate reads u_sa"),
+    ("k", '\n[controllers.k]\noutput = "2*u_sa"\n', "through controller output 'k'"),
+    ("q_sa + 0.1*q_sb", "", "q_sb (its own coordinate)"),
+])
+def test_a_driver_law_of_speeds_is_refused_by_name(law, extra, says):
+    with pytest.raises(ModelError) as info:
+        flexkane.loads_model(GEARED.format(law=law) + extra)
+    assert info.value.path == "joints.sb.driver.coordinate"
+    assert says in str(info.value) and "u'" in str(info.value) and "torque" in str(info.value)
+
+
+def test_a_driver_law_reading_a_sensor_its_joint_moves_is_refused():
+    """A position sensor on the driven link reads the driven coordinate: q = L(q) is no prescription."""
+    text = GEARED.format(law="p") + '\n[sensors.p]\ntype = "position"\nbody = "b"\ncomponent = "x"\n'
+    with pytest.raises(ModelError) as info:
+        flexkane.derive(flexkane.loads_model(text))
+    assert info.value.path == "joints.sb.driver.coordinate" and "reads q_sb" in str(info.value)
+
+
+def test_the_command_line_refuses_a_driver_law_of_speeds_with_exit_2(tmp_path, capsys):
+    from flexkane.cli import main
+
+    path = tmp_path / "geared.toml"
+    path.write_text(GEARED.format(law="c*u_sa"))
+    assert main(["check", str(path)]) == 2
+    assert "joints.sb.driver.coordinate" in capsys.readouterr().err

@@ -237,12 +237,14 @@ class Signals:
         found = self.used(path, value, "a prescribed coordinate [m or rad]: a law of t, the parameters, "
                           "coordinates, position sensors and controller states")
         reads = set(found)
+        via: dict[str, str] = {}
         pending = [n for n in found if self.kinds[n] == "controller output"]
         while pending:            # through controller outputs, the names they use
             name = pending.pop()
             for other in uses.get(name, ()):
                 if other not in reads:
                     reads.add(other)
+                    via[other] = via.get(name, name)
                     if self.kinds.get(other) == "controller output":
                         pending.append(other)
         driven = {c.q: c.owner for c in self.coordinates if c.driver is not None}
@@ -266,6 +268,8 @@ class Signals:
                                                                   ("velocity", "joint_rate")))
                     if fast:
                         bad.append(f"{state} (a controller state whose rate reads {', '.join(fast)})")
+        bad = [f"{entry[:-1]}, through controller output {via[entry.split()[0]]!r})" if entry.split()[0] in via
+               else entry for entry in bad]
         if bad:
             raise ModelError(path, "a law of t, the parameters, the other coordinates, position sensors and "
                              "controller states whose rates read no speed: a driver prescribes its coordinate, whose "
