@@ -24,8 +24,9 @@ definite. The power of the constraint forces is ``lambda (u_d - sum_i C_i u_i) =
 a gear does no work, a law that moves with time or with a controller state does.
 
 A law that reads its own coordinate (directly, or through a sensor on a link its joint moves) is an
-equation for q_d, not a prescription, and is refused, as are laws that read another driven coordinate
-with a law of the state, and such drivers in models with closed loops.
+equation for q_d, not a prescription, and is refused, as are laws that read a coordinate prescribed by
+another driver (whose effort would have to include this constraint's reaction), and such drivers in
+models with closed loops.
 """
 
 from __future__ import annotations
@@ -88,7 +89,7 @@ def state_driver_substitutions(chain, subs: dict) -> dict:
                 f"the model has constraints {', '.join(chain.model.constraints)}")
     deps = chain.intermediates.dependencies
     speeds = set(chain.u)
-    driven_q = {c.q: c for c in state}
+    driven_q = {c.q: c for c in chain.coordinates if c.driver is not None}
     rates = chain.controller_rates
     for coord in state:
         law = coord.law
@@ -97,19 +98,20 @@ def state_driver_substitutions(chain, subs: dict) -> dict:
             _refuse(chain, coord, "a law that does not read the coordinate it drives (q = L(q) is an equation, not a "
                     "prescription)", f"reads {coord.q.name} (directly or through a sensor on a link the joint moves)")
         others = sorted(q.name for q in used & set(driven_q))
-        if others:
-            _refuse(chain, coord, "a law that does not read a coordinate driven by a law of the state",
-                    f"reads {', '.join(others)}; write that driver's law into this one")
+        if others:      # its driver would have to supply the reaction of this one as well
+            _refuse(chain, coord, "a law that does not read a coordinate prescribed by another driver",
+                    f"reads {', '.join(others)} (directly or through a sensor on a link that joint moves); write "
+                    "that driver's law into this one")
         read = sorted(u.name for u in used & speeds)
         if read:
-            _refuse(chain, coord, "a law of t, the parameters, coordinates, position sensors and controller states: the "
-                    "driven speed is the law's time derivative, which for a law of speeds would need u'",
+            _refuse(chain, coord, "a law of t, the parameters, coordinates, position sensors and controller states: "
+                    "the driven speed is the law's time derivative, which for a law of speeds would need u'",
                     f"reads {', '.join(read)}")
         for z in sorted(used & set(rates), key=lambda s: s.name):
             fast = sorted(u.name for u in deps(rates[z]) & speeds)
             if fast:
-                _refuse(chain, coord, "a law of controller states whose rates read no speed (the driven speed would not "
-                        "be linear in the speeds: not a holonomic prescription)",
+                _refuse(chain, coord, "a law of controller states whose rates read no speed (the driven speed would "
+                        "not be linear in the speeds: not a holonomic prescription)",
                         f"the rate of {z.name} reads {', '.join(fast)}")
     for coord in state:
         first = _rate(chain, coord.law)
