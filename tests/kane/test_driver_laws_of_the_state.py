@@ -100,13 +100,15 @@ def _flexkane_accelerations(eom):
 
 
 def test_a_gear_law_is_kanes_method_with_the_holonomic_constraint():
-    """A gear ``q_sb = c q_sa`` with a cam term and a term of t: u_sa' at random states to 1e-10."""
-    text = "c*q_sa + 0.2*sin(q_sa) + 0.1*sin(2*t)"
+    """A gear ``q_sb = c q_sa`` with a cam term read by a position sensor (the height of a's tip,
+    0.8 sin(q_sa) [m]) and a term of t: u_sa' at random states to 1e-10."""
+    text = "c*q_sa + 0.25*tip_y + 0.1*sin(2*t)"
+    sensor = '\n[sensors.tip_y]\ntype = "position"\nbody = "a"\npoint = "tip"\ncomponent = "y"\n'
 
     def law(qa, t, c):
         return c * qa + 0.2 * sp.sin(qa) + 0.1 * sp.sin(2 * t)
 
-    eom = flexkane.derive(flexkane.loads_model(GEARED.format(law=text)))
+    eom = flexkane.derive(flexkane.loads_model(GEARED.format(law=text) + sensor))
     assert [q.name for q in eom.q] == ["q_sa"] and [u.name for u in eom.u] == ["u_sa"]
     ours, theirs = _flexkane_accelerations(eom), _kanes_method_accelerations(law)
     rng = np.random.default_rng(18)
