@@ -266,11 +266,12 @@ def test_a_driver_law_of_speeds_is_refused_by_name(law, extra, says):
 
 
 def test_a_driver_law_reading_a_sensor_its_joint_moves_is_refused():
-    """A position sensor on the driven link reads the driven coordinate: q = L(q) is no prescription."""
+    """A position sensor on the driven link reads the driven coordinate: q = L(q) is no prescription
+    (validation finds the driven joint on the sensor's path from the ground)."""
     text = GEARED.format(law="p") + '\n[sensors.p]\ntype = "position"\nbody = "b"\ncomponent = "x"\n'
     with pytest.raises(ModelError) as info:
-        flexkane.derive(flexkane.loads_model(text))
-    assert info.value.path == "joints.sb.driver.coordinate" and "reads q_sb" in str(info.value)
+        flexkane.loads_model(text)
+    assert info.value.path == "joints.sb.driver.coordinate" and "which the driven joint sb moves" in str(info.value)
 
 
 def test_the_command_line_refuses_a_driver_law_of_speeds_with_exit_2(tmp_path, capsys):

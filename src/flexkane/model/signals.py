@@ -258,8 +258,11 @@ class Signals:
             elif kind == "coordinate" and name in driven:
                 bad.append(f"{name} (its own coordinate)" if driven[name] == joint else
                            f"{name} (a coordinate prescribed by the driver of {driven[name]})")
-            elif sensor is not None and sensor.type == "joint_angle" and sensor.joint == joint:
-                bad.append(f"{name} (the angle of the joint it drives)")
+            elif sensor is not None and sensor.type == "joint_angle" and sensor.joint in driven.values():
+                bad.append(f"{name} (the coordinate of the driven joint {sensor.joint})")
+            elif sensor is not None and sensor.type == "position" and self._moved_by(sensor.body, driven.values()):
+                bad.append(f"{name} (a position on {sensor.body}, which the driven joint "
+                           f"{self._moved_by(sensor.body, driven.values())} moves)")
         for ctrl in self.model.controllers.values():
             for state, rate in ctrl.states.items():
                 if state in reads:
@@ -279,6 +282,18 @@ class Signals:
                              f"uses {', '.join(bad)}; for feedback of speeds, drive the joint by a torque "
                              "(torque = ...) computed from them")
         return found
+
+    def _moved_by(self, link: str, joints) -> str | None:
+        """The first of ``joints`` on the path from the ground to ``link``, or None."""
+        carriers = {j.child: j for j in self.model.joints.values()}
+        seen = set()
+        while link in carriers and link not in seen:
+            seen.add(link)
+            joint = carriers[link]
+            if joint.name in joints:
+                return joint.name
+            link = joint.parent
+        return None
 
     def _refuse_state_in_driver(self, path: str, value) -> None:
         """A speed driver's law, and a spatial model's driver, use t and the parameters only."""
