@@ -95,7 +95,8 @@ def _kanes_method_accelerations(law):
 
 def _flexkane_accelerations(eom):
     values = eom.constant_values()
-    M, f = (sp.lambdify([*eom.q, *eom.u, eom.t], e.xreplace(values), "numpy") for e in (eom.mass_matrix, eom.forcing))
+    M, f = (sp.lambdify([*eom.q, *eom.u, eom.t], eom.expand(e).xreplace(values), "numpy")
+            for e in (eom.compact.mass_matrix, eom.compact.forcing))
     return lambda *state: np.linalg.solve(np.atleast_2d(M(*state)), np.ravel(f(*state)))[0]
 
 
@@ -281,3 +282,15 @@ def test_the_command_line_refuses_a_driver_law_of_speeds_with_exit_2(tmp_path, c
     path.write_text(GEARED.format(law="c*u_sa"))
     assert main(["check", str(path)]) == 2
     assert "joints.sb.driver.coordinate" in capsys.readouterr().err
+
+
+def test_the_report_prints_a_law_of_the_state_by_name():
+    """equations.md gives the driven coordinate's law with the sensor and the controller state by name,
+    and their definitions (the sensor's in q, the state's rate)."""
+    from flexkane.report import equations_markdown
+
+    sensor = '\n[sensors.tip_y]\ntype = "position"\nbody = "a"\npoint = "tip"\ncomponent = "y"\n'
+    eom = flexkane.derive(flexkane.loads_model(GEARED.format(law="c*q_sa + z_f + 0.1*tip_y") + FILTER + sensor))
+    text = equations_markdown(eom, eom.constant_values())
+    assert r"(driven: $c q_{sa} + 0.1 tip_{y} + z_{f}$ coordinate)" in text
+    assert r"tip_{y} &=" in text and r"\dot{z_{f}} &=" in text
