@@ -294,3 +294,14 @@ def test_the_report_prints_a_law_of_the_state_by_name():
     text = equations_markdown(eom, eom.constant_values())
     assert r"(driven: $c q_{sa} + 0.1 tip_{y} + z_{f}$ coordinate)" in text
     assert r"tip_{y} &=" in text and r"\dot{z_{f}} &=" in text
+
+
+def test_a_spatial_driver_of_the_state_is_refused_by_name():
+    """Drivers of the state are planar only: a spatial model's law of a coordinate says so."""
+    from pathlib import Path
+
+    path = Path(__file__).parents[1] / "model" / "spatial_models" / "every-joint-type.toml"
+    text = path.read_text().replace('driver = { coordinate = "0.5*sin(t)" }', 'driver = { coordinate = "0.5*q_rail" }')
+    with pytest.raises(ModelError) as info:
+        flexkane.loads_model(text)
+    assert info.value.path == "joints.pin.driver.coordinate" and "spatial model" in str(info.value)
