@@ -83,9 +83,9 @@ def _kanes_method_accelerations(law):
     kane.kanes_equations(bodies, loads)
     X = sp.symbols("QA QB UA UB T")
     plain = dict(zip([qa, qb, ua, ub, t], X))
-    M, f = (sp.lambdify(X, e.xreplace(plain), "numpy") for e in (kane.mass_matrix, kane.forcing))
-    speed = sp.lambdify([X[0], X[2], X[4]], L.diff(t).subs(qa.diff(t), ua).xreplace(plain), "numpy")
-    angle = sp.lambdify([X[0], X[4]], L.xreplace(plain), "numpy")
+    M, f = (sp.lambdify(X, e.xreplace(plain), "numpy", cse=True) for e in (kane.mass_matrix, kane.forcing))
+    speed = sp.lambdify([X[0], X[2], X[4]], L.diff(t).subs(qa.diff(t), ua).xreplace(plain), "numpy", cse=True)
+    angle = sp.lambdify([X[0], X[4]], L.xreplace(plain), "numpy", cse=True)
 
     def accelerations(q, u, time):
         state = (q, angle(q, time), u, speed(q, u, time), time)
@@ -95,7 +95,7 @@ def _kanes_method_accelerations(law):
 
 def _flexkane_accelerations(eom):
     values = eom.constant_values()
-    M, f = (sp.lambdify([*eom.q, *eom.u, eom.t], eom.expand(e).xreplace(values), "numpy")
+    M, f = (sp.lambdify([*eom.q, *eom.u, eom.t], eom.expand(e).xreplace(values), "numpy", cse=True)
             for e in (eom.compact.mass_matrix, eom.compact.forcing))
     return lambda *state: np.linalg.solve(np.atleast_2d(M(*state)), np.ravel(f(*state)))[0]
 
@@ -167,8 +167,10 @@ def test_power_of_the_driver_and_the_actuator_is_the_rate_of_kinetic_and_strain_
     u_sb = 0.5 * u_sa + 0.3 * sp.cos(3 * t)        # the law's time derivative, written here
     supplied = out["effort_sa"] * u_sa + out["effort_sb"] * (u_sb - 0.5 * u_sa)
     args = [*eom.q, *eom.u, t]
-    M, f = (sp.lambdify(args, e.xreplace(values), "numpy") for e in (eom.mass_matrix, eom.forcing))
-    check = sp.lambdify([*args, *ud], [rate, supplied, out["power_nonconservative"], out["effort_sa"]], "numpy")
+    M, f = (sp.lambdify(args, eom.expand(e).xreplace(values), "numpy", cse=True)
+            for e in (eom.compact.mass_matrix, eom.compact.forcing))
+    check = sp.lambdify([*args, *ud], [rate, supplied, out["power_nonconservative"], out["effort_sa"]], "numpy",
+                        cse=True)
     rng = np.random.default_rng(7)
     for state in rng.uniform(-1.0, 1.0, size=(5, 7)):
         acc = np.linalg.solve(M(*state), np.ravel(f(*state)))
@@ -205,6 +207,70 @@ def test_linearize_with_a_gear_reduces_the_driven_coordinate():
     assert np.max(np.abs(A - J)) <= 1e-7 * np.max(np.abs(J))
 
 
+#: Two drivers of the state on one chain: sb follows a's angle and the tip deflection of the beam
+#: that sc carries (a sensor of its modal coordinate), sc follows a's angle and t.
+TWO_DRIVERS = """
+name = "three"
+[bodies.a]
+mass = 1.0
+inertia = 0.05
+points = { hinge = [-0.4, 0.0], tip = [0.4, 0.0] }
+[bodies.b]
+mass = 0.7
+inertia = 0.03
+points = { hinge = [-0.3, 0.0], tip = [0.3, 0.0] }
+[beams.link]
+L = 1.0
+EI = 12.0
+rho = 0.6
+n_modes = 1
+[sensors.tipdef]
+type = "tip_deflection"
+beam = "link"
+[joints.sa]
+type = "revolute"
+parent = "ground"
+child = "a"
+child_point = "hinge"
+[joints.sb]
+type = "revolute"
+parent = "a"
+parent_point = "tip"
+child = "b"
+child_point = "hinge"
+driver = { coordinate = "0.5*q_sa + 0.3*tipdef" }
+[joints.sc]
+type = "revolute"
+parent = "b"
+parent_point = "tip"
+child = "link"
+driver = { coordinate = "-0.2*q_sa + 0.1*sin(t)" }
+"""
+
+
+def test_two_drivers_of_the_state_keep_the_energy_balance():
+    """d(energy)/dt = power_nonconservative (the drivers' forces on their joints and on the coordinates
+    their laws read, modal ones included) at random states."""
+    eom = flexkane.derive(flexkane.loads_model(TWO_DRIVERS))
+    assert eom.state_names == ["q_sa", "q_link_1", "u_sa", "u_link_1"]
+    values = eom.constant_values()
+    t = eom.t
+    ud = sp.symbols(f"a0:{len(eom.u)}")
+    rates = dict(zip(eom.ud, ud))
+    energy, power = (eom.outputs[k].xreplace(values).xreplace(rates) for k in ("energy", "power_nonconservative"))
+    qdot = list(eom.qdot.xreplace(values))
+    rate = (sum(energy.diff(q) * qd for q, qd in zip(eom.q, qdot)) + sum(energy.diff(u) * a for u, a in zip(eom.u, ud))
+            + energy.diff(t))
+    args = [*eom.q, *eom.u, t]
+    M, f = (sp.lambdify(args, eom.expand(e).xreplace(values), "numpy", cse=True)
+            for e in (eom.compact.mass_matrix, eom.compact.forcing))
+    check = sp.lambdify([*args, *ud], [rate, power], "numpy", cse=True)
+    rng = np.random.default_rng(11)
+    for state in rng.uniform(-1.0, 1.0, size=(3, len(args))):
+        de, supplied = check(*state, *np.linalg.solve(M(*state), np.ravel(f(*state))))
+        assert abs(de - supplied) <= 1e-10 * max(1.0, abs(de))
+
+
 #: A first-order filter z_f' = (r(t) - z_f)/tau of the reference r = R sin(w t), z_f(0) = 0, and its
 #: closed form.
 FILTER = '\n[controllers.filter]\nstates = { z_f = "(0.4*sin(3*t) - z_f)/0.2" }\n'
@@ -222,7 +288,7 @@ def test_a_driver_following_a_filtered_reference_is_the_closed_form_law():
     z_of_t = parse_expression(FILTERED, {"t": t}, path="law")
     values = with_state.constant_values()
     args = [*with_state.q, *with_state.u, *with_state.z, t]
-    M, f, zdot = (sp.lambdify(args, e.xreplace(values), "numpy")
+    M, f, zdot = (sp.lambdify(args, e.xreplace(values), "numpy", cse=True)
                   for e in (with_state.mass_matrix, with_state.forcing, with_state.zdot))
     reference = _flexkane_accelerations(closed)
     z_f, z_rate = sp.lambdify([t], z_of_t), sp.lambdify([t], z_of_t.diff(t))
