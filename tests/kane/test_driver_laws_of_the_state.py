@@ -371,3 +371,66 @@ def test_a_spatial_driver_of_the_state_is_refused_by_name():
     with pytest.raises(ModelError) as info:
         flexkane.loads_model(text)
     assert info.value.path == "joints.pin.driver.coordinate" and "spatial model" in str(info.value)
+
+
+def _kanes_method_free_chain():
+    """M(qa, qb) and f(qa, qb, ua, ub) of the two-link chain without constraint, by KanesMethod."""
+    t = dynamicsymbols._t
+    qa, qb, ua, ub = dynamicsymbols("qa qb ua ub")
+    N = ReferenceFrame("N")
+    A = N.orientnew("A", "Axis", (qa, N.z))
+    B = A.orientnew("B", "Axis", (qb, A.z))
+    A.set_ang_vel(N, ua * N.z)
+    B.set_ang_vel(A, ub * A.z)
+    O = Point("O")
+    O.set_vel(N, 0)
+    Ac = O.locatenew("Ac", 0.4 * A.x)
+    Ac.v2pt_theory(O, N, A)
+    hinge = O.locatenew("H", 0.8 * A.x)
+    hinge.v2pt_theory(O, N, A)
+    Bc = hinge.locatenew("Bc", 0.3 * B.x)
+    Bc.v2pt_theory(hinge, N, B)
+    bodies = [RigidBody("a", Ac, A, 1.0, (inertia(A, 0, 0, 0.05), Ac)),
+              RigidBody("b", Bc, B, 0.7, (inertia(B, 0, 0, 0.03), Bc))]
+    kane = KanesMethod(N, q_ind=[qa, qb], u_ind=[ua, ub], kd_eqs=[qa.diff(t) - ua, qb.diff(t) - ub])
+    kane.kanes_equations(bodies, [(Ac, -9.81 * N.y), (Bc, -0.7 * 9.81 * N.y)])
+    X = sp.symbols("QA QB UA UB")
+    plain = dict(zip([qa, qb, ua, ub], X))
+    return tuple(sp.lambdify(X, e.xreplace(plain), "numpy", cse=True) for e in (kane.mass_matrix, kane.forcing))
+
+
+def test_a_speed_law_of_the_state_is_a_velocity_servo():
+    """u_sb = -2 (q_sb - c q_sa) + 0.3 cos(t): q_sb stays in the state, the driver's effort acts on sb
+    alone, and KanesMethod's free chain with u_sb' = dL/dt gives the same u_sa' and the same effort
+    (the residual of sb's row) at random states, to 1e-10."""
+    law = "-2*(q_sb - c*q_sa) + 0.3*cos(t)"
+    eom = flexkane.derive(flexkane.loads_model(GEARED.format(law=law).replace("coordinate =", "speed =")))
+    assert eom.state_names == ["q_sa", "q_sb", "u_sa"]
+    values = eom.constant_values()
+    args = [*eom.q, *eom.u, eom.t]
+    ud = sp.Symbol("a")
+    M, f, effort = (sp.lambdify([*args, ud], eom.expand(e).xreplace(values).xreplace({eom.ud[0]: ud}), "numpy",
+                                cse=True)
+                    for e in (eom.compact.mass_matrix[0, 0], eom.compact.forcing[0], eom.compact.outputs["effort_sb"]))
+    rate_q_sb = sp.lambdify(args, eom.expand(eom.compact.qdot[1]).xreplace(values), "numpy")
+    M_ref, f_ref = _kanes_method_free_chain()
+    rng = np.random.default_rng(5)
+    for qa, qb, ua, t in rng.uniform(-2.0, 2.0, size=(5, 4)):
+        ours = f(qa, qb, ua, t, 0.0) / M(qa, qb, ua, t, 0.0)
+        ub = -2 * (qb - 0.5 * qa) + 0.3 * np.cos(t)
+        ub_rate = -2 * (ub - 0.5 * ua) - 0.3 * np.sin(t)
+        assert abs(rate_q_sb(qa, qb, ua, t) - ub) <= 1e-14
+        Mk, fk = np.atleast_2d(M_ref(qa, qb, ua, ub)), np.ravel(f_ref(qa, qb, ua, ub))
+        expected = (fk[0] - Mk[0, 1] * ub_rate) / Mk[0, 0]
+        assert abs(ours - expected) <= 1e-10 * max(1.0, abs(expected))
+        torque = Mk[1, 0] * expected + Mk[1, 1] * ub_rate - fk[1]
+        assert abs(effort(qa, qb, ua, t, ours) - torque) <= 1e-10 * max(1.0, abs(torque))
+
+
+def test_linearize_refuses_a_speed_law_of_the_state_by_name():
+    from flexkane import linearize
+
+    model = flexkane.loads_model(GEARED.format(law="-2*(q_sb - c*q_sa)").replace("coordinate =", "speed ="))
+    with pytest.raises(ModelError) as info:
+        linearize(model)
+    assert info.value.path == "joints.sb.driver.speed" and "coordinate" in str(info.value)

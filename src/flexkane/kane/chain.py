@@ -57,7 +57,7 @@ class Coordinate:
         The prescribed coordinate or speed as an expression of t (or of the state when
         ``state_law``: parsed once the signals are known, :mod:`flexkane.kane.driver_laws`).
     state_law : bool
-        The law reads coordinates, sensors or controller states.
+        The law reads coordinates, sensors or controller states (a planar model's driver).
     """
 
     q: sp.Symbol
@@ -220,7 +220,9 @@ def build_chain(model: Model) -> Chain:
                     coord.law = chain.symbols.time_function(f"{path}.coordinate", joint.driver.coordinate)
             else:
                 coord.driver = "speed"
-                coord.law = chain.symbols.time_function(f"{path}.speed", joint.driver.speed)
+                coord.state_law = reads_state(joint.driver.speed, model.parameters)
+                if not coord.state_law:
+                    coord.law = chain.symbols.time_function(f"{path}.speed", joint.driver.speed)
         if joint.child in model.beams:
             for coord in chain.of(joint.child):
                 chain.qdot[coord.q] = coord.u

@@ -23,6 +23,13 @@ equations are formed with the partial velocities of the dependent-speed reductio
 definite. The power of the constraint forces is ``lambda (u_d - sum_i C_i u_i) = lambda (L_z z' + L_t)``:
 a gear does no work, a law that moves with time or with a controller state does.
 
+A speed driver's law ``u_d = L(t, q, z)`` (``driver = { speed = ... }``) may read the same signals,
+its own coordinate and the other driven ones included, and controller states whatever their rates:
+``q_d`` stays in the state with ``q_d' = L``, and ``u_d' = dL/dt`` is free of u' (L reads no speed), so
+the driver's effort acts on its joint alone, as a law of time's does, and the mass matrix is the free
+speeds' (a velocity servo: ``u_d - L = 0`` is a constraint on the speeds whose only partial velocity is
+the driven one's). A law of speeds would put u' in ``u_d'`` and is refused.
+
 A law that reads its own coordinate (directly, or through a sensor on a link its joint moves) is an
 equation for q_d, not a prescription, and is refused, as are laws that read a coordinate prescribed by
 another driver (whose effort would have to include this constraint's reaction), and such drivers in
@@ -94,6 +101,13 @@ def state_driver_substitutions(chain, subs: dict) -> dict:
     for coord in state:
         law = coord.law
         used = deps(law)
+        if coord.driver == "speed":
+            read = sorted(u.name for u in used & speeds)
+            if read:
+                _refuse(chain, coord, "a law of t, the parameters, coordinates, position sensors and controller "
+                        "states: the driven acceleration is the law's time derivative, which for a law of speeds "
+                        "would need u'", f"reads {', '.join(read)}")
+            continue
         if coord.q in used:
             _refuse(chain, coord, "a law that does not read the coordinate it drives (q = L(q) is an equation, not a "
                     "prescription)", f"reads {coord.q.name} (directly or through a sensor on a link the joint moves)")
@@ -114,6 +128,10 @@ def state_driver_substitutions(chain, subs: dict) -> dict:
                         "not be linear in the speeds: not a holonomic prescription)",
                         f"the rate of {z.name} reads {', '.join(fast)}")
     for coord in state:
+        if coord.driver == "speed":     # q_d stays in the state, q_d' = u_d = L
+            subs[coord.u] = coord.law
+            subs[chain.ud[coord.u]] = _rate(chain, coord.law, with_ud=True)
+            continue
         first = _rate(chain, coord.law)
         subs[coord.q] = coord.law
         subs[coord.u] = first
@@ -166,7 +184,7 @@ def speed_coupling(chain, subs: dict, free: list) -> dict:
     out = {}
     rates = [chain.ud[u] for u in free]
     for c in chain.coordinates:
-        if c.state_law:
+        if c.state_law and c.driver == "coordinate":
             accel = subs[chain.ud[c.u]]
             out[c.u] = ([sp.diff(accel, a) for a in rates], accel.xreplace({a: 0 for a in rates}))
     return out

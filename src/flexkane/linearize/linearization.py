@@ -139,6 +139,13 @@ class Linearization:
         self.t = eom.t
         self._coordinate = {c.q: c for c in eom.chain.coordinates}
         self.dropped = [q for q in eom.q if self._coordinate[q].driver == "speed"]
+        for q in self.dropped:      # a speed law of the state moves q_d with the state: no frozen value
+            if self._coordinate[q].state_law:
+                owner = self._coordinate[q].owner
+                raise ModelError(f"joints.{owner}.driver.speed", "a law of t and the parameters to linearize (a "
+                                 "prescribed speed of the state moves its coordinate with the state, which the linear "
+                                 "model has no speed for; prescribe the coordinate instead, driver = { coordinate = "
+                                 "... })", self.model.joints[owner].driver.speed)
         self.dependent = list(eom.dependent_coordinates) if eom.dependent_speeds else []
         self.q_all = [q for q in eom.q if q not in self.dropped]
         self.q = [q for q in self.q_all if q not in self.dependent]

@@ -11,14 +11,16 @@ outputs are expressions of ``t``, the parameters and the *signals* of the model:
 * the controller states (``[controllers.NAME] states = { z = "rate" }``) by their names, and the
   controller outputs by the controllers' names (refused in a cycle: ``a`` uses ``b`` uses ``a``).
 
-A coordinate driver's law (``driver = { coordinate = ... }``) of a planar model may read the
+A speed driver's law (``driver = { speed = ... }``) of a planar model may read the coordinates, the
+sensors of position, the controller states and the outputs built from them, but no speed (its time
+derivative, the driven acceleration, would contain u'). A coordinate driver's law
+(``driver = { coordinate = ... }``) of a planar model may read the
 coordinates (not its own, nor one driven by another law of the state), the sensors of position
 (every kind but velocity, joint rate and acceleration), the controller states whose rates read no
 speed, and the controller outputs built from those: it is then a holonomic constraint
 (:mod:`flexkane.kane.driver_laws`). It may not read speeds: the driven speed is the law's time
 derivative, which for a law of speeds would contain the accelerations u', and the driven
-acceleration u''. A speed driver's law and a spatial model's driver stay laws of t and the
-parameters.
+acceleration u''. A spatial model's driver stays a law of t and the parameters.
 
 Everything here works on names and syntax only (no SymPy unless an expression needs it, as
 everywhere in validation); :mod:`flexkane.kane.sensors` and :mod:`flexkane.kane.controllers` build
@@ -231,11 +233,13 @@ class Signals:
         if not isinstance(value, str):
             return set()
         joint = path.split(".")[1]
-        if not path.endswith(".coordinate") or self.model.dimensions == 3:
+        if self.model.dimensions == 3:
             self._refuse_state_in_driver(path, value)
             return set()
-        found = self.used(path, value, "a prescribed coordinate [m or rad]: a law of t, the parameters, "
-                          "coordinates, position sensors and controller states")
+        speed_law = path.endswith(".speed")
+        what = "speed [m/s or rad/s]" if speed_law else "coordinate [m or rad]"
+        found = self.used(path, value, f"a prescribed {what}: a law of t, the parameters, coordinates, position "
+                          "sensors and controller states")
         reads = set(found)
         via: dict[str, str] = {}
         pending = [n for n in found if self.kinds[n] == "controller output"]
@@ -255,6 +259,8 @@ class Signals:
             sensor = sensors.get(name) if kind == "sensor" else None
             if kind == "speed" or (sensor is not None and sensor.type in ("velocity", "joint_rate")):
                 bad.append(f"{name} (a speed)" if kind == "speed" else f"{name} (a {sensor.type} sensor)")
+            elif speed_law:
+                continue        # a speed's law may read every coordinate (it stays in the state)
             elif kind == "coordinate" and name in driven:
                 bad.append(f"{name} (its own coordinate)" if driven[name] == joint else
                            f"{name} (a coordinate prescribed by the driver of {driven[name]})")
@@ -265,7 +271,7 @@ class Signals:
                            f"{self._moved_by(sensor.body, driven.values())} moves)")
         for ctrl in self.model.controllers.values():
             for state, rate in ctrl.states.items():
-                if state in reads:
+                if state in reads and not speed_law:
                     fast = sorted(n for n in self.used(f"controllers.{ctrl.name}.states.{state}", rate, "a rate")
                                   if self.kinds[n] == "speed" or (self.kinds[n] == "sensor" and sensors[n].type in
                                                                   ("velocity", "joint_rate")))
@@ -273,6 +279,12 @@ class Signals:
                         bad.append(f"{state} (a controller state whose rate reads {', '.join(fast)})")
         bad = [f"{entry[:-1]}, through controller output {via[entry.split()[0]]!r})" if entry.split()[0] in via
                else entry for entry in bad]
+        if bad and speed_law:
+            raise ModelError(path, "a law of t, the parameters, coordinates, position sensors and controller states: "
+                             "a driver prescribes its speed, whose rate is the law's time derivative; a law of the "
+                             "speeds would need the accelerations u'", value,
+                             f"uses {', '.join(bad)}; for feedback of speeds, drive the joint by a torque "
+                             "(torque = ...) computed from them")
         if bad:
             raise ModelError(path, "a law of t, the parameters, the other coordinates, position sensors and "
                              "controller states whose rates read no speed: a driver prescribes its coordinate, whose "
@@ -296,18 +308,14 @@ class Signals:
         return None
 
     def _refuse_state_in_driver(self, path: str, value) -> None:
-        """A speed driver's law, and a spatial model's driver, use t and the parameters only."""
+        """A spatial model's driver uses t and the parameters only."""
         try:
             found = self.used(path, value, "a prescribed motion")
         except ModelError:
             return     # the driver's own check reports it with the message of a law of time
         if found:
-            where = ("in a spatial model (dimensions = 3)" if self.model.dimensions == 3 else
-                     "for a prescribed speed (a coordinate driver, driver = { coordinate = ... }, may read "
-                     "coordinates, position sensors and controller states)")
-            raise ModelError(path, f"a law of t and the parameters only {where}: a driver prescribes the motion, and "
-                             "its speed and acceleration (first and second time derivatives of the law) would need "
-                             "the rates and accelerations of the state it depends on", value,
+            raise ModelError(path, "a law of t and the parameters only in a spatial model (dimensions = 3; drivers "
+                             "of the state are planar)", value,
                              f"uses {', '.join(sorted(found))}; for feedback, drive the joint by a torque "
                              "(torque = ...) computed from them")
 
