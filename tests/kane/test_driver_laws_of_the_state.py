@@ -434,3 +434,11 @@ def test_linearize_refuses_a_speed_law_of_the_state_by_name():
     with pytest.raises(ModelError) as info:
         linearize(model)
     assert info.value.path == "joints.sb.driver.speed" and "coordinate" in str(info.value)
+
+
+def test_a_driver_law_with_a_saturated_output_is_refused_by_name():
+    """A saturated controller output has a step in its derivative: the driven acceleration would not exist."""
+    text = GEARED.format(law="c*q_sa + k") + '\n[controllers.k]\noutput = "q_sa"\nmax = 0.2\n'
+    with pytest.raises(ModelError) as info:
+        flexkane.derive(flexkane.loads_model(text))
+    assert info.value.path == "joints.sb.driver.coordinate" and "steps or impulses" in str(info.value)

@@ -1,4 +1,5 @@
-"""Drivers whose law reads the state: ``q_d = L(t, q, z)`` as a holonomic constraint.
+"""Drivers whose law reads the state: ``q_d = L(t, q, z)`` as a holonomic constraint, ``u_d = L(t, q, z)``
+as a velocity servo.
 
 A coordinate driver prescribes its joint's coordinate. With a law of t and the parameters, the
 coordinate, its speed and its acceleration are the law and its time derivatives
@@ -136,7 +137,8 @@ def state_driver_substitutions(chain, subs: dict) -> dict:
         subs[coord.q] = coord.law
         subs[coord.u] = first
         subs[chain.ud[coord.u]] = _rate(chain, first, with_ud=True)
-    # the laws read no driven symbol; their derivatives may (through the controllers' rates)
+    # the coordinates' laws read no driven symbol; the speeds' laws and the derivatives may (the
+    # coordinates of other drivers, the controllers' rates): substituted until none is left
     keys = set(subs)
     for _ in range(len(subs) + 1):
         stale = [k for k, v in subs.items() if v.free_symbols & keys]
@@ -147,8 +149,8 @@ def state_driver_substitutions(chain, subs: dict) -> dict:
     for coord in state:
         if chain.intermediates.expand(subs[chain.ud[coord.u]]).has(sp.Heaviside, sp.DiracDelta, sp.sign,
                                                                    sp.Derivative):
-            _refuse(chain, coord, "a law that can be differentiated twice with respect to time", "its second time "
-                    "derivative has steps or impulses (min, max, abs or a saturated controller output in the law)")
+            _refuse(chain, coord, "a law that can be differentiated with respect to time (twice for a coordinate)",
+                    "its derivative has steps or impulses (min, max, abs or a saturated controller output in the law)")
     return subs
 
 
