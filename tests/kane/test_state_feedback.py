@@ -289,13 +289,14 @@ def test_acceleration_sensor_in_a_controller_is_refused():
     assert info.value.path == "controllers.filter.states.a_f" and "u'" in str(info.value)
 
 
-def test_driver_depending_on_the_state_is_refused():
-    text = ROTOR.replace('torque = "Kp*(ref - angle) - Kd*rate"', 'driver = { speed = "-angle" }')
+def test_driver_depending_on_the_speeds_is_refused():
+    """A driver's law may read the coordinates (tests/kane/test_driver_laws_of_the_state.py), not the speeds."""
+    text = ROTOR.replace('torque = "Kp*(ref - angle) - Kd*rate"', 'driver = { speed = "-angle - 0.1*rate" }')
     text = text.replace("u_axle = 1.0", "q_axle = 1.0")
     with pytest.raises(ModelError) as info:
         flexkane.loads_model(text)
     assert info.value.path == "joints.axle.driver.speed"
-    assert "t and the parameters only" in str(info.value) and "torque" in str(info.value)
+    assert "rate (a joint_rate sensor)" in str(info.value) and "u'" in str(info.value) and "torque" in str(info.value)
 
 
 def test_signal_names_must_be_new():

@@ -15,7 +15,8 @@ parts does not matter), each beam's modal coordinates right after the joint that
   for e0; :attr:`Chain.u` lists the speeds).
 
 A driven joint coordinate is not free: with a coordinate law q(t), q and u leave the state; with a
-speed law, q stays in the state with q' = law(t) and u leaves it.
+speed law, q stays in the state with q' = law(t) and u leaves it. A coordinate law may also read the
+state (:mod:`flexkane.kane.driver_laws`).
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ from ..model import Model
 from ..model.coordinates import coordinate_names, tree_order
 from ..model.parts import Joint
 from ..model.values import TIME, FieldSymbols, GeneratedSymbol
+from .driver_laws import reads_state
 from .intermediates import NAME_ABOVE, Intermediates
 from .spatial_joints import kinematic_equations
 
@@ -55,7 +57,10 @@ class Coordinate:
     driver : str or None
         ``coordinate`` or ``speed`` when prescribed.
     law : sympy.Expr or None
-        The prescribed coordinate or speed as an expression of t.
+        The prescribed coordinate or speed as an expression of t (or of the state when
+        ``state_law``: parsed once the signals are known, :mod:`flexkane.kane.driver_laws`).
+    state_law : bool
+        The law reads coordinates, sensors or controller states (a planar model's driver).
     """
 
     q: sp.Symbol
@@ -65,6 +70,7 @@ class Coordinate:
     index: int = 0
     driver: str | None = None
     law: sp.Expr | None = None
+    state_law: bool = False
 
 
 @dataclass
@@ -217,10 +223,14 @@ def build_chain(model: Model) -> Chain:
             path = f"joints.{joint.name}.driver"
             if joint.driver.coordinate is not None:
                 coord.driver = "coordinate"
-                coord.law = chain.symbols.time_function(f"{path}.coordinate", joint.driver.coordinate)
+                coord.state_law = reads_state(joint.driver.coordinate, model.parameters)
+                if not coord.state_law:   # a law of the state is parsed with the signals (driver_laws)
+                    coord.law = chain.symbols.time_function(f"{path}.coordinate", joint.driver.coordinate)
             else:
                 coord.driver = "speed"
-                coord.law = chain.symbols.time_function(f"{path}.speed", joint.driver.speed)
+                coord.state_law = reads_state(joint.driver.speed, model.parameters)
+                if not coord.state_law:
+                    coord.law = chain.symbols.time_function(f"{path}.speed", joint.driver.speed)
         if joint.child in model.beams:
             for coord in chain.of(joint.child):
                 chain.qdot[coord.q] = coord.u

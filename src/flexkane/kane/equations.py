@@ -22,6 +22,7 @@ from .budget import DerivationBudget
 from .chain import Chain, build_chain
 from .compact import CompactEquations
 from .controllers import control_signals
+from .driver_laws import parse_state_laws, speed_coupling, state_driver_substitutions
 from .inertia import InertiaForces, generalized_inertia_forces
 from .kinematics import Kinematics
 from .outputs import output_expressions
@@ -119,6 +120,8 @@ class EquationsOfMotion:
         subs = {}
         for c in coords:   # drivers' laws are differentiated branch by branch (no impulses)
             path = f"joints.{c.owner}.driver.{c.driver}"
+            if c.state_law:
+                continue       # laws of the state: below
             if c.driver == "coordinate":
                 subs[c.q] = c.law
                 subs[c.u] = time_derivative(c.law, chain.t, path=path)
@@ -126,6 +129,7 @@ class EquationsOfMotion:
             elif c.driver == "speed":
                 subs[c.u] = c.law
                 subs[chain.ud[c.u]] = time_derivative(c.law, chain.t, path=path)
+        subs = state_driver_substitutions(chain, subs)     # laws of the state (kane.driver_laws)
         self.substitutions = subs
         sub = (lambda e: e.xreplace(subs)) if subs else (lambda e: e)
         free = [r for r, c in enumerate(speed_coords) if c.driver is None]
@@ -139,11 +143,15 @@ class EquationsOfMotion:
         Mfull = inertia.mass_matrix
         F_total = [sp.Add(*[part[r] for part in active.values()]) for r in range(len(speed_coords))]
         ud_driven = [sub(chain.ud[speed_coords[d].u]) for d in driven]
-        self.mass_matrix = sp.Matrix(len(free), len(free),
-                                     lambda i, j: sub(Mfull[free[i], free[j]]))
-        self.forcing = sp.Matrix([sub(F_total[r] - inertia.remainder[r]
-                                      - sp.Add(*[Mfull[r, d] * a for d, a in zip(driven, ud_driven)]))
-                                  for r in free])
+        coupling = speed_coupling(chain, subs, self.u)
+        if not coupling:
+            self.mass_matrix = sp.Matrix(len(free), len(free),
+                                         lambda i, j: sub(Mfull[free[i], free[j]]))
+            self.forcing = sp.Matrix([sub(F_total[r] - inertia.remainder[r]
+                                          - sp.Add(*[Mfull[r, d] * a for d, a in zip(driven, ud_driven)]))
+                                      for r in free])
+        else:
+            self._reduce_by_drivers(Mfull, F_total, free, driven, ud_driven, coupling, sub)
         #: generalized force each driver supplies [N m or N], as expressions of q, u, u', t
         self.driver_efforts = {}
         for d, a_d in zip(driven, ud_driven):
@@ -156,6 +164,9 @@ class EquationsOfMotion:
         self.constraint_set = None
         outputs = spatial_output_expressions if chain.dimensions == 3 else output_expressions
         self.outputs = {k: sub(v) for k, v in outputs(self).items()}
+        for u_d, (C, _) in coupling.items():    # the driver's force on the speeds its law reads
+            effort = self.driver_efforts[next(c.owner for c in speed_coords if c.u == u_d)]
+            self.outputs["power_nonconservative"] -= effort * sp.Add(*[c * u for c, u in zip(C, self.u)])
         dependent_subs: dict = {}
         if chain.model.constraints:
             dependent_subs = self._reduce_by_constraints(sub)
@@ -218,10 +229,34 @@ class EquationsOfMotion:
     def __setstate__(self, state):
         self.__dict__.update(state)
 
+    # ------------------------------------------------------------------ drivers of the state
+    def _reduce_by_drivers(self, Mfull, F_total, free, driven, ud_driven, coupling, sub) -> None:
+        """Kane's equations with the speeds of drivers of the state dependent (see
+        :mod:`flexkane.kane.driver_laws`): ``P^T M P u_f' = P^T (f - M e)`` over the free speeds and
+        those driven speeds, ``P = [I; C]``."""
+        from .constraints import dependent_speed_reduction
+
+        speed_coords = self.chain.speed_coordinates
+        state = [d for d in driven if speed_coords[d].u in coupling]
+        keep = free + state
+        time_laws = [(d, a) for d, a in zip(driven, ud_driven) if d not in state]
+        M = sp.Matrix(len(keep), len(keep), lambda i, j: sub(Mfull[keep[i], keep[j]]))
+        f = sp.Matrix([sub(F_total[r] - self._inertia.remainder[r] - sp.Add(*[Mfull[r, d] * a for d, a in time_laws]))
+                       for r in keep])
+        P = sp.zeros(len(keep), len(free))
+        e = sp.zeros(len(keep), 1)
+        for k in range(len(free)):
+            P[k, k] = 1
+        for k, d in enumerate(state):
+            C, e_d = coupling[speed_coords[d].u]
+            P[len(free) + k, :] = sp.Matrix([C])
+            e[len(free) + k] = e_d
+        self.mass_matrix, self.forcing = dependent_speed_reduction(M, f, P, e)
+
     # ------------------------------------------------------------------ loop constraints
     def _reduce_by_constraints(self, sub) -> None:
         """Kane's equations with dependent speeds (see :mod:`flexkane.kane.constraints`)."""
-        from .constraints import choose_dependent, loop_constraints
+        from .constraints import choose_dependent, dependent_speed_reduction, loop_constraints
 
         chain = self.chain
         cons = loop_constraints(self.kinematics)
@@ -280,7 +315,6 @@ class EquationsOfMotion:
             P[j, :] = -X[k, :]
             e[j] = e_dep[k]
         M = self.mass_matrix
-        PT = P.T
         # u' of the dependent speeds in terms of the independent ones (for outputs)
         udi = sp.Matrix([ud_free[j] for j in ind])
         ud_dep = -X * udi + e_dep
@@ -293,8 +327,9 @@ class EquationsOfMotion:
             coord = chain.of(owner)[0]
             column = sp.Matrix([sub(chain.partial(e, coord.u)) for e in g_raw])
             self.driver_efforts[owner] = effort - (column.T * lam)[0]
-        self.mass_matrix = (PT * M * P).applyfunc(lambda x: x.xreplace(dep_subs))
-        self.forcing = (PT * (self.forcing - M * e)).applyfunc(lambda x: x.xreplace(dep_subs))
+        M_reduced, f_reduced = dependent_speed_reduction(M, self.forcing, P, e)
+        self.mass_matrix = M_reduced.applyfunc(lambda x: x.xreplace(dep_subs))
+        self.forcing = f_reduced.applyfunc(lambda x: x.xreplace(dep_subs))
         self.qdot = self.qdot.applyfunc(lambda x: x.xreplace(dep_subs))
         self.zdot = self.zdot.applyfunc(lambda x: x.xreplace(dep_subs))
         self.dependent_speeds = dep_subs
@@ -385,6 +420,7 @@ def derive(model: Model) -> EquationsOfMotion:
     budget.check_size(list(inertia.mass_matrix) + list(inertia.remainder), "the inertia forces")
     if not spatial:
         control_signals(kin)   # sensors, controller states and outputs: the names efforts may use
+        parse_state_laws(chain)   # drivers' laws that read them
     active = spatial_active_forces(kin) if spatial else generalized_active_forces(kin)
     budget.check_time("the active forces")
     eom = EquationsOfMotion(chain, kin, inertia, active)

@@ -139,6 +139,13 @@ class Linearization:
         self.t = eom.t
         self._coordinate = {c.q: c for c in eom.chain.coordinates}
         self.dropped = [q for q in eom.q if self._coordinate[q].driver == "speed"]
+        for q in self.dropped:      # a speed law of the state moves q_d with the state: no frozen value
+            if self._coordinate[q].state_law:
+                owner = self._coordinate[q].owner
+                raise ModelError(f"joints.{owner}.driver.speed", "a law of t and the parameters to linearize (a "
+                                 "prescribed speed of the state moves its coordinate with the state, which the linear "
+                                 "model has no speed for; prescribe the coordinate instead, driver = { coordinate = "
+                                 "... })", self.model.joints[owner].driver.speed)
         self.dependent = list(eom.dependent_coordinates) if eom.dependent_speeds else []
         self.q_all = [q for q in eom.q if q not in self.dropped]
         self.q = [q for q in self.q_all if q not in self.dependent]
@@ -259,9 +266,19 @@ class Linearization:
             if c.driver is None or (self.about == "spin" and c.owner == self.prepared.hub):
                 continue
             path = f"joints.{c.owner}.driver"
-            rate = c.law if c.driver == "speed" else time_derivative(c.law, self.t, path=path)
+            if c.state_law:     # a law of the state: at rest with the state, its rate is dL/dt at fixed q, z
+                law = self.eom.expand(c.law)
+                rate = time_derivative(law, self.t, path=path)
+                if rate == 0:
+                    continue
+                state = dict(zip([*self.eom.q, *self.eom.u, *self.z], self.eom.initial_state(self.model)))
+                values = {**values, **state}
+                law = law.xreplace(self.eom.substitutions)
+            else:
+                law = c.law
+                rate = c.law if c.driver == "speed" else time_derivative(c.law, self.t, path=path)
             speed = to_float(rate, values, path=path)
-            if abs(speed) > 1e-12 * max(1.0, abs(to_float(c.law, values, path=path))):
+            if abs(speed) > 1e-12 * max(1.0, abs(to_float(law, values, path=path))):
                 raise NoEquilibriumError(
                     self.about, f"{self.model.name} has no equilibrium at t0 = {self.t0:g} s: joint {c.owner} "
                     f"is driven at {speed:.6g} (rad/s or m/s) there, so the chain is not at rest; linearize "

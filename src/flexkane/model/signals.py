@@ -11,9 +11,16 @@ outputs are expressions of ``t``, the parameters and the *signals* of the model:
 * the controller states (``[controllers.NAME] states = { z = "rate" }``) by their names, and the
   controller outputs by the controllers' names (refused in a cycle: ``a`` uses ``b`` uses ``a``).
 
-Drivers' laws stay functions of ``t`` and the parameters: a prescribed coordinate enters the
-equations with its first and second time derivatives, which for a law of the state would need the
-accelerations of that state.
+A speed driver's law (``driver = { speed = ... }``) of a planar model may read the coordinates, the
+sensors of position, the controller states and the outputs built from them, but no speed (its time
+derivative, the driven acceleration, would contain u'). A coordinate driver's law
+(``driver = { coordinate = ... }``) of a planar model may read the
+coordinates (not its own, nor one driven by another law of the state), the sensors of position
+(every kind but velocity, joint rate and acceleration), the controller states whose rates read no
+speed, and the controller outputs built from those: it is then a holonomic constraint
+(:mod:`flexkane.kane.driver_laws`). It may not read speeds: the driven speed is the law's time
+derivative, which for a law of speeds would contain the accelerations u', and the driven
+acceleration u''. A spatial model's driver stays a law of t and the parameters.
 
 Everything here works on names and syntax only (no SymPy unless an expression needs it, as
 everywhere in validation); :mod:`flexkane.kane.sensors` and :mod:`flexkane.kane.controllers` build
@@ -83,6 +90,7 @@ class Signals:
     def __init__(self, model, coordinates, fields):
         self.model = model
         self.fields = fields
+        self.coordinates = list(coordinates)
         self.parameters = list(fields.parameters)
         kinds: dict[str, str] = {}
         for c in coordinates:
@@ -205,18 +213,109 @@ class Signals:
             if state.get(name) is None:
                 visit(name, [name])
 
-    def refuse_in_driver(self, path: str, value) -> None:
-        """A driver's law uses t and the parameters only: say why when it names a signal."""
+    def check_driver(self, path: str, value, uses: dict[str, set[str]]) -> set[str]:
+        """The signals a driver's law uses; refuses those a prescribed coordinate cannot follow.
+
+        Parameters
+        ----------
+        path : str
+            ``joints.<joint>.driver.coordinate`` or ``...speed``.
+        value : int, float or str
+            The law.
+        uses : dict of str to set of str
+            Controller name -> signal names its output uses (:func:`check_controller`).
+
+        Returns
+        -------
+        set of str
+            The signal names the law uses (empty for a law of t and the parameters).
+        """
         if not isinstance(value, str):
-            return
+            return set()
+        joint = path.split(".")[1]
+        if self.model.dimensions == 3:
+            self._refuse_state_in_driver(path, value)
+            return set()
+        speed_law = path.endswith(".speed")
+        what = "speed [m/s or rad/s]" if speed_law else "coordinate [m or rad]"
+        found = self.used(path, value, f"a prescribed {what}: a law of t, the parameters, coordinates, position "
+                          "sensors and controller states")
+        reads = set(found)
+        via: dict[str, str] = {}
+        pending = [n for n in found if self.kinds[n] == "controller output"]
+        while pending:            # through controller outputs, the names they use
+            name = pending.pop()
+            for other in uses.get(name, ()):
+                if other not in reads:
+                    reads.add(other)
+                    via[other] = via.get(name, name)
+                    if self.kinds.get(other) == "controller output":
+                        pending.append(other)
+        driven = {c.q: c.owner for c in self.coordinates if c.driver is not None}
+        sensors = self.model.sensors
+        bad = []
+        for name in sorted(reads):
+            kind = self.kinds[name]
+            sensor = sensors.get(name) if kind == "sensor" else None
+            if kind == "speed" or (sensor is not None and sensor.type in ("velocity", "joint_rate")):
+                bad.append(f"{name} (a speed)" if kind == "speed" else f"{name} (a {sensor.type} sensor)")
+            elif speed_law:
+                continue        # a speed's law may read every coordinate (it stays in the state)
+            elif kind == "coordinate" and name in driven:
+                bad.append(f"{name} (its own coordinate)" if driven[name] == joint else
+                           f"{name} (a coordinate prescribed by the driver of {driven[name]})")
+            elif sensor is not None and sensor.type == "joint_angle" and sensor.joint in driven.values():
+                bad.append(f"{name} (the coordinate of the driven joint {sensor.joint})")
+            elif sensor is not None and sensor.type == "position" and self._moved_by(sensor.body, driven.values()):
+                bad.append(f"{name} (a position on {sensor.body}, which the driven joint "
+                           f"{self._moved_by(sensor.body, driven.values())} moves)")
+        for ctrl in self.model.controllers.values():
+            for state, rate in ctrl.states.items():
+                if state in reads and not speed_law:
+                    fast = sorted(n for n in self.used(f"controllers.{ctrl.name}.states.{state}", rate, "a rate")
+                                  if self.kinds[n] == "speed" or (self.kinds[n] == "sensor" and sensors[n].type in
+                                                                  ("velocity", "joint_rate")))
+                    if fast:
+                        bad.append(f"{state} (a controller state whose rate reads {', '.join(fast)})")
+        bad = [f"{entry[:-1]}, through controller output {via[entry.split()[0]]!r})" if entry.split()[0] in via
+               else entry for entry in bad]
+        if bad and speed_law:
+            raise ModelError(path, "a law of t, the parameters, coordinates, position sensors and controller states: "
+                             "a driver prescribes its speed, whose rate is the law's time derivative; a law of the "
+                             "speeds would need the accelerations u'", value,
+                             f"uses {', '.join(bad)}; for feedback of speeds, drive the joint by a torque "
+                             "(torque = ...) computed from them")
+        if bad:
+            raise ModelError(path, "a law of t, the parameters, the other coordinates, position sensors and "
+                             "controller states whose rates read no speed: a driver prescribes its coordinate, whose "
+                             "speed and acceleration are the law's first and second time derivatives; a law of the "
+                             "speeds would need the accelerations u' (and u''), and a law of its own coordinate is "
+                             "an equation, not a prescription", value,
+                             f"uses {', '.join(bad)}; for feedback of speeds, drive the joint by a torque "
+                             "(torque = ...) computed from them")
+        return found
+
+    def _moved_by(self, link: str, joints) -> str | None:
+        """The first of ``joints`` on the path from the ground to ``link``, or None."""
+        carriers = {j.child: j for j in self.model.joints.values()}
+        seen = set()
+        while link in carriers and link not in seen:
+            seen.add(link)
+            joint = carriers[link]
+            if joint.name in joints:
+                return joint.name
+            link = joint.parent
+        return None
+
+    def _refuse_state_in_driver(self, path: str, value) -> None:
+        """A spatial model's driver uses t and the parameters only."""
         try:
             found = self.used(path, value, "a prescribed motion")
         except ModelError:
             return     # the driver's own check reports it with the message of a law of time
         if found:
-            raise ModelError(path, "a law of t and the parameters only: a driver prescribes the motion, and its "
-                             "speed and acceleration (first and second time derivatives of the law) would need "
-                             "the rates and accelerations of the state it depends on", value,
+            raise ModelError(path, "a law of t and the parameters only in a spatial model (dimensions = 3; drivers "
+                             "of the state are planar)", value,
                              f"uses {', '.join(sorted(found))}; for feedback, drive the joint by a torque "
                              "(torque = ...) computed from them")
 

@@ -1003,8 +1003,8 @@ def _check_signals(model: Model, values: _Values, lengths: dict, coordinates) ->
         deferred.pop(path, None)
         with problems.part():
             signals.used(path, value, "an effort [N, N m, or m, rad for a rest position]")
-    for path, value in deferred.items():   # drivers' laws: of t and the parameters only
+    for path, value in deferred.items():   # drivers' laws: of t and the parameters, or of the state
         with problems.part():
-            signals.refuse_in_driver(path, value)
-            values.number(path, value, "prescribed motion", "m, rad or their rates", time=True)
+            if not signals.check_driver(path, value, uses):
+                values.number(path, value, "prescribed motion", "m, rad or their rates", time=True)
     problems.raise_found(final=True)

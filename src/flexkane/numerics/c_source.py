@@ -429,8 +429,9 @@ def c_sources(eom, prefix: str, info: CModelInfo) -> tuple[str, str]:
                for k, (n, u) in enumerate(zip(output_names, info.output_units))]
     header += [
         " *",
-        " * Prescribed motions (drivers) are functions of t inside the equations; in a closed loop the",
-        " * dependent speeds are functions of the state (they are outputs), all coordinates are states.",
+        " * Prescribed motions (drivers) are functions of t (or of the state) inside the equations; in a",
+        " * closed loop the dependent speeds are functions of the state (they are outputs), all coordinates",
+        " * are states.",
         " * Status codes returned: 0 success, 2 non-finite entry, 4 singular mass matrix (the pivot d_j of",
         f" * M = L D L^T is not above {_number(PIVOT_RTOL)} M_jj); on 2 or 4 the results hold NaN.",
         " * Arrays are of double; output arrays must not overlap the inputs.",
