@@ -130,7 +130,8 @@ def test_free_joint_speeds_along_the_child_axes_become_rates_of_x_and_y():
 def test_every_planar_builtin_converts_and_is_refused_only_for_parts_not_yet_in_3d(name):
     """Every built-in model converts; spatial models refuse for now loop constraints, distributed
     loads, sensors, controllers and the beam options the spatial
-    beams do not have (modal damping, midpoint gravity, rotary inertia, shear-moment forces): the
+    beams do not have (midpoint gravity, shear-moment forces; modal damping and rotary inertia
+    convert to damping_y and rho_Iz): the
     spatial form validates, or is refused for such parts only, each named."""
     planar = builtin_model(name)
     spatial = as_spatial(planar, validate=False)
@@ -139,8 +140,7 @@ def test_every_planar_builtin_converts_and_is_refused_only_for_parts_not_yet_in_
         | {f"distributed_loads.{d}" for d in planar.distributed_loads} \
         | {f"sensors.{s}" for s in planar.sensors} | {f"controllers.{c}" for c in planar.controllers} \
         | {f"beams.{b.name}.{key}" for b in planar.beams.values() for key, unsupported in (
-            ("damping", bool(b.damping)), ("gravity", b.gravity != "distributed"),
-            ("rotary_inertia", b.rotary_inertia is not None),
+            ("gravity", b.gravity != "distributed"),
             ("elastic_forces", b.elastic_forces != "strain-energy")) if unsupported}
     # a law that reads modal coordinates names them as the plane does (q_<beam>_<i>); the spatial names
     # are q_<beam>_y<i>, and as_spatial does not rewrite expressions: such a field is refused by name

@@ -5,7 +5,8 @@ Names of the outputs (columns of results files):
 * ``kinetic``, ``potential_gravity``, ``strain``, ``potential_springs``, ``energy`` [J]:
   ``1/2 sum (m v.v + w.I w)`` (and the beams' ``1/2 int rho v.v + rho_Ip w_sx^2 dx``),
   ``-sum m g.r`` (beams integrated), the beams' ``1/2 q^T K q``, joint and point springs;
-* ``power_nonconservative`` [W]: power of drivers, loads, actuators and dampers (integrated into
+* ``power_nonconservative`` [W]: power of drivers, loads, actuators, dampers and the beams' modal
+  damping (integrated into
   ``work`` and ``energy_balance`` by :func:`flexkane.simulate`, as for planar chains);
 * per body: ``x_<b>, y_<b>, z_<b>`` [m] of the mass centre in N, the Euler parameters
   ``e0_<b> .. e3_<b>`` [-] of the body frame in N (the product of the joints' quaternions along the
@@ -110,7 +111,8 @@ def spatial_output_expressions(eom) -> dict:
     out["energy"] = out["kinetic"] + out["potential_gravity"] + out["strain"] + out["potential_springs"]
     # ---------------------------------------------------------------- power of non-conservative forces
     speeds = chain.u
-    power += [u * f for u, f in zip(speeds, eom.F_r["loads"]) if f != 0]
+    for kind in ("damping", "loads"):
+        power += [u * f for u, f in zip(speeds, eom.F_r[kind]) if f != 0]
     if model.springs:   # the spring forces' power minus the rate of their energy: the dampers'
         power.append(sp.Add(*[u * f for u, f in zip(speeds, eom.F_r["springs"]) if f != 0])
                      + chain.dt(sp.Add(*point_springs)))

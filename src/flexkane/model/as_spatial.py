@@ -20,10 +20,11 @@ engines can be compared on the same chain (a planar chain is the special case of
 * a beam bends in the x-y plane of its frame: its deflection along y (``n_modes_y`` shape
   functions of its ``shape``) bends about z with ``EI_z = EI``; ``EI_y = EI`` too (no z modes, so it
   does not enter); axial modes are kept. Its modal coordinates are named ``q_<beam>_y<i>`` (planar
-  ``q_<beam>_<i>``), the only names that differ from the planar model's.
+  ``q_<beam>_<i>``), the only names that differ from the planar model's. Its ``rotary_inertia``
+  becomes ``rho_Iz`` (the sections turn about z) and its modal ``damping`` ``damping_y``.
 
 Distributed loads and loop constraints are carried over unchanged: spatial models refuse them until
-spatial loops exist, and so they refuse (for now) beams with modal damping, rotary inertia, the
+spatial loops exist, and so they refuse (for now) beams with the
 midpoint gravity model or shear-moment elastic forces, so the result of a model that has them does
 not validate.
 """
@@ -120,6 +121,8 @@ def as_spatial(model: Model, *, validate: bool = True) -> Model:
         beam.n_modes_y, beam.shape_y = beam.n_modes, beam.shape
         beam.shape_z = ShapeSpec()
         beam.EI, beam.n_modes = None, 0
+        beam.rho_Iz, beam.rotary_inertia = beam.rotary_inertia, None
+        beam.damping_y, beam.damping = beam.damping, []
     _beam_mode_names(model, out)
     if out.gravity is not None:
         out.gravity.direction = _pad(out.gravity.direction)
