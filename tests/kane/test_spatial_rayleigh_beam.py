@@ -160,3 +160,25 @@ def test_spatial_rayleigh_blade_conserves_energy_and_momentum():
     H = _compact_functions(eom, [eom.compact.outputs[n] for n in names[:3]])
     for (q, u), row in zip(states, _rates(eom, names, states)):
         assert np.abs(row).max() <= 1e-9 * np.abs(H(q, u)).max() * max(1.0, np.abs(u).max()), row
+
+
+def test_equations_report_defines_the_constants_of_the_turning_sections():
+    """equations.md of a spatial Rayleigh beam: each constant of the sections' turns, the bending
+    and torsion stiffnesses defined with its weight, shape functions and unit."""
+    from flexkane.report import constant_rows
+
+    text = RAYLEIGH.replace(f"n_modes_z = {N}", "n_modes_z = 1").replace(f"n_modes_y = {N}", "n_modes_y = 1")
+    text = text.replace("principal_angle = 0.3", "principal_angle = 0.3\nGJ = 2.0\nrho_Ip = 0.006\nn_torsion = 1")
+    eom = flexkane.derive(loads_model(text), cache=False)
+    rows = {row[0]: row[2:4] for row in constant_rows(eom, eom.constant_values())}
+    defined = {definition: unit for definition, unit in rows.values()}
+    for definition, unit in ((r"\int_0^L \rho I_z\,dx", "kg m^2"),
+                             (r"\int_0^L \rho I_y\,\Phi^{z}_{1}'(x)\,\Phi^{z}_{1}'(x)\,dx", "kg"),
+                             (r"\int_0^L \rho I_p\,\Theta_{1}(x)\,\Theta_{1}(x)\,dx", "kg m^2"),
+                             (r"\int_0^L EI_y\,\Phi^{z}_{1}''\,\Phi^{z}_{1}''\,dx", "N/m"),
+                             (r"\int_0^L GJ\,\Theta_{1}'\,\Theta_{1}'\,dx", "N m")):
+        assert defined.get(definition) == unit, (definition, sorted(defined))
+    from flexkane.report import equations_markdown
+
+    report = equations_markdown(eom, eom.constant_values())
+    assert r"\rho I_y\,\Phi^{z}_{1}'(x)" in report and r"\mathrm{Gr}_{z1,z1}" in report

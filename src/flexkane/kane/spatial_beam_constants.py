@@ -71,7 +71,7 @@ class SpatialBeamConstants(BeamConstants):
             name = f"Gr_{self.label + '_' if self.label else ''}{_piece(a)}_{_piece(b)}"
         else:
             raise ValueError(f"no rotary-inertia constant for the atoms {a!r}, {b!r}")
-        return self._symbol(("rotary", axis, a, b), name)
+        return self._symbol(("section", axis, a, b), name)
 
     def section_integrate(self, axis: str, f: Field, g: Field) -> sp.Expr:
         """``int_0^L rho_J f(x) g(x) dx`` (:meth:`section`)."""
@@ -171,7 +171,7 @@ class SpatialBeamConstants(BeamConstants):
                 out[symbol] = rho * ev.integral(spec[1], spec[2])
             elif kind == "polar":
                 out[symbol] = rho_Ip * ev.integral(spec[1], spec[2])
-            elif kind == "rotary":
+            elif kind == "section":
                 out[symbol] = rotary[spec[1]] * ev.integral(spec[2], spec[3])
             elif kind == "Hs":
                 label = spec[1]
