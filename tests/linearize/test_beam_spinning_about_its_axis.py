@@ -41,7 +41,7 @@ orientation = {{ axis = [0, 1, 0], angle = -1.0 }}
 
 
 def test_beam_spinning_about_its_own_axis_keeps_its_bending_frequencies():
-    spins = np.array([0.0, 4.0, 9.0])
+    spins = np.array([4.0, 9.0])
     diagram = campbell_diagram(loads_model(SHAFT), spins, hub="spindle")
     omega = LAMBDA ** 2 * np.sqrt(EI / (RHO * L ** 4))
     assert omega[0] < spins[-1] < omega[1]           # the first whirl pair crosses zero
