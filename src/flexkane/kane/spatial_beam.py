@@ -22,8 +22,9 @@ about the principal axes z_p, y_p) turn in the same way about z_p with the slope
 y_p with ``-w'``: each a thin rod along its axis ``a`` (fixed in B) turning at ``w_B.a + v_t'`` and
 ``w_B.a - w_t'``, so that each carries ``1/2 int rho_J (w_B.a + turn rate)^2 dx`` and its inertia
 torque ``rho_J (d(w_a)/dt a + w_B x w_a a)`` has exactly that power (in the plane, the planar
-Rayleigh beam's ``1/2 int rho_I (w + y_t')^2 dx``). The strain energy ``1/2 int (EI_z v''^2 + EI_y w''^2 + GJ theta'^2 + EA u'^2) dx`` gives
-``F_r = -K q`` with the modal stiffness constants.
+Rayleigh beam's ``1/2 int rho_I (w + y_t')^2 dx``). The strain energy
+``1/2 int (EI_z v''^2 + EI_y w''^2 + GJ theta'^2 + EA u'^2) dx`` gives ``F_r = -K q`` with the modal
+stiffness constants, and modal damping ``-2 zeta_i sqrt(K_ii M_ii) u_i`` as in the planar beams.
 """
 
 from __future__ import annotations

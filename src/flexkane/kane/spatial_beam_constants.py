@@ -95,14 +95,6 @@ class SpatialBeamConstants(BeamConstants):
             raise ValueError(f"no polar-inertia constant for the atoms {a!r}, {b!r}")
         return self._symbol(("polar", a, b), name)
 
-    def polar_integrate(self, f: Field, g: Field) -> sp.Expr:
-        """``int_0^L rho_Ip f(x) g(x) dx`` for fields of the atoms ``ONE`` and ``theta(k)``."""
-        return sp.Add(*[ca * cb * self.polar(a, b) for a, ca in f.items() for b, cb in g.items()])
-
-    def polar_integrate1(self, f: Field) -> sp.Expr:
-        """``int_0^L rho_Ip f(x) dx``."""
-        return sp.Add(*[c * self.polar(ONE, a) for a, c in f.items()])
-
     def bending_stiffness(self, i: int, j: int, label: str) -> sp.Symbol:
         """``H_<label>ij``: ``int EI_z Phi_i^y'' Phi_j^y'' dx`` (label y) or with ``EI_y`` and the z
         family (label z) [N/m]."""
