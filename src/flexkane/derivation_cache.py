@@ -66,6 +66,8 @@ VALUE_FIELDS = tuple(re.compile(pattern) for pattern in (
     r"bodies\.[^.]+\.points\.[^.]+\[[012]\]",
     r"beams\.[^.]+\.(EI|rho|EA|rotary_inertia)",
     r"beams\.[^.]+\.damping\[\d+\]",
+    r"beams\.[^.]+\.(EI_y|EI_z|GJ|rho_Ip|rho_Iy|rho_Iz|principal_angle)",    # a spatial beam's numbers
+    r"beams\.[^.]+\.(damping_y|damping_z|torsion_damping|axial_damping)\[\d+\]",
     r"joints\.[^.]+\.(angle|axis|stiffness|damping|rest)",
     r"joints\.[^.]+\.parent_position\[[012]\]",
     r"joints\.[^.]+\.(orientation|child_orientation)\.(angle|angles\[[012]\])",   # not their axes: structure
@@ -79,8 +81,9 @@ VALUE_FIELDS = tuple(re.compile(pattern) for pattern in (
 # Fields that never enter the equations, and fields that give them numbers only.
 _IGNORED = (re.compile(r"name|description|simulation|sweep"), re.compile(r"bodies\.[^.]+\.outline"))
 _NUMBERS = (re.compile(r"parameters|initial"), re.compile(r"controllers\.[^.]+\.initial"),
-            re.compile(r"beams\.[^.]+\.(shape|axial_shape)\.roots"),
-            re.compile(r"beams\.[^.]+\.(shape|axial_shape)\.options\.(mass_ratio|inertia_ratio)"))
+            re.compile(r"beams\.[^.]+\.(shape|axial_shape|shape_y|shape_z|torsion_shape)\.roots"),
+            re.compile(r"beams\.[^.]+\.(shape|axial_shape|shape_y|shape_z|torsion_shape)\.options\."
+                       r"(mass_ratio|inertia_ratio)"))
 # A beam length is a value field, but its text names the constants at the tip (``Phi_1(L)``).
 _BEAM_LENGTH = re.compile(r"beams\.[^.]+\.L")
 _FORMAT = 1  # layout of the cache files

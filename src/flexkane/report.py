@@ -407,7 +407,8 @@ def _atom_latex(atom) -> str:
     if kind == "psi":
         return rf"\Psi_{{{atom[1]}}}(x)"
     if kind == "dphi":
-        return rf"\Phi_{{{atom[1]}}}'(x)"
+        label = f"^{{{atom[2]}}}" if len(atom) == 3 else ""     # a spatial beam's slope atom: its direction
+        return rf"\Phi{label}_{{{atom[1]}}}'(x)"
     return rf"d_{{{atom[1]}{atom[2]}}}(x)"
 
 
@@ -514,6 +515,17 @@ def _definition(spec) -> tuple[str, str]:
         body = "".join(f + r"\," for f in (_atom_latex(spec[1]), _atom_latex(spec[2])) if f)
         slopes = sum(1 for atom in spec[1:] if atom[0] == "dphi")
         return rf"\int_0^L \rho I\,{body}dx", ("kg m^2", "kg m", "kg")[slopes]
+    if kind in ("section", "polar"):      # a spatial beam's turning sections
+        pair = spec[2:] if kind == "section" else spec[1:]
+        weight = "I_p" if kind == "polar" else {"y": "I_z", "z": "I_y"}[spec[1]]   # about b1, z_p, y_p
+        body = "".join(f + r"\," for f in (_atom_latex(pair[0]), _atom_latex(pair[1])) if f)
+        slopes = sum(1 for atom in pair if atom[0] == "dphi")
+        return rf"\int_0^L \rho {weight}\,{body}dx", ("kg m^2", "kg m", "kg")[slopes]
+    if kind == "Hs":
+        rigidity, f = ("EI_z" if spec[1] == "y" else "EI_y"), rf"\Phi^{{{spec[1]}}}"
+        return rf"\int_0^L {rigidity}\,{f}_{{{spec[2]}}}''\,{f}_{{{spec[3]}}}''\,dx", "N/m"
+    if kind == "Kt":
+        return rf"\int_0^L GJ\,\Theta_{{{spec[1]}}}'\,\Theta_{{{spec[2]}}}'\,dx", "N m"
     if kind == "H":
         return rf"\int_0^L EI\,\Phi_{{{spec[1]}}}''\,\Phi_{{{spec[2]}}}''\,dx", "N/m"
     if kind == "HA":

@@ -129,8 +129,8 @@ def test_free_joint_speeds_along_the_child_axes_become_rates_of_x_and_y():
 @pytest.mark.parametrize("name", [n for n in builtin_names() if builtin_model(n).dimensions == 2])
 def test_every_planar_builtin_converts_and_is_refused_only_for_parts_not_yet_in_3d(name):
     """Every built-in model converts; spatial models refuse for now prismatic loop constraints,
-    sensors, controllers and the beam options the spatial
-    beams do not have (modal damping, midpoint gravity, rotary inertia, shear-moment forces): the
+    sensors, controllers and the beam options the spatial beams do not have (midpoint gravity,
+    shear-moment forces; modal damping and rotary inertia convert to damping_y and rho_Iz): the
     spatial form validates, or is refused for such parts only, each named. Loop constraints and
     distributed loads convert, and laws that read modal coordinates are renamed."""
     planar = builtin_model(name)
@@ -139,8 +139,7 @@ def test_every_planar_builtin_converts_and_is_refused_only_for_parts_not_yet_in_
     refused = {f"constraints.{c.name}.type" for c in planar.constraints.values() if c.type == "prismatic"} \
         | {f"sensors.{s}" for s in planar.sensors} | {f"controllers.{c}" for c in planar.controllers} \
         | {f"beams.{b.name}.{key}" for b in planar.beams.values() for key, unsupported in (
-            ("damping", bool(b.damping)), ("gravity", b.gravity != "distributed"),
-            ("rotary_inertia", b.rotary_inertia is not None),
+            ("gravity", b.gravity != "distributed"),
             ("elastic_forces", b.elastic_forces != "strain-energy")) if unsupported}
     modal = {n for c in coordinate_names(planar) if c.owner in planar.beams for n in (c.q, c.u)}
     if not refused:

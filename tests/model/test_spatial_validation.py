@@ -136,7 +136,7 @@ CASES = [
     ("beam-damping-in-3d", {"beams": {"B": {"L": 1, "EI_y": 1, "EI_z": 1, "rho": 1, "n_modes_z": 1,
                                             "damping": [0.01]}},
                             "joints.w": {"type": "weld", "parent": "d", "child": "B"}},
-     "beams.B.damping", ["not yet supported"]),
+     "beams.B.damping", ["no damping on a beam with dimensions = 3", "damping_y, damping_z"]),
     ("beam-negative-rho_Ip", {"beams": {"B": {"L": 1, "EI_y": 1, "EI_z": 1, "rho": 1, "n_modes_z": 1,
                                               "rho_Ip": -1}},
                               "joints.w": {"type": "weld", "parent": "d", "child": "B"}},

@@ -59,7 +59,7 @@ def theta(k: int) -> Atom:
 
 def direction(atom: Atom) -> str | None:
     """The direction label of a transverse or foreshortening atom (None for planar atoms and others)."""
-    if atom[0] == "phi" and len(atom) == 3:
+    if atom[0] in ("phi", "dphi") and len(atom) == 3:
         return atom[2]
     if atom[0] == "d" and len(atom) == 4:
         return atom[3]
@@ -77,9 +77,10 @@ def dfs(i: int, j: int, label: str | None = None) -> Atom:
     return ("d", min(i, j), max(i, j)) if label is None else ("d", min(i, j), max(i, j), label)
 
 
-def dphi(i: int) -> Atom:
-    """Slope Phi_i'(x) [1/m] of transverse shape function i (1-based): the section's rotation."""
-    return ("dphi", i)
+def dphi(i: int, label: str | None = None) -> Atom:
+    """Slope Phi_i'(x) [1/m] of transverse shape function i (1-based): the section's rotation;
+    ``label`` as for :func:`phi`."""
+    return ("dphi", i) if label is None else ("dphi", i, label)
 
 
 def atom_order(atom: Atom) -> tuple:

@@ -15,7 +15,8 @@ axes of the frame at P, where the velocities are expressed.
 * ``elastic``: the beams' strain energy, ``-K q`` with the modal stiffness constants, and
   ``gravity`` on the beams distributed, ``int rho v_P,r . g dx`` (:mod:`flexkane.kane.spatial_beam`).
 
-``damping`` (modal damping of beams) is empty in 3D for now. Each source is a list of n
+* ``damping``: the beams' modal damping, ``-2 zeta_i sqrt(K_ii M_ii) u_i`` for each bending
+  plane, the twist and the stretch (as the planar beams'). Each source is a list of n
 expressions (one per speed).
 """
 

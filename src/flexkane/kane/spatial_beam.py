@@ -17,8 +17,14 @@ The sections twist by ``theta(x) = sum_k Theta_k q_tk`` about x; with ``rho_Ip``
 of inertia per length) the section at x is a thin disc of inertia ``rho_Ip b1 b1`` turning at
 ``w_s = w_B + theta' b1``: kinetic energy ``1/2 int rho_Ip (w_Bx + theta')^2 dx`` and inertia torque
 ``dH/dt = rho_Ip (d(w_sx)/dt, w_Bz w_sx, -w_By w_sx)`` (B's axes), whose power is exactly the rate of
-that energy. The strain energy ``1/2 int (EI_z v''^2 + EI_y w''^2 + GJ theta'^2 + EA u'^2) dx`` gives
-``F_r = -K q`` with the modal stiffness constants.
+that energy. A Rayleigh beam's sections (``rho_Iz``, ``rho_Iy``: mass moments of inertia per length
+about the principal axes z_p, y_p) turn in the same way about z_p with the slope ``v'`` and about
+y_p with ``-w'``: each a thin rod along its axis ``a`` (fixed in B) turning at ``w_B.a + v_t'`` and
+``w_B.a - w_t'``, so that each carries ``1/2 int rho_J (w_B.a + turn rate)^2 dx`` and its inertia
+torque ``rho_J (d(w_a)/dt a + w_B x w_a a)`` has exactly that power (in the plane, the planar
+Rayleigh beam's ``1/2 int rho_I (w + y_t')^2 dx``). The strain energy
+``1/2 int (EI_z v''^2 + EI_y w''^2 + GJ theta'^2 + EA u'^2) dx`` gives ``F_r = -K q`` with the modal
+stiffness constants, and modal damping ``-2 zeta_i sqrt(K_ii M_ii) u_i`` as in the planar beams.
 """
 
 from __future__ import annotations
@@ -28,12 +34,12 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .chain import BEAM_ROLES
-from .modal_field import ONE, X, Field, cross3, dfs, phi, psi, rigid, theta, vec3, vec3_map
+from .modal_field import ONE, X, Field, cross3, dfs, dphi, phi, psi, rigid, theta, vec3, vec3_map
 from .spatial_beam_constants import SpatialBeamConstants
 from .spatial_frame import SpatialFrame, add, cross
 
 __all__ = ["SpatialBeamMotion", "beam_motion", "beam_own_properties", "add_beam_rows", "beam_active_forces",
-           "beam_outputs"]
+           "beam_outputs", "tip_outputs"]
 
 
 @dataclass
@@ -49,9 +55,11 @@ class SpatialBeamMotion:
         Position of the point at x from the root, B's axes [m].
     v : tuple of 3 Field
         Its velocity in N, B's axes [m/s].
-    spin : Field or None
-        ``w_sx = w_Bx + theta'(x)`` [rad/s], the sections' angular velocity about the beam axis,
-        when the sections' polar inertia ``rho_Ip`` is given; else None.
+    turns : dict
+        The sections' turns that carry kinetic energy: ``"t" -> (b1, w_B.b1 + theta_t')`` when
+        ``rho_Ip`` is given, ``"y" -> (z_p, w_B.z_p + v_t')`` with ``rho_Iz`` and
+        ``"z" -> (y_p, w_B.y_p - w_t')`` with ``rho_Iy``: the axis (3 components in B) and the
+        angular speed about it [rad/s] (a :class:`Field`).
     """
 
     beam: object
@@ -59,7 +67,7 @@ class SpatialBeamMotion:
     constants: SpatialBeamConstants
     r: tuple
     v: tuple
-    spin: Field | None = None
+    turns: dict
 
     def own_speeds(self, chain) -> set:
         """The beam's own modal speeds (which deform it)."""
@@ -94,10 +102,16 @@ def beam_motion(kin, beam, frame: SpatialFrame, constants: SpatialBeamConstants)
         Y, Z = bend["y"].scale(c) - bend["z"].scale(s), bend["y"].scale(s) + bend["z"].scale(c)
     r = (Field(Xterms), Y, Z)
     v = tuple(a + b + c for a, b, c in zip(vec3(*frame.v), cross3(frame.omega, r), vec3_map(r, chain.dt)))
-    spin = None
+    turns = {}
     if _nonzero(beam.rho_Ip):
-        spin = rigid(frame.omega[0]) + Field({theta(c.index): c.u for c in coords["torsion"]})
-    return SpatialBeamMotion(beam, frame, constants, r, v, spin)
+        turns["t"] = ((1, 0, 0), rigid(frame.omega[0]) + Field({theta(c.index): c.u for c in coords["torsion"]}))
+    c, s = (sp.cos(beta), sp.sin(beta)) if _nonzero(beam.principal_angle) else (1, 0)
+    for label, key, axis, sign in (("y", "rho_Iz", (0, -s, c), 1), ("z", "rho_Iy", (0, c, s), -1)):
+        if _nonzero(getattr(beam, key)):
+            about = sp.Add(*[a * w for a, w in zip(axis, frame.omega)])
+            turns[label] = (axis, rigid(about) + Field({dphi(m.index, label): sign * m.u
+                                                        for m in coords[f"mode_{label}"]}))
+    return SpatialBeamMotion(beam, frame, constants, r, v, turns)
 
 
 def station_geometry(bm: SpatialBeamMotion, x, text: str, chain) -> tuple:
@@ -150,11 +164,11 @@ def beam_own_properties(kin, name: str, a_rem: tuple):
     R = tuple(k.integrate1(c) for c in a_rem)
     K = (integ(Y, a_rem[2]) - integ(Z, a_rem[1]), integ(Z, a_rem[0]) - integ(X, a_rem[2]),
          integ(X, a_rem[1]) - integ(Y, a_rem[0]))
-    if bm.spin is not None:    # the sections' polar inertia: a thin disc rho_Ip b1 b1 per length
-        J[0, 0] += k.polar(ONE, ONE)
-        w = bm.frame.omega
-        spin_moment = k.polar_integrate1(bm.spin)
-        K = add(K, (k.polar_integrate1(bm.spin.map(kin.chain.dt)), w[2] * spin_moment, -w[1] * spin_moment))
+    w = bm.frame.omega
+    for key, (axis, turn) in bm.turns.items():    # the sections' turns: thin rods rho_J a a per length
+        J += k.section(key, ONE, ONE) * sp.Matrix(axis) * sp.Matrix(axis).T
+        H = tuple(k.section_integrate1(key, turn) * a for a in axis)
+        K = add(K, add(tuple(k.section_integrate1(key, turn.map(kin.chain.dt)) * a for a in axis), cross(w, H)))
     return SpatialRigidProperties(k.pair(ONE, ONE), tuple(k.integrate1(c) for c in bm.r), J, R, K)
 
 
@@ -179,21 +193,57 @@ def add_beam_rows(kin, M: list, rem: list, a_rems: dict) -> None:
                     M[r][s] += sp.Add(*[k.integrate(a, b) for a, b in zip(V[r], V[s])])
             if speeds[r] in own:
                 rem[r] += sp.Add(*[k.integrate(a, b) for a, b in zip(V[r], a_rem)])
-        if bm.spin is not None:
-            W = [bm.spin.map(lambda c, u=u: chain.partial(c, u)) for u in speeds]
-            alpha_rem = bm.spin.map(chain.dt)
+        for key, (axis, turn) in bm.turns.items():
+            W = [turn.map(lambda c, u=u: chain.partial(c, u)) for u in speeds]
+            alpha_rem = turn.map(chain.dt)
             turning = [r for r in range(n) if not W[r].is_zero()]
             for i, r in enumerate(turning):
                 for s in turning[i:]:
                     if speeds[r] in own or speeds[s] in own:
-                        M[r][s] += k.polar_integrate(W[r], W[s])
+                        M[r][s] += k.section_integrate(key, W[r], W[s])
                 if speeds[r] in own:
-                    # the own torsion speeds turn the sections about b1 only: the x component of dH/dt
-                    rem[r] += k.polar_integrate(W[r], alpha_rem)
+                    # an own speed turns the sections about the rod's axis only: that component of dH/dt
+                    rem[r] += k.section_integrate(key, W[r], alpha_rem)
+
+
+#: Modal damping of a spatial beam: role of the coordinates -> (field of the ratios, index label).
+DAMPING_FIELDS = {"mode_y": ("damping_y", "y"), "mode_z": ("damping_z", "z"), "torsion": ("torsion_damping", "t"),
+                  "axial": ("axial_damping", "a")}
+
+
+def _modal_mass(k, role: str, i: int) -> sp.Expr:
+    """The diagonal modal mass of a coordinate of a role: ``G_yii``, ``G_zii``, ``Gt_ii``, ``AA_ii``."""
+    if role == "torsion":
+        return k.polar(theta(i), theta(i))
+    if role == "axial":
+        return k.pair(psi(i), psi(i))
+    label = role[-1]
+    return k.pair(phi(i, label), phi(i, label))
+
+
+def modal_damping(kin, name: str, role: str, stiffness) -> list:
+    """``-2 zeta_i sqrt(K_ii M_ii) u_i`` of each coordinate of one role of a beam (zero where it has
+    no damping ratio), as the planar beams' modal damping (:mod:`flexkane.kane.active`)."""
+    bm = kin.beams[name]
+    key, label = DAMPING_FIELDS[role]
+    ratios = getattr(bm.beam, key)
+    out = []
+    for j, c in enumerate(kin.chain.of(name, role)):
+        if not ratios:
+            out.append(sp.Integer(0))
+            continue
+        at = j if len(ratios) > 1 else 0
+        zeta = kin.value(f"beams.{name}.{key}[{at}]", ratios[at], f"zeta_{name}_{label}{c.index}")
+        if zeta == 0:
+            out.append(sp.Integer(0))
+            continue
+        out.append(-2 * zeta * sp.sqrt(stiffness(c.index, c.index) * _modal_mass(bm.constants, role, c.index)) * c.u)
+    return out
 
 
 def beam_active_forces(kin, parts: dict, gravity) -> None:
-    """Add the beams' elastic forces ``-K q`` and distributed weight ``int rho v_P,r . g dx``."""
+    """Add the beams' elastic forces ``-K q``, their modal damping and distributed weight
+    ``int rho v_P,r . g dx``."""
     chain = kin.chain
     speeds = chain.u
     index = {u: r for r, u in enumerate(speeds)}
@@ -205,6 +255,8 @@ def beam_active_forces(kin, parts: dict, gravity) -> None:
             coords = chain.of(name, role)
             for cj in coords:
                 parts["elastic"][index[cj.u]] += -sp.Add(*[stiffness(ci.index, cj.index) * ci.q for ci in coords])
+            for cj, force in zip(coords, modal_damping(kin, name, role, stiffness)):
+                parts["damping"][index[cj.u]] += force
         if gravity is None:
             continue
         g = bm.frame.rotation.inverse_apply(gravity)
@@ -228,6 +280,33 @@ def strain_energy(kin, name: str) -> sp.Expr:
     return sp.Add(*out)
 
 
+def tip_outputs(kin, name: str) -> dict:
+    """Deformation of a beam's tip section, by output name [m or rad].
+
+    ``tip_<b>_y = v(L) = sum_i Phi^y_i(L) q_yi`` and ``tip_<b>_z = w(L)`` [m]: the tip's deflections
+    along the section's principal axes y_p and z_p (in the beam frame's y and z when
+    ``principal_angle`` is 0; ``tip_<b>_y`` is the planar ``tip_<b>``); ``slope_<b>_y = v'(L)``,
+    ``slope_<b>_z = w'(L)`` [rad]; ``twist_<b> = theta(L) = sum_k Theta_k(L) q_tk`` [rad]. Each
+    appears when the beam has coordinates of its kind.
+    """
+    chain = kin.chain
+    beam = kin.beams[name].beam
+    k = kin.beams[name].constants
+    L = kin.value(f"beams.{name}.L", beam.L, f"L_{name}")
+    text = beam.L.strip() if isinstance(beam.L, str) else repr(beam.L)
+    out = {}
+    for label in ("y", "z"):
+        coords = chain.of(name, f"mode_{label}")
+        if coords:
+            out[f"tip_{name}_{label}"] = sp.Add(*[k.station(phi(c.index, label), L, text) * c.q for c in coords])
+            out[f"slope_{name}_{label}"] = sp.Add(*[k.station(phi(c.index, label), L, text, 1) * c.q
+                                                    for c in coords])
+    coords = chain.of(name, "torsion")
+    if coords:
+        out[f"twist_{name}"] = sp.Add(*[k.station(theta(c.index), L, text) * c.q for c in coords])
+    return out
+
+
 def beam_outputs(kin, name: str, gravity) -> dict:
     """Energies and momenta of one beam: ``kinetic``, ``strain``, ``potential_gravity`` [J], mass
     [kg], first moment about N's origin (N axes) [kg m], linear momentum [kg m/s] and angular
@@ -237,8 +316,8 @@ def beam_outputs(kin, name: str, gravity) -> dict:
     frame = bm.frame
     R = frame.rotation
     kinetic = sp.Add(*[k.integrate(c, c) for c in bm.v]) / 2
-    if bm.spin is not None:
-        kinetic += k.polar_integrate(bm.spin, bm.spin) / 2
+    for key, (_, turn) in bm.turns.items():
+        kinetic += k.section_integrate(key, turn, turn) / 2
     m = k.pair(ONE, ONE)
     S = tuple(k.integrate1(c) for c in bm.r)                       # B's axes, about the root
     p = tuple(k.integrate1(c) for c in bm.v)                       # B's axes
@@ -246,8 +325,8 @@ def beam_outputs(kin, name: str, gravity) -> dict:
     vx, vy, vz = bm.v
     h = (k.integrate(Y, vz) - k.integrate(Z, vy), k.integrate(Z, vx) - k.integrate(X, vz),
          k.integrate(X, vy) - k.integrate(Y, vx))                  # about the root, B's axes
-    if bm.spin is not None:
-        h = add(h, (k.polar_integrate1(bm.spin), 0, 0))
+    for key, (axis, turn) in bm.turns.items():
+        h = add(h, tuple(k.section_integrate1(key, turn) * a for a in axis))
     pN = R.apply(p)
     first = add(tuple(m * c for c in frame.r), R.apply(S))
     momentum = add(cross(frame.r, pN), R.apply(h))

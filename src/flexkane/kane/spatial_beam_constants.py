@@ -7,6 +7,8 @@ torsion shape functions, ``psi(k)`` the axial ones. Their constants are named li
 with the direction in the index (``E_y1 = int rho Phi_1^y dx``, ``G_y1_z2``, ``DD_y11_z22``) and:
 
     Ip_B = int rho_Ip dx,  Et_k = int rho_Ip Theta_k dx,  Gt_kl = int rho_Ip Theta_k Theta_l dx,
+    Irz_B = int rho_Iz dx,  Er_yi = int rho_Iz Phi_i^y' dx,  Gr_yi_yj = int rho_Iz Phi_i^y' Phi_j^y' dx
+    (and Iry_B, Er_zi, Gr_zi_zj with rho_Iy and the z family: the Rayleigh beam's turning sections),
     H_yij = int EI_z Phi_i^y'' Phi_j^y'' dx,  H_zij = int EI_y Phi_i^z'' Phi_j^z'' dx,
     Kt_kl = int GJ Theta_k' Theta_l' dx,  HA_kl = int EA Psi_k' Psi_l' dx
 
@@ -52,6 +54,33 @@ class SpatialBeamConstants(BeamConstants):
             pieces = pieces[::-1]
         return self._symbol(("pair", a, b), f"{stem}_{self.label + '_' if self.label else ''}{'_'.join(pieces)}")
 
+    def section(self, axis: str, a: Atom, b: Atom) -> sp.Symbol:
+        """``int_0^L rho_J a(x) b(x) dx``: the sections' mass moment of inertia per length about
+        the axis of a turn, ``axis`` ``"t"`` (the beam axis, ``rho_Ip``: atoms ``ONE``,
+        ``theta(k)``), ``"y"`` (about z_p, turned by the slope of the y family: ``rho_Iz``, atoms
+        ``ONE``, ``dphi(i, "y")``) or ``"z"`` (about y_p: ``rho_Iy``, ``dphi(j, "z")``)."""
+        if axis == "t":
+            return self.polar(a, b)
+        a, b = sorted((a, b), key=atom_order)
+        kinds = (a[0], b[0])
+        if kinds == ("1", "1"):
+            name = f"Ir{'z' if axis == 'y' else 'y'}_{self.name}"
+        elif kinds == ("1", "dphi"):
+            name = f"Er_{self.label + '_' if self.label else ''}{_piece(b)}"
+        elif kinds == ("dphi", "dphi"):
+            name = f"Gr_{self.label + '_' if self.label else ''}{_piece(a)}_{_piece(b)}"
+        else:
+            raise ValueError(f"no rotary-inertia constant for the atoms {a!r}, {b!r}")
+        return self._symbol(("section", axis, a, b), name)
+
+    def section_integrate(self, axis: str, f: Field, g: Field) -> sp.Expr:
+        """``int_0^L rho_J f(x) g(x) dx`` (:meth:`section`)."""
+        return sp.Add(*[ca * cb * self.section(axis, a, b) for a, ca in f.items() for b, cb in g.items()])
+
+    def section_integrate1(self, axis: str, f: Field) -> sp.Expr:
+        """``int_0^L rho_J f(x) dx`` (:meth:`section`)."""
+        return sp.Add(*[c * self.section(axis, ONE, a) for a, c in f.items()])
+
     def polar(self, a: Atom, b: Atom) -> sp.Symbol:
         """``int_0^L rho_Ip a(x) b(x) dx`` for atoms ``ONE`` and ``theta(k)``."""
         a, b = sorted((a, b), key=atom_order)
@@ -65,14 +94,6 @@ class SpatialBeamConstants(BeamConstants):
         else:
             raise ValueError(f"no polar-inertia constant for the atoms {a!r}, {b!r}")
         return self._symbol(("polar", a, b), name)
-
-    def polar_integrate(self, f: Field, g: Field) -> sp.Expr:
-        """``int_0^L rho_Ip f(x) g(x) dx`` for fields of the atoms ``ONE`` and ``theta(k)``."""
-        return sp.Add(*[ca * cb * self.polar(a, b) for a, ca in f.items() for b, cb in g.items()])
-
-    def polar_integrate1(self, f: Field) -> sp.Expr:
-        """``int_0^L rho_Ip f(x) dx``."""
-        return sp.Add(*[c * self.polar(ONE, a) for a, c in f.items()])
 
     def bending_stiffness(self, i: int, j: int, label: str) -> sp.Symbol:
         """``H_<label>ij``: ``int EI_z Phi_i^y'' Phi_j^y'' dx`` (label y) or with ``EI_y`` and the z
@@ -146,6 +167,7 @@ class SpatialBeamConstants(BeamConstants):
         ev = SpatialAtomEvaluator(number("L"), families)
         rho, rho_Ip = number("rho"), number("rho_Ip")
         rigidity = {"y": number("EI_z"), "z": number("EI_y")}
+        rotary = {"y": number("rho_Iz"), "z": number("rho_Iy")}
         out = {}
         for symbol, spec in self.used.items():
             kind = spec[0]
@@ -153,6 +175,8 @@ class SpatialBeamConstants(BeamConstants):
                 out[symbol] = rho * ev.integral(spec[1], spec[2])
             elif kind == "polar":
                 out[symbol] = rho_Ip * ev.integral(spec[1], spec[2])
+            elif kind == "section":
+                out[symbol] = rotary[spec[1]] * ev.integral(spec[2], spec[3])
             elif kind == "Hs":
                 label = spec[1]
                 out[symbol] = rigidity[label] * ev.derivative_integral(("phi", spec[2], label),

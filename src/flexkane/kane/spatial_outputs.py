@@ -5,13 +5,17 @@ Names of the outputs (columns of results files):
 * ``kinetic``, ``potential_gravity``, ``strain``, ``potential_springs``, ``energy`` [J]:
   ``1/2 sum (m v.v + w.I w)`` (and the beams' ``1/2 int rho v.v + rho_Ip w_sx^2 dx``),
   ``-sum m g.r`` (beams integrated), the beams' ``1/2 q^T K q``, joint and point springs;
-* ``power_nonconservative`` [W]: power of drivers, loads, actuators and dampers (integrated into
+* ``power_nonconservative`` [W]: power of drivers, loads, actuators, dampers and the beams' modal
+  damping (integrated into
   ``work`` and ``energy_balance`` by :func:`flexkane.simulate`, as for planar chains);
 * per body: ``x_<b>, y_<b>, z_<b>`` [m] of the mass centre in N, the Euler parameters
   ``e0_<b> .. e3_<b>`` [-] of the body frame in N (the product of the joints' quaternions along the
   chain: continuous, no branches) and its 3-2-1 angles ``yaw_<b>, pitch_<b>, roll_<b>`` [rad];
 * ``x_cm, y_cm, z_cm`` [m], ``p_x, p_y, p_z`` [kg m/s]: centre of mass and linear momentum of the
   system; ``H_x, H_y, H_z`` [kg m^2/s]: angular momentum about the centre of mass, components in N;
+* per beam: ``tip_<b>_y``, ``tip_<b>_z`` [m], the tip's deflections along the section's principal
+  axes, ``slope_<b>_y``, ``slope_<b>_z`` [rad] their slopes, ``twist_<b>`` [rad] the tip section's
+  twist (:func:`flexkane.kane.spatial_beam.tip_outputs`);
 * ``quaternion_norm_<j>`` [-]: ``e0^2 + ... + e3^2 - 1`` of each spherical and free joint;
 * ``effort_<joint>`` [N m or N]: generalized force supplied by each driver.
 """
@@ -22,7 +26,7 @@ import sympy as sp
 
 from .rotation import yaw_pitch_roll
 from .spatial_active import joint_coordinate_values, spatial_gravity_vector
-from .spatial_beam import beam_outputs
+from .spatial_beam import beam_outputs, tip_outputs
 from .spatial_frame import add, cross, dot
 
 __all__ = ["spatial_output_expressions"]
@@ -54,6 +58,8 @@ def spatial_output_expressions(eom) -> dict:
             out[f"e{k}_{name}"] = c
         out[f"yaw_{name}"], out[f"pitch_{name}"], out[f"roll_{name}"] = yaw_pitch_roll(frame.R)
     beam_parts = {name: beam_outputs(kin, name, spatial_gravity_vector(kin)) for name in kin.beams}
+    for name in kin.beams:
+        out.update(tip_outputs(kin, name))
     for part in beam_parts.values():
         kinetic.append(part["kinetic"])
         masses.append(part["mass"])
@@ -105,7 +111,8 @@ def spatial_output_expressions(eom) -> dict:
     out["energy"] = out["kinetic"] + out["potential_gravity"] + out["strain"] + out["potential_springs"]
     # ---------------------------------------------------------------- power of non-conservative forces
     speeds = chain.u
-    power += [u * f for u, f in zip(speeds, eom.F_r["loads"]) if f != 0]
+    for kind in ("damping", "loads"):
+        power += [u * f for u, f in zip(speeds, eom.F_r[kind]) if f != 0]
     if model.springs:   # the spring forces' power minus the rate of their energy: the dampers'
         power.append(sp.Add(*[u * f for u, f in zip(speeds, eom.F_r["springs"]) if f != 0])
                      + chain.dt(sp.Add(*point_springs)))

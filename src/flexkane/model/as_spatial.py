@@ -20,7 +20,8 @@ engines can be compared on the same chain (a planar chain is the special case of
 * a beam bends in the x-y plane of its frame: its deflection along y (``n_modes_y`` shape
   functions of its ``shape``) bends about z with ``EI_z = EI``; ``EI_y = EI`` too (no z modes, so it
   does not enter); axial modes are kept. Its modal coordinates are named ``q_<beam>_y<i>`` (planar
-  ``q_<beam>_<i>``), the only names that differ from the planar model's.
+  ``q_<beam>_<i>``), the only names that differ from the planar model's. Its ``rotary_inertia``
+  becomes ``rho_Iz`` (the sections turn about z) and its modal ``damping`` ``damping_y``.
 
 * a ``revolute`` loop constraint becomes a spatial ``point_on_line`` constraint along z (point b on
   the normal through point a: the two in-plane equations of the planar one); its dependent speeds
@@ -33,8 +34,7 @@ engines can be compared on the same chain (a planar chain is the special case of
 A ``prismatic`` loop constraint has no spatial counterpart with its two scalar constraints (a
 spatial prismatic closure keeps the orientation in three equations, redundant for a planar
 motion): it is carried over unchanged and the spatial model refuses it by name. Spatial models also
-refuse (for now) beams with modal damping, rotary inertia, the midpoint gravity model or
-shear-moment elastic forces, so the result of a model that has them does not validate.
+refuse (for now) beams with the midpoint gravity model or shear-moment elastic forces, so the result of a model that has them does not validate.
 """
 
 from __future__ import annotations
@@ -129,6 +129,8 @@ def as_spatial(model: Model, *, validate: bool = True) -> Model:
         beam.n_modes_y, beam.shape_y = beam.n_modes, beam.shape
         beam.shape_z = ShapeSpec()
         beam.EI, beam.n_modes = None, 0
+        beam.rho_Iz, beam.rotary_inertia = beam.rotary_inertia, None
+        beam.damping_y, beam.damping = beam.damping, []
     _beam_mode_names(model, out)
     if out.gravity is not None:
         out.gravity.direction = _pad(out.gravity.direction)

@@ -1,5 +1,10 @@
 """Names of the constants the derivation generates for a beam (``m_B``, ``E_1``, ``H_11``), without SymPy.
 
+A spatial beam's modal constants carry the direction of the bending family in their indices
+(``E_y1``, ``G_y1_z2``, ``H_z11``, ``Er_y1``, ``DD_y11_z22``) and add the torsion constants
+(``Et_1``, ``Gt_12``, ``Kt_11``) and the sections' inertia (``Ip_B``, ``Iry_B``, ``Irz_B``); see
+:class:`flexkane.kane.spatial_beam_constants.SpatialBeamConstants`.
+
 Model validation refuses parameters named like them (printed equations stay readable);
 :class:`flexkane.kane.beam_constants.BeamConstants` makes the symbols.
 """
@@ -17,8 +22,17 @@ MODAL_STEMS = {
     "Dpsi": "int rho Psi_k d dx", "DD": "int rho d d dx", "J": "int Phi_i'''' dx",
     "Jx": "int x Phi_i'''' dx", "JPhi": "int Phi_j Phi_i'''' dx",
     "Er": "int rho_I Phi_i' dx", "Gr": "int rho_I Phi_i' Phi_j' dx",
+    "Et": "int rho_Ip Theta_k dx", "Gt": "int rho_Ip Theta_k Theta_l dx", "Kt": "int GJ Theta_k' Theta_l' dx",
 }
-_MASS_NAMES = {"m": "int rho dx", "e": "int rho x dx", "I": "int rho x^2 dx", "Ir": "int rho_I dx"}
+_MASS_NAMES = {"m": "int rho dx", "e": "int rho x dx", "I": "int rho x^2 dx", "Ir": "int rho_I dx",
+               "Ip": "int rho_Ip dx", "Iry": "int rho_Iy dx", "Irz": "int rho_Iz dx"}
+
+
+def _index(part: str) -> bool:
+    """Whether ``part`` is an index of a modal constant: digits (``12``), after a spatial beam's
+    direction letter (``y12``, ``z1``)."""
+    digits = part[1:] if part[:1] in ("y", "z") else part
+    return bool(digits) and digits.isdigit() and digits.isascii()
 
 
 def generated_constant(name: str, beam: str, label: str) -> str | None:
@@ -44,6 +58,6 @@ def generated_constant(name: str, beam: str, label: str) -> str | None:
     prefix = f"_{label}_" if label else "_"
     for stem, meaning in MODAL_STEMS.items():
         rest = name[len(stem) + len(prefix):] if name.startswith(stem + prefix) else ""
-        if rest and all(part.isdigit() and part.isascii() for part in rest.split("_")):
+        if rest and all(_index(part) for part in rest.split("_")):
             return f"the modal constant {name} = {meaning} of beam {beam!r}"
     return None

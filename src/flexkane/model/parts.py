@@ -223,6 +223,14 @@ class Beam:
         Torsion shape-function family (``torsion-clamped-free`` ...).
     principal_angle : Value, optional
         Angle [rad] of the principal axes (y_p, z_p) from the beam frame's (y, z), about x.
+    rho_Iy, rho_Iz : Value, optional
+        Spatial Rayleigh beam: mass moments of inertia of the section per unit length about y_p and
+        z_p [kg m]; the sections turn about z_p with the slope ``v'`` and about y_p with ``-w'``, and
+        those turns carry kinetic energy ``1/2 int rho_Iz (w.z_p + v_t')^2 + rho_Iy (w.y_p - w_t')^2 dx``
+        (``rho_Iz`` is the planar ``rotary_inertia``).
+    damping_y, damping_z, torsion_damping, axial_damping : list of Value
+        Spatial beams: modal damping ratios zeta [-] of the shape functions of v, w, the twist and
+        the axial stretch (one value for all of a kind, or one per function), empty for none.
     """
 
     name: str
@@ -250,6 +258,12 @@ class Beam:
     n_torsion: int = 0
     torsion_shape: ShapeSpec | None = None
     principal_angle: Value | None = None
+    rho_Iy: Value | None = None
+    rho_Iz: Value | None = None
+    damping_y: list[Value] = field(default_factory=list)
+    damping_z: list[Value] = field(default_factory=list)
+    torsion_damping: list[Value] = field(default_factory=list)
+    axial_damping: list[Value] = field(default_factory=list)
 
     def modes_text(self) -> str:
         """The beam's shape functions in words (``3 clamped-free + 1 axial``; in 3D

@@ -60,7 +60,8 @@ _BEAM_KEYS = ("L", "EI", "rho", "n_modes", "shape", "damping", "gravity", "elast
 #: Keys of a beam in a spatial model (dimensions = 3): two bending planes, torsion, axial stretch.
 _SPATIAL_BEAM_KEYS = ("L", "rho", "EI_y", "EI_z", "n_modes_y", "n_modes_z", "shape_y", "shape_z", "GJ",
                       "rho_Ip", "n_torsion", "torsion_shape", "EA", "n_axial", "axial_shape",
-                      "principal_angle", "damping", "gravity", "geometric_stiffening", "rotary_inertia")
+                      "principal_angle", "damping", "gravity", "geometric_stiffening", "rotary_inertia",
+                      "rho_Iy", "rho_Iz", "damping_y", "damping_z", "torsion_damping", "axial_damping")
 _SHAPE_KEYS = ("family", "roots")  # plus the options of the family, checked by the family
 _JOINT_KEYS = ("type", "parent", "child", "parent_point", "parent_position", "station", "child_point",
                "angle", "axis", "axes", "orientation", "child_orientation", "coordinates", "speeds", "stiffness",
@@ -167,7 +168,13 @@ def _spatial_beam(name: str, beam: dict, path: str) -> Beam:
         shape_z=_shape(beam, "shape_z", path, "clamped-free"), GJ=beam.get("GJ"), rho_Ip=beam.get("rho_Ip"),
         n_torsion=n_torsion,
         torsion_shape=_shape(beam, "torsion_shape", path, "torsion-clamped-free" if n_torsion else None),
-        principal_angle=beam.get("principal_angle"))
+        principal_angle=beam.get("principal_angle"), rho_Iy=beam.get("rho_Iy"), rho_Iz=beam.get("rho_Iz"),
+        **{key: _ratios(beam.get(key, [])) for key in ("damping_y", "damping_z", "torsion_damping", "axial_damping")})
+
+
+def _ratios(value):
+    """A list of modal damping ratios as given (one value: a list of it)."""
+    return value if isinstance(value, list) else [value]
 
 
 def _vectors(value):
@@ -397,7 +404,8 @@ def _shape_out(spec: ShapeSpec):
 def _spatial_beam_out(b: Beam) -> dict:
     """A spatial beam in the model-file layout."""
     t = _drop_none({"L": b.L, "rho": b.rho, "EI_y": b.EI_y, "EI_z": b.EI_z, "GJ": b.GJ, "rho_Ip": b.rho_Ip,
-                    "EA": b.EA, "principal_angle": b.principal_angle, "rotary_inertia": b.rotary_inertia})
+                    "EA": b.EA, "principal_angle": b.principal_angle, "rotary_inertia": b.rotary_inertia,
+                    "rho_Iy": b.rho_Iy, "rho_Iz": b.rho_Iz})
     for key, count, shape in (("y", b.n_modes_y, b.shape_y), ("z", b.n_modes_z, b.shape_z)):
         if count:
             t[f"n_modes_{key}"] = count
@@ -408,6 +416,9 @@ def _spatial_beam_out(b: Beam) -> dict:
             t[f"{key}_shape"] = _shape_out(shape)
     if b.damping:
         t["damping"] = list(b.damping)
+    for key in ("damping_y", "damping_z", "torsion_damping", "axial_damping"):
+        if getattr(b, key):
+            t[key] = list(getattr(b, key))
     if b.gravity != "distributed":
         t["gravity"] = b.gravity
     if b.geometric_stiffening:

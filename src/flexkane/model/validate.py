@@ -457,12 +457,29 @@ def _check_spatial_beam(beam: Beam, values: _Values) -> float:
     if beam.principal_angle is not None:
         values.number(f"{path}.principal_angle", beam.principal_angle,
                       "angle of the section's principal axes from the beam frame's", "rad")
+    for key, about in (("rho_Iy", "y"), ("rho_Iz", "z")):
+        if getattr(beam, key) is not None:
+            values.non_negative(f"{path}.{key}", getattr(beam, key),
+                                f"mass moment of inertia of the section per unit length about its {about} axis", "kg m")
     if beam.rotary_inertia is not None:
         raise ModelError(f"{path}.rotary_inertia", "no rotary_inertia on a beam with dimensions = 3",
-                         beam.rotary_inertia, "Rayleigh beams are not yet supported in 3D")
+                         beam.rotary_inertia, "a spatial Rayleigh beam has rho_Iy and rho_Iz (about y_p and z_p)")
     if beam.damping:
-        raise ModelError(f"{path}.damping", "no modal damping on a beam with dimensions = 3", list(beam.damping),
-                         "modal damping of spatial beams is not yet supported")
+        raise ModelError(f"{path}.damping", "no damping on a beam with dimensions = 3", list(beam.damping),
+                         "a spatial beam has damping_y, damping_z, torsion_damping and axial_damping")
+    for key, count in (("damping_y", "n_modes_y"), ("damping_z", "n_modes_z"), ("torsion_damping", "n_torsion"),
+                       ("axial_damping", "n_axial")):
+        ratios = getattr(beam, key)
+        if not isinstance(ratios, (list, tuple)):
+            raise ModelError(f"{path}.{key}", "a list of modal damping ratios [-]", ratios)
+        if ratios and len(ratios) not in (1, counts[count]):
+            raise ModelError(f"{path}.{key}", f"1 or {counts[count]} modal damping ratios [-] ({count} = "
+                             f"{counts[count]})", list(ratios))
+        for i, zeta in enumerate(ratios):
+            values.non_negative(f"{path}.{key}[{i}]", zeta, "modal damping ratio", "-")
+    if beam.torsion_damping and beam.rho_Ip is None:
+        raise ModelError(f"{path}.rho_Ip", "the polar mass moment of inertia of the section per unit length [kg m] "
+                         "(the torsion modes' mass, required with torsion_damping)", None, show_given=False)
     if beam.gravity != "distributed":
         raise ModelError(f"{path}.gravity", "'distributed' (the weight integrated along a spatial beam)",
                          beam.gravity, "the midpoint gravity model is not yet supported in 3D")
