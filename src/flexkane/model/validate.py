@@ -291,8 +291,7 @@ def validate_model(model: Model, *, units: dict | None = None) -> None:
         from . import validate_spatial as spatial   # NumPy, for spatial models only
 
         for kind, what in (("distributed_loads", "distributed loads"),
-                           ("constraints", "loop constraints"), ("sensors", "sensors"),
-                           ("controllers", "controllers")):
+                           ("constraints", "loop constraints")):
             for name in tables[kind]:
                 with problems.part():
                     spatial.refuse_part(f"{kind}.{name}", what, name)

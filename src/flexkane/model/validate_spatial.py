@@ -153,9 +153,18 @@ def check_gravity(gravity: Gravity, values) -> None:
 
 
 def check_load(load: Load, values) -> None:
-    """A spatial load's force and torque vectors (expressions of t)."""
+    """A spatial load's force and torque vectors (expressions of t, the parameters and the signals:
+    those that name a signal are checked with the sensors and controllers, ``values.law``)."""
     path = f"loads.{load.name}"
-    if load.force is not None:
-        check_position(f"{path}.force", load.force, values, "force components", "N", time=True)
-    if load.torque is not None:
-        check_position(f"{path}.torque", load.torque, values, "torque components", "N m", time=True)
+    for key, what, unit in (("force", "force components", "N"), ("torque", "torque components", "N m")):
+        value = getattr(load, key)
+        if value is None:
+            continue
+        if not isinstance(value, (list, tuple)) or len(value) != 3:
+            raise ModelError(f"{path}.{key}", f"three values [x, y, z] ({what} [{unit}], numbers or expressions "
+                             "of t and the state)", value)
+        for k, component in enumerate(value):
+            if isinstance(component, bool) or not isinstance(component, (int, float, str)):
+                raise ModelError(f"{path}.{key}[{k}]", f"a number or an expression string ({what[:-1]} [{unit}])",
+                                 component)
+            values.law(f"{path}.{key}[{k}]", component, what[:-1], unit)
