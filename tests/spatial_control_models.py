@@ -51,7 +51,8 @@ q_hinge = 0.1
 u_hinge = 0.5
 """
 
-#: The hinge's effort fields: a PD law, the spring and damper it equals, and a PID with saturation.
+#: The hinge's effort fields: a PD law, the spring and damper it equals, and a PID with saturation and a
+#: first-order filter of the tool's height (a sensor).
 PD_LAW = 'torque = "-Kp*(q_hinge - q_ref) - Kd*u_hinge"'
 SPRING = 'stiffness = "Kp"\nrest = "q_ref"\ndamping = "Kd"'
 PID = '''torque = "pid"
@@ -61,7 +62,12 @@ output = "Kp*(q_ref - q_hinge) - Kd*u_hinge + Ki*zi"
 min = -40
 max = 40
 [controllers.filter]
-states = { zf = "10*(tool_z - zf)" }'''
+states = { zf = "10*(tool_z - zf)" }
+[sensors.tool_z]
+type = "position"
+body = "arm"
+point = "tool"
+component = "z"'''
 
 #: Point and joint sensors of the hinge's tool (appended to a HINGE model).
 HINGE_SENSORS = "".join(f"""
@@ -72,11 +78,6 @@ point = "tool"
 component = "{c}"
 frame = "{frame}"
 """ for kind in ("position", "velocity", "acceleration") for frame in ("ground", "local") for c in "xyz") + """
-[sensors.tool_z]
-type = "position"
-body = "arm"
-point = "tool"
-component = "z"
 [sensors.angle]
 type = "joint_angle"
 joint = "hinge"

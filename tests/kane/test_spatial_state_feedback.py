@@ -28,7 +28,7 @@ def pd_hinge():
 
 @pytest.fixture(scope="module")
 def pid_hinge():
-    eom = flexkane.derive(hinge(PID, sensors=True))
+    eom = flexkane.derive(hinge(PID))
     return eom, Evaluated(eom)
 
 
