@@ -129,7 +129,7 @@ def test_free_joint_speeds_along_the_child_axes_become_rates_of_x_and_y():
 @pytest.mark.parametrize("name", [n for n in builtin_names() if builtin_model(n).dimensions == 2])
 def test_every_planar_builtin_converts_and_is_refused_only_for_parts_not_yet_in_3d(name):
     """Every built-in model converts; spatial models refuse for now loop constraints, distributed
-    loads, sensors, controllers and the beam options the spatial
+    loads and the beam options the spatial
     beams do not have (modal damping, midpoint gravity, rotary inertia, shear-moment forces): the
     spatial form validates, or is refused for such parts only, each named."""
     planar = builtin_model(name)
@@ -137,7 +137,6 @@ def test_every_planar_builtin_converts_and_is_refused_only_for_parts_not_yet_in_
     assert loads_model(dumps_model(planar)) == planar   # not changed
     refused = {f"constraints.{c}" for c in planar.constraints} \
         | {f"distributed_loads.{d}" for d in planar.distributed_loads} \
-        | {f"sensors.{s}" for s in planar.sensors} | {f"controllers.{c}" for c in planar.controllers} \
         | {f"beams.{b.name}.{key}" for b in planar.beams.values() for key, unsupported in (
             ("damping", bool(b.damping)), ("gravity", b.gravity != "distributed"),
             ("rotary_inertia", b.rotary_inertia is not None),

@@ -87,7 +87,8 @@ class Signals:
         kinds: dict[str, str] = {}
         for c in coordinates:
             kinds[c.q] = "coordinate"
-            kinds[c.u] = "speed"
+            if c.u is not None:     # a spatial joint's e0 has no speed
+                kinds[c.u] = "speed"
         owners: dict[str, str] = {name: f"coordinate or speed {name!r}" for name in kinds}
         owners.update({name: f"parameter {name!r}" for name in self.parameters})
 
