@@ -144,3 +144,22 @@ def test_a_controller_function_sets_the_inputs_the_file_law_computes():
                   for c, e in zip("xyz", ("e1", "e2", "e3"))}
         controlled = Evaluated(open_eom, torque)
         np.testing.assert_allclose(controlled.rhs(0.0, y), law.rhs(0.0, y), rtol=1e-12, atol=1e-13)
+
+
+def test_export_control_of_a_spatial_model_from_the_command_line(tmp_path, capsys):
+    """``flexkane linearize MODEL --export control`` on a 3D model: statespace.npz with the names of
+    the reduced states and the load channels; the attitude modes sqrt(Kp / (2 I_i))."""
+    from flexkane.cli import main
+
+    path = tmp_path / "attitude.toml"
+    path.write_text(flexkane.dumps_model(attitude(ATTITUDE_LAW)))
+    assert main(["linearize", str(path), "--about", "rest", "--export", "control", "--out", str(tmp_path / "o")]) == 0
+    data = np.load(tmp_path / "o" / "statespace.npz")
+    assert list(data["inputs"]) == [f"input_load_attitude_t{c}" for c in "xyz"]
+    assert "rz_float" in list(data["states"]) and "load_attitude_tz" in list(data["outputs"])
+    import csv
+
+    with open(tmp_path / "o" / "modes.csv", newline="") as handle:
+        rows = [row for row in csv.DictReader(handle) if row["kind"] == "oscillatory"]
+    omegas = sorted(float(row["omega_n [rad/s]"]) for row in rows)
+    np.testing.assert_allclose(omegas, sorted(np.sqrt(KP_ATT / (2 * np.array(INERTIA)))), rtol=1e-10)
