@@ -65,7 +65,10 @@ def test_pd_law_on_a_spatial_revolute_joint_integrates_as_its_spring():
     law = flexkane.simulate(flexkane.compile_model(flexkane.derive(hinge(PD_LAW))), **run)
     spring = flexkane.simulate(flexkane.compile_model(flexkane.derive(hinge(SPRING))), **run)
     np.testing.assert_allclose(law.state, spring.state, rtol=0, atol=1e-10)
-    np.testing.assert_allclose(law["energy"] - law["work"], spring["energy"] - spring["work"], rtol=0, atol=1e-9)
+    # the law's torque does the work the spring's energy stores: both balances hold to solver error
+    for run_ in (law, spring):
+        assert np.abs(run_["energy_balance"]).max() < 1e-9 * np.abs(run_["energy"]).max()
+    assert np.ptp(law["work"]) > 1e-2 * np.abs(law["energy"]).max()
 
 
 @pytest.fixture(scope="module")
