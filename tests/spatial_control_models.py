@@ -5,6 +5,8 @@ that needs no compiled module (SymPy's lambdify of the compact form: fast for sm
   law, a PID controller with an integral state, or a spring and damper (``{effort}``).
 * :data:`ATTITUDE`: a free rigid body (free joint, no gravity) with a torque in body axes written with
   its Euler parameters and angular speeds, ``T = -Kp e_vec - Kd w`` (``{torque}``).
+* :data:`STRAIN_FEEDBACK`: a hub turning about z with a spatial beam bending in both planes and
+  twisting, its torque a PD law plus feedback of the root bending moment (a sensor) and of a filter.
 * :data:`SENSED_BEAM`: a clamped spatial beam with exact shape functions for a static tip load
   (cubic polynomials in both bending planes, a linear twist) and sensors of every beam kind.
 """
@@ -68,6 +70,9 @@ type = "position"
 body = "arm"
 point = "tool"
 component = "z"'''
+
+#: A spring whose rest position moves with the speed: the same force as PD_LAW (an actuator).
+MOVING_REST = 'stiffness = "Kp"\nrest = "q_ref - Kd/Kp*u_hinge"'
 
 #: Point and joint sensors of the hinge's tool (appended to a HINGE model).
 HINGE_SENSORS = "".join(f"""
@@ -252,3 +257,61 @@ def random_states(eom, count: int, seed: int = 18) -> list:
             y[rows] /= np.linalg.norm(y[rows])
         states.append(y)
     return states
+
+
+STRAIN_FEEDBACK = """
+name = "hub-beam-3d"
+dimensions = 3
+[parameters]
+Kp = 5.0
+Kd = 0.8
+Ks = 0.3
+[bodies.hub]
+mass = 2.0
+inertia = [0.05, 0.05, 0.08]
+points = { clamp = [0.1, 0, 0] }
+[beams.blade]
+L = 1.0
+rho = 0.6
+EI_y = 8.0
+EI_z = 12.0
+GJ = 4.0
+rho_Ip = 0.02
+n_modes_y = 1
+n_modes_z = 1
+n_torsion = 1
+[joints.hub]
+type = "revolute"
+parent = "ground"
+parent_position = [0, 0, 0]
+child = "hub"
+axis = [0, 0, 1]
+torque = "-Kp*q_hub - Kd*u_hub - Ks*root - filtered"
+[joints.clamp]
+type = "weld"
+parent = "hub"
+parent_point = "clamp"
+child = "blade"
+orientation = { axis = [1, 0, 0], angle = 0.3 }
+[sensors.root]
+type = "bending_moment"
+beam = "blade"
+station = 0.0
+component = "y"
+[controllers.filtered]
+states = { zf = "5*(0.1*tip_twist - zf)" }
+output = "zf"
+[sensors.tip_twist]
+type = "twist"
+beam = "blade"
+station = 1.0
+[gravity]
+g = 9.81
+direction = [0, 1, -1]
+[initial]
+q_hub = 0.2
+u_hub = 1.0
+q_blade_y1 = 0.02
+q_blade_z1 = -0.01
+u_blade_t1 = 0.5
+"""
