@@ -25,7 +25,8 @@ fields the inputs add to), which are outputs of the same linear model: python-co
 signals by name, so an input and an output must never share one.
 
 The order of the channels is: joints in the order of the model, then loads in the order of the model
-(fx, fy, torque; in 3D fx, fy, fz, tx, ty, tz). Each input adds to what the model's own field gives (a joint's ``torque``, a
+(fx, fy, torque; in 3D fx, fy, fz, tx, ty, tz).
+Each input adds to what the model's own field gives (a joint's ``torque``, a
 load's ``force`` and ``torque``), so with every input zero the equations are the model's. An input
 symbol is a constant of the equations (an entry of the constants vector p, value 0 by default):
 ``flexkane.simulate(..., controller=f)`` sets it at every evaluation of the right-hand side, and

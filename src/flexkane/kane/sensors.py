@@ -63,7 +63,7 @@ def _spatial_beam_value(kin, sensor) -> sp.Expr:
     beam = bm.beam
     consts = bm.constants
     if sensor.type in ("tip_deflection", "tip_slope"):
-        value, text = beam.L, None
+        value = beam.L
         x = kin.value(f"beams.{sensor.beam}.L", beam.L, f"L_{sensor.beam}")
     else:
         value = sensor.station
@@ -77,7 +77,8 @@ def _spatial_beam_value(kin, sensor) -> sp.Expr:
     deriv = {"tip_deflection": 0, "tip_slope": 1}.get(sensor.type, 2)
     value = field.evaluate(lambda a: consts.station(a, x, text, deriv))
     if sensor.type == "bending_moment":
-        return kin.value(f"beams.{sensor.beam}.{rigidity}", getattr(beam, rigidity), f"{rigidity}_{sensor.beam}") * value
+        stiffness = kin.value(f"beams.{sensor.beam}.{rigidity}", getattr(beam, rigidity), f"{rigidity}_{sensor.beam}")
+        return stiffness * value
     if sensor.type == "strain":
         return -kin.value(f"{path}.distance", sensor.distance, f"c_{sensor.name}") * value
     return value
