@@ -165,3 +165,12 @@ def test_beam_sensors_name_their_bending_plane_in_3d_and_twist_is_spatial():
     planar.sensors["tw"] = flexkane.model.parts.Sensor("tw", "twist", beam=next(iter(planar.beams)), station=0.1)
     with pytest.raises(ModelError, match="sensors.tw.type"):
         planar.validate()
+
+
+def test_units_of_the_spatial_control_columns(attitude_law, pid_hinge):
+    from flexkane.run_manifest import units
+
+    columns = units(attitude_law[0])
+    assert {columns[f"load_attitude_t{c}"] for c in "xyz"} == {"N m"}
+    columns = units(pid_hinge[0])
+    assert (columns["effort_hinge"], columns["sensor_tool_z"], columns["q_hinge"]) == ("N m", "m", "rad")
