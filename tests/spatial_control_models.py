@@ -117,6 +117,11 @@ frame = "local"
 ATTITUDE_LAW = '["-Kp*q_float_e1 - Kd*u_float_wx", "-Kp*q_float_e2 - Kd*u_float_wy", ' \
                '"-Kp*q_float_e3 - Kd*u_float_wz"]'
 NO_TORQUE = "[0, 0, 0]"
+#: The attitude law with integral states of the attitude error (more q than u, and z after them).
+ATTITUDE_PI = '["-Kp*q_float_e1 - Kd*u_float_wx - 0.5*zx", "-Kp*q_float_e2 - Kd*u_float_wy - 0.5*zy", ' \
+              '"-Kp*q_float_e3 - Kd*u_float_wz - 0.5*zz"]'
+INTEGRAL = '[controllers.integral]\nstates = { zx = "q_float_e1", zy = "q_float_e2", zz = "q_float_e3" }\n' \
+           'initial = { zx = 0.1 }\n'
 
 #: The clamped beam: length [m], rigidities [N m^2] and its sensors' station and distance [m].
 BEAM_L, EI_Y, EI_Z, GJ, STATION, DISTANCE = 1.2, 5.0, 9.0, 3.0, 0.5, 0.01
@@ -196,9 +201,10 @@ def hinge(effort: str, sensors: bool = False) -> flexkane.Model:
     return flexkane.loads_model(HINGE.replace("{effort}", effort) + (HINGE_SENSORS if sensors else ""))
 
 
-def attitude(torque: str) -> flexkane.Model:
-    """The free body with a torque field (:data:`ATTITUDE_LAW`, :data:`NO_TORQUE`)."""
-    return flexkane.loads_model(ATTITUDE.replace("{torque}", torque))
+def attitude(torque: str, extra: str = "") -> flexkane.Model:
+    """The free body with a torque field (:data:`ATTITUDE_LAW`, :data:`NO_TORQUE`, :data:`ATTITUDE_PI`
+    with ``extra`` = :data:`INTEGRAL`)."""
+    return flexkane.loads_model(ATTITUDE.replace("{torque}", torque) + extra)
 
 
 class Evaluated:

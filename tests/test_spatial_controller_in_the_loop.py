@@ -15,8 +15,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from numba import njit
-from spatial_control_models import (ATTITUDE_LAW, KD_ATT, KP_ATT, NO_TORQUE, PD_LAW, PID, SPRING, Evaluated,
-                                    attitude, hinge, random_states)
+from spatial_control_models import (ATTITUDE_LAW, ATTITUDE_PI, INTEGRAL, KD_ATT, KP_ATT, NO_TORQUE, PD_LAW, PID,
+                                    SPRING, Evaluated, attitude, hinge, random_states)
 from test_c_export import _call, _close, _compare_at_random_states, _compile, _Numba, needs_cc
 
 import flexkane
@@ -72,43 +72,61 @@ def test_pd_law_on_a_spatial_revolute_joint_integrates_as_its_spring():
 
 
 @pytest.fixture(scope="module")
-def exported_pid(tmp_path_factory):
-    """The PID hinge (two controller states, a saturated output, a sensor in a state's rate) as C."""
-    model = hinge(PID)
-    directory = tmp_path_factory.mktemp("pid_hinge")
-    export_c(model, directory, force=True)
-    prefix = c_identifier(model.name)
-    return model, _compile(directory, prefix), prefix, directory
+def exported(tmp_path_factory):
+    """Model -> (model, the loaded C library, prefix, directory), exported once."""
+    cache = {}
+
+    def get(name):
+        if name not in cache:
+            model = {"pid-hinge": lambda: hinge(PID), "attitude-pi": lambda: attitude(ATTITUDE_PI, INTEGRAL)}[name]()
+            directory = tmp_path_factory.mktemp(name)
+            export_c(model, directory, force=True)
+            prefix = c_identifier(model.name)
+            cache[name] = (model, _compile(directory, prefix), prefix, directory)
+        return cache[name]
+    return get
+
+
+#: The models exported: a PID with saturation and a filtered sensor; an attitude PI with Euler
+#: parameters (more q than u) and three integral states; (nq, nu, nz) of each.
+EXPORTED = [("pid-hinge", (1, 1, 2)), ("attitude-pi", (7, 6, 3))]
 
 
 @needs_cc
-def test_c_of_a_spatial_model_with_controller_states_computes_its_equations(exported_pid):
-    """rhs (q', u', z') and outputs of the C at random states (some saturated) equal the equations."""
-    model, lib, prefix, directory = exported_pid
+@pytest.mark.parametrize("name, counts", EXPORTED)
+def test_c_of_a_spatial_model_with_controller_states_computes_its_equations(exported, name, counts):
+    """rhs (q', u', z'), controller rates and outputs of the C at random states (some saturated)
+    equal the equations; the header counts q, u and z apart."""
+    model, lib, prefix, directory = exported(name)
     eom = flexkane.derive(model)
+    assert (len(eom.q), len(eom.u), len(eom.z)) == counts
+    nq, nu, nz = counts
     equations = Evaluated(eom)
     p = eom.parameter_vector()
-    ny = len(eom.state_names)
+    ny = nq + nu + nz
     names = list(eom.compact.outputs)
-    states = random_states(eom, 3) + [np.array([-9.0, 0.0, 0.0, 0.0]), np.array([9.0, 0.0, 0.0, 0.0])]
+    states = random_states(eom, 3)
+    if name == "pid-hinge":    # beyond both saturation limits
+        states += [np.array([-9.0, 0.0, 0.0, 0.0]), np.array([9.0, 0.0, 0.0, 0.0])]
     for y in states:
         status, dy = _call(getattr(lib, f"{prefix}_rhs"), 0.2, y, p, ny)
         assert status == 0
         _close(dy, equations.rhs(0.2, y))
-        status, rates = _call(getattr(lib, f"{prefix}_controller_rates"), 0.2, y, p, 2)
+        status, rates = _call(getattr(lib, f"{prefix}_controller_rates"), 0.2, y, p, nz)
         assert status == 0
-        np.testing.assert_array_equal(rates, dy[2:])
+        np.testing.assert_array_equal(rates, dy[nq + nu:])
         status, out = _call(getattr(lib, f"{prefix}_outputs"), 0.2, y, p, len(names))
         assert status == 0
         expected = equations.outputs(0.2, y)
         _close(out, [expected[k] for k in names], rtol=1e-11)
     header = (directory / f"{prefix}.h").read_text()
-    for line in (f"#define {prefix.upper()}_NQ 1", f"#define {prefix.upper()}_NU 1", f"#define {prefix.upper()}_NZ 2"):
-        assert line in header
+    for key, count in zip(("NQ", "NU", "NZ"), counts):
+        assert f"#define {prefix.upper()}_{key} {count}" in header
 
 
 @needs_cc
 @pytest.mark.slow
-def test_c_of_a_spatial_model_with_controller_states_matches_numba(exported_pid):
-    model, lib, prefix, _ = exported_pid
+@pytest.mark.parametrize("name", [name for name, _ in EXPORTED])
+def test_c_of_a_spatial_model_with_controller_states_matches_numba(exported, name):
+    model, lib, prefix, _ = exported(name)
     _compare_at_random_states(model, _Numba(model), lib, prefix)
