@@ -215,9 +215,11 @@ class Evaluated:
     eom : EquationsOfMotion
     inputs : dict of str to float, optional
         Values of input channels (a model derived with its control inputs).
+    prefixes : tuple of str, optional
+        Evaluate only the outputs whose names start so (all by default).
     """
 
-    def __init__(self, eom, inputs: dict | None = None):
+    def __init__(self, eom, inputs: dict | None = None, prefixes: tuple | None = None):
         self.eom = eom
         values = eom.constant_values()
         for name, value in (inputs or {}).items():
@@ -233,8 +235,8 @@ class Evaluated:
 
         self._system = sp.lambdify(args, [compact.mass_matrix, compact.forcing, compact.qdot, compact.zdot],
                                    cse=named)
-        self.output_names = list(compact.outputs)
-        self._outputs = sp.lambdify(args, list(compact.outputs.values()), cse=named)
+        self.output_names = [k for k in compact.outputs if prefixes is None or k.startswith(prefixes)]
+        self._outputs = sp.lambdify(args, [compact.outputs[k] for k in self.output_names], cse=named)
 
     def rhs(self, t: float, y: np.ndarray) -> np.ndarray:
         """``y' = [q', u', z']`` at (t, y), shape (nq + nu + nz,)."""

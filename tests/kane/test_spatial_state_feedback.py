@@ -174,3 +174,22 @@ def test_units_of_the_spatial_control_columns(attitude_law, pid_hinge):
     assert {columns[f"load_attitude_t{c}"] for c in "xyz"} == {"N m"}
     columns = units(pid_hinge[0])
     assert (columns["effort_hinge"], columns["sensor_tool_z"], columns["q_hinge"]) == ("N m", "m", "rad")
+
+
+def test_planar_feedback_through_the_spatial_engine_gives_the_planar_sensors_and_efforts():
+    """flexible-arm-pd (a PD law on sensors, a set-point controller, tip and root-strain sensors of
+    the beam) through as_spatial: each sensor, controller and effort equals the planar engine's at
+    random states (the beam's y bending plane is the planar beam)."""
+    from flexkane.model import as_spatial
+
+    planar = flexkane.builtin_model("flexible-arm-pd")
+    engines = [flexkane.derive(planar), flexkane.derive(as_spatial(planar))]
+    names = [k for k in engines[0].output_names if k.startswith(("sensor_", "controller_", "effort_"))]
+    assert len(names) == 6 and set(names) <= set(engines[1].output_names)
+    exprs = [[eom.expand(eom.compact.outputs[k]).xreplace(eom.constant_values()) for k in names] for eom in engines]
+    rng = np.random.default_rng(3)
+    for _ in range(3):
+        t, y = float(rng.uniform(0, 2)), rng.standard_normal(len(engines[0].state_names))
+        values = [[float(e.xreplace({eom.t: t, **dict(zip([*eom.q, *eom.u], y))})) for e in row]
+                  for eom, row in zip(engines, exprs)]
+        _close(values[1], values[0])
