@@ -142,7 +142,7 @@ def units(eom) -> dict[str, str]:
         elif name == "power_nonconservative":
             out[name] = "W"
         elif name.startswith("load_"):
-            out[name] = "N m" if name.endswith("_torque") else "N"
+            out[name] = "N m" if name.endswith(("_torque", "_tx", "_ty", "_tz")) else "N"   # 3D: _tx .. _tz
         elif name.startswith("sensor_"):
             out[name] = _sensor_unit(eom, name[len("sensor_"):])
     out["work"] = out["energy_balance"] = "J"

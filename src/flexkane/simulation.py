@@ -346,7 +346,8 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
         y is the state ``[q, u, z]`` in the order of ``Results.state_names``; the efforts [N m or N]
         are an array in the order of the model's input channels (:mod:`flexkane.kane.inputs`:
         ``input_effort_<joint>`` of every revolute or prismatic joint not driven, in the order of
-        the model, then ``input_load_<name>_fx``, ``_fy``, ``_torque`` of its loads) or a dict by
+        the model, then ``input_load_<name>_fx``, ``_fy``, ``_torque`` of its loads; in 3D ``_fx``,
+        ``_fy``, ``_fz``, ``_tx``, ``_ty``, ``_tz``) or a dict by
         channel name (others 0), added to the model's own torques and loads. Evaluated at every
         evaluation of the right-hand side; an ``@njit`` function (returning a float64 array) runs in
         compiled code. The equations with the inputs are derived and compiled on first use (cached

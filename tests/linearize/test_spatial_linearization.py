@@ -441,9 +441,11 @@ def test_reduced_state_matrix_matches_finite_differences_of_the_compiled_rhs(ske
     np.testing.assert_allclose(A, A_fd, atol=1e-6 * np.abs(A).max())
 
 
-def test_spatial_model_has_no_input_channels_yet_and_says_so():
-    """The spatial engine does not derive control inputs: no inputs (rather than a zero B), with a
-    note; a 3D load with a torque vector and an actuator torque stay in the equations."""
+def test_spatial_model_has_input_channels_of_its_load_components():
+    """The spatial engine derives control inputs: a 3D load with a force and a torque vector gives six
+    channels (components in the load's frame), whose columns of B are the partial velocities there;
+    the load's own values stay in the equations (the push adds to m g, the torque tilts the
+    pendulum)."""
     text = PENDULUM + """[loads.push]
 body = "bob"
 force = [0.0, 0.0, -1.0]
@@ -451,11 +453,20 @@ torque = [0.2, 0.0, 0.0]
 frame = "ground"
 """
     linear = Linearization(loads_model(text), about="equilibrium").at()
-    assert linear.input_names == [] and linear.B.shape == (3, 0)
+    assert linear.input_names == [f"input_load_push_{k}" for k in ("fx", "fy", "fz", "tx", "ty", "tz")]
+    assert linear.B.shape == (3, 6)
+    np.testing.assert_allclose(linear.r0, [0.0, 0.0, -1.0, 0.2, 0.0, 0.0], rtol=0, atol=0)
     frequency = np.sqrt((PEND_M * G + 1.0) * PEND_L / (PEND_IC + PEND_M * PEND_L ** 2))   # the push adds to m g
     tilt = np.arcsin(0.2 / ((PEND_M * G + 1.0) * PEND_L))                                  # the torque tilts it
     swings = sorted(m.omega for m in modal_analysis(linear).modes if m.kind == "oscillatory")
     assert swings[0] == pytest.approx(frequency * np.sqrt(np.cos(tilt)), rel=1e-8)
-    assert any("control inputs of spatial models are not yet supported" in note for note in linear.notes)
+    assert not any("control inputs of spatial models" in note for note in linear.notes)
+    # a planar chain through the spatial engine has the planar engine's input matrix (a planar torque
+    # is the spatial one about z)
+    planar = Linearization(loads_model(PLANAR), about="equilibrium").at()
     planar_as_3d = Linearization(as_spatial(loads_model(PLANAR)), about="equilibrium").at()
-    assert planar_as_3d.input_names == []
+    spatial_columns = {name.replace("_tz", "_torque"): k for k, name in enumerate(planar_as_3d.input_names)}
+    columns = [spatial_columns[name] for name in planar.input_names]
+    assert set(planar_as_3d.input_names) - {planar_as_3d.input_names[k] for k in columns} <= \
+        {name for name in planar_as_3d.input_names if name.endswith(("_fz", "_tx", "_ty"))}
+    np.testing.assert_allclose(planar_as_3d.B[:, columns], planar.B, rtol=1e-10, atol=1e-12)

@@ -128,8 +128,8 @@ def test_free_joint_speeds_along_the_child_axes_become_rates_of_x_and_y():
 
 @pytest.mark.parametrize("name", [n for n in builtin_names() if builtin_model(n).dimensions == 2])
 def test_every_planar_builtin_converts_and_is_refused_only_for_parts_not_yet_in_3d(name):
-    """Every built-in model converts; spatial models refuse for now prismatic loop constraints,
-    sensors, controllers and the beam options the spatial beams do not have (midpoint gravity,
+    """Every built-in model converts; spatial models refuse for now prismatic loop constraints
+    and the beam options the spatial beams do not have (midpoint gravity,
     shear-moment forces; modal damping and rotary inertia convert to damping_y and rho_Iz): the
     spatial form validates, or is refused for such parts only, each named. Loop constraints and
     distributed loads convert, and laws that read modal coordinates are renamed."""
@@ -137,7 +137,6 @@ def test_every_planar_builtin_converts_and_is_refused_only_for_parts_not_yet_in_
     spatial = as_spatial(planar, validate=False)
     assert loads_model(dumps_model(planar)) == planar   # not changed
     refused = {f"constraints.{c.name}.type" for c in planar.constraints.values() if c.type == "prismatic"} \
-        | {f"sensors.{s}" for s in planar.sensors} | {f"controllers.{c}" for c in planar.controllers} \
         | {f"beams.{b.name}.{key}" for b in planar.beams.values() for key, unsupported in (
             ("gravity", b.gravity != "distributed"),
             ("elastic_forces", b.elastic_forces != "strain-energy")) if unsupported}

@@ -23,7 +23,7 @@ from ..model.values import GeneratedSymbol
 from .kinematics import Kinematics
 from .sensors import sensor_expressions
 
-__all__ = ["control_signals"]
+__all__ = ["control_signals", "signal_outputs"]
 
 
 def _ordered_outputs(model) -> list:
@@ -61,7 +61,7 @@ def control_signals(kin: Kinematics) -> dict:
 
     Parameters
     ----------
-    kin : Kinematics
+    kin : Kinematics or SpatialKinematics
 
     Returns
     -------
@@ -74,7 +74,8 @@ def control_signals(kin: Kinematics) -> dict:
     signals: dict = {}
     for c in chain.coordinates:
         signals[c.q.name] = c.q
-        signals[c.u.name] = c.u
+        if c.u is not None:     # a spatial joint's e0 has no speed
+            signals[c.u.name] = c.u
     sensors = sensor_expressions(kin)
     signals.update({name: e for name, e in sensors.items() if model.sensors[name].type != "acceleration"})
     states = []
@@ -102,3 +103,48 @@ def control_signals(kin: Kinematics) -> dict:
             chain.controller_rates[states[k]] = symbols.effort(f"controllers.{ctrl.name}.states.{state}", rate)
             k += 1
     return sensors
+
+
+def signal_outputs(eom) -> dict:
+    """The output columns of the efforts, sensors and controllers of derived equations.
+
+    ``effort_<joint>`` [N m or N]: the actuator torque or force of each joint that has one (planar,
+    and revolute or prismatic joints in 3D); ``load_<name>_fx``, ``_fy`` [N] (and ``_fz`` in 3D):
+    the force components as given, in the load's frame; ``load_<name>_torque`` [N m] (planar) or
+    ``load_<name>_tx``, ``_ty``, ``_tz`` (3D): the torque; ``sensor_<name>`` [its unit]: each sensor;
+    ``controller_<name>`` [its unit]: each controller output, saturated. Efforts that use the state
+    are functions of q, u, the controller states and t, evaluated along the trajectory.
+
+    Parameters
+    ----------
+    eom : EquationsOfMotion
+        Being built (its chain's sensors and signals made by :func:`control_signals`).
+
+    Returns
+    -------
+    dict of str to sympy.Expr
+    """
+    chain = eom.chain
+    model = chain.model
+    symbols = chain.symbols
+    out = {}
+    for joint in chain.joints:
+        if joint.torque is not None:
+            out[f"effort_{joint.name}"] = symbols.effort(f"joints.{joint.name}.torque", joint.torque)
+    axes = "xyz"[:chain.dimensions]
+    for load in model.loads.values():
+        path = f"loads.{load.name}"
+        if load.force is not None:
+            for k, axis in enumerate(axes):
+                out[f"load_{load.name}_f{axis}"] = symbols.effort(f"{path}.force[{k}]", load.force[k])
+        if load.torque is not None and chain.dimensions == 3:
+            for k, axis in enumerate(axes):
+                out[f"load_{load.name}_t{axis}"] = symbols.effort(f"{path}.torque[{k}]", load.torque[k])
+        elif load.torque is not None:
+            out[f"load_{load.name}_torque"] = symbols.effort(f"{path}.torque", load.torque)
+    for name, value in getattr(chain, "sensors", {}).items():
+        out[f"sensor_{name}"] = value
+    for ctrl in model.controllers.values():
+        if ctrl.output is not None:
+            out[f"controller_{ctrl.name}"] = symbols.signals[ctrl.name]
+    return out

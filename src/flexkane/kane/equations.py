@@ -418,9 +418,9 @@ def derive(model: Model) -> EquationsOfMotion:
     budget.check_time("the kinematics")
     inertia = spatial_inertia_forces(kin) if spatial else generalized_inertia_forces(kin)
     budget.check_size(list(inertia.mass_matrix) + list(inertia.remainder), "the inertia forces")
+    control_signals(kin)   # sensors, controller states and outputs: the names efforts may use
     if not spatial:
-        control_signals(kin)   # sensors, controller states and outputs: the names efforts may use
-        parse_state_laws(chain)   # drivers' laws that read them
+        parse_state_laws(chain)   # drivers' laws that read them (planar chains)
     active = spatial_active_forces(kin) if spatial else generalized_active_forces(kin)
     budget.check_time("the active forces")
     eom = EquationsOfMotion(chain, kin, inertia, active)

@@ -11,6 +11,12 @@ A model derived with ``control_inputs = True`` (:func:`with_control_inputs`) has
   the load's frame (``ground`` or ``local``, as its ``frame`` says), ``F_r += v_P,r . (fx, fy)``;
 * ``input_load_<name>_torque`` [N m] for every load that declares a torque, ``F_r += w_r . torque``.
 
+Spatial models (``dimensions = 3``) have the same channels with three components: the efforts of
+their revolute and prismatic joints (the joints with one coordinate), ``input_load_<name>_fx``,
+``_fy``, ``_fz`` [N] and ``input_load_<name>_tx``, ``_ty``, ``_tz`` [N m] (in the load's frame, as its
+``frame`` says), added through the partial velocities and partial angular velocities of the load's
+point, ``F_r += v_P,r . F + w_r . T``.
+
 **Names.** A channel's name is the name of the input signal everywhere: the controller's dict keys,
 the results column of its values (``simulate(..., controller=f)``), the inputs of a linear model
 and of its python-control ``StateSpace``. The ``input_`` prefix keeps it apart from the output
@@ -19,7 +25,8 @@ fields the inputs add to), which are outputs of the same linear model: python-co
 signals by name, so an input and an output must never share one.
 
 The order of the channels is: joints in the order of the model, then loads in the order of the model
-(fx, fy, torque). Each input adds to what the model's own field gives (a joint's ``torque``, a
+(fx, fy, torque; in 3D fx, fy, fz, tx, ty, tz).
+Each input adds to what the model's own field gives (a joint's ``torque``, a
 load's ``force`` and ``torque``), so with every input zero the equations are the model's. An input
 symbol is a constant of the equations (an entry of the constants vector p, value 0 by default):
 ``flexkane.simulate(..., controller=f)`` sets it at every evaluation of the right-hand side, and
@@ -75,11 +82,6 @@ def with_control_inputs(model):
     """
     if getattr(model, "control_inputs", False) is True:
         return model
-    if getattr(model, "dimensions", 2) == 3:
-        from ..errors import ModelError
-
-        raise ModelError("controller", "a planar model (control inputs of spatial models are not yet "
-                         "supported)", f"model {model.name!r} with dimensions = 3")
     new = model.copy()
     new.control_inputs = True
     return new
@@ -107,11 +109,16 @@ def input_channels(model) -> list[InputChannel]:
         if joint.type in ("revolute", "prismatic") and joint.driver is None:
             channels.append(InputChannel(f"{INPUT_PREFIX}effort_{name}", f"joints.{name}.torque",
                                          "N m" if joint.type == "revolute" else "N"))
+    spatial = getattr(model, "dimensions", 2) == 3
+    axes = "xyz" if spatial else "xy"
     for name, load in model.loads.items():
         if load.force is not None:
             channels += [InputChannel(f"{INPUT_PREFIX}load_{name}_f{axis}", f"loads.{name}.force[{k}]", "N")
-                         for k, axis in enumerate("xy")]
-        if load.torque is not None:
+                         for k, axis in enumerate(axes)]
+        if load.torque is not None and spatial:
+            channels += [InputChannel(f"{INPUT_PREFIX}load_{name}_t{axis}", f"loads.{name}.torque[{k}]", "N m")
+                         for k, axis in enumerate(axes)]
+        elif load.torque is not None:
             channels.append(InputChannel(f"{INPUT_PREFIX}load_{name}_torque", f"loads.{name}.torque", "N m"))
     for channel in channels:
         if channel.name in model.parameters:
@@ -149,7 +156,7 @@ def input_forces(kin) -> list:
 
     Parameters
     ----------
-    kin : Kinematics
+    kin : Kinematics or SpatialKinematics
 
     Returns
     -------
@@ -172,6 +179,9 @@ def input_forces(kin) -> list:
         if symbol is not None:
             coord = chain.of(name)[0]
             forces[speeds.index(coord.u)] += symbol
+    if chain.dimensions == 3:
+        _spatial_load_forces(kin, symbols, forces)
+        return forces
     for name, load in chain.model.loads.items():
         frame = kin.load_frame(load)
         if load.force is not None:
@@ -184,3 +194,25 @@ def input_forces(kin) -> list:
             for r, u in enumerate(speeds):
                 forces[r] += chain.partial(frame.omega, u) * torque
     return forces
+
+
+def _spatial_load_forces(kin, symbols: dict, forces: list) -> None:
+    """Add the load channels of a spatial chain to ``forces``: ``v_P,r . F + w_r . T`` with F and T
+    along the axes of the frame at the load's point (turned from N for ``frame = "ground"``)."""
+    from .spatial_frame import dot
+
+    chain = kin.chain
+    for name, load in chain.model.loads.items():
+        frame = kin.load_frame(load)
+
+        def vector(letter):
+            value = tuple(symbols[f"{INPUT_PREFIX}load_{name}_{letter}{axis}"] for axis in "xyz")
+            return value if load.frame == "local" else frame.rotation.inverse_apply(value)
+
+        force = vector("f") if load.force is not None else None
+        torque = vector("t") if load.torque is not None else None
+        for r, u in enumerate(chain.u):
+            if force is not None:
+                forces[r] += dot(tuple(chain.partial(c, u) for c in frame.v), force)
+            if torque is not None:
+                forces[r] += dot(tuple(chain.partial(c, u) for c in frame.omega), torque)

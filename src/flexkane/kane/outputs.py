@@ -33,6 +33,7 @@ from __future__ import annotations
 import sympy as sp
 
 from .active import gravity_vector, moving_rest
+from .controllers import signal_outputs
 from .kinematics import rot
 from .modal_field import ONE
 
@@ -168,20 +169,5 @@ def output_expressions(eom) -> dict:
     out["power_nonconservative"] = sp.Add(*power)
     for owner, effort in eom.driver_efforts.items():
         out[f"effort_{owner}"] = effort
-    symbols = kin.symbols
-    for joint in chain.joints:
-        if joint.torque is not None:
-            out[f"effort_{joint.name}"] = symbols.effort(f"joints.{joint.name}.torque", joint.torque)
-    for load in model.loads.values():
-        path = f"loads.{load.name}"
-        if load.force is not None:
-            for k, axis in enumerate("xy"):
-                out[f"load_{load.name}_f{axis}"] = symbols.effort(f"{path}.force[{k}]", load.force[k])
-        if load.torque is not None:
-            out[f"load_{load.name}_torque"] = symbols.effort(f"{path}.torque", load.torque)
-    for name, value in chain.sensors.items():
-        out[f"sensor_{name}"] = value
-    for ctrl in model.controllers.values():
-        if ctrl.output is not None:
-            out[f"controller_{ctrl.name}"] = symbols.signals[ctrl.name]
+    out.update(signal_outputs(eom))    # efforts, loads, sensors, controllers (flexkane.kane.controllers)
     return out

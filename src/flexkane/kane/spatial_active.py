@@ -7,9 +7,13 @@ axes of the frame at P, where the velocities are expressed.
 * ``gravity``: ``m g`` at each mass centre, ``g`` a 3D vector in N;
 * ``joints``: springs ``-k (q - rest)`` and dampers ``-c u`` on the coordinates of revolute,
   prismatic, cylindrical, universal and planar joints (their speeds are the coordinates' rates);
-* ``loads``: applied forces and torques (ground or local components, expressions of t), forces per
-  length on beams (:func:`flexkane.kane.distributed_loads.spatial_distributed_load_forces`) and
-  actuator torques or forces of joints along their coordinates;
+* ``loads``: applied forces and torques (ground or local components), forces per length on beams
+  (:func:`flexkane.kane.distributed_loads.spatial_distributed_load_forces`) and actuator torques or
+  forces of joints along their coordinates, expressions of t, the parameters and the signals of
+  :mod:`flexkane.kane.controllers` (coordinates, speeds, sensors, controller states and outputs:
+  state feedback, kept by name in the equations); joint springs whose rest position moves (an
+  expression of t or of the state: an actuator); the control inputs of a model derived with them
+  (:mod:`flexkane.kane.inputs`);
 * ``springs``: linear springs and dampers between points.
 
 * ``elastic``: the beams' strain energy, ``-K q`` with the modal stiffness constants, and
@@ -24,7 +28,9 @@ from __future__ import annotations
 
 import sympy as sp
 
+from .active import moving_rest
 from .distributed_loads import spatial_distributed_load_forces
+from .inputs import input_forces
 from .spatial_beam import beam_active_forces
 from .spatial_frame import dot
 from .spatial_joints import direction
@@ -62,9 +68,9 @@ def joint_coordinate_values(kin, joint, field: str, name: str) -> list:
     return _per_coordinate(kin, joint, field, lambda path, v, label: kin.value(path, v, f"{name}_{label}"))
 
 
-def _joint_time_functions(kin, joint, field: str) -> list:
-    """Per coordinate of a joint, the expression of t of a field (actuator efforts)."""
-    return _per_coordinate(kin, joint, field, lambda path, v, label: kin.symbols.time_function(path, v))
+def _joint_efforts(kin, joint, field: str) -> list:
+    """Per coordinate of a joint, the expression of a field of t and the signals (actuator efforts)."""
+    return _per_coordinate(kin, joint, field, lambda path, v, label: kin.symbols.effort(path, v))
 
 
 def spatial_active_forces(kin) -> dict[str, list]:
@@ -110,13 +116,17 @@ def spatial_active_forces(kin) -> dict[str, list]:
         coords = chain.joint_coordinates(joint.name)
         stiffness = joint_coordinate_values(kin, joint, "stiffness", "k")
         damping = joint_coordinate_values(kin, joint, "damping", "c")
-        rest = joint_coordinate_values(kin, joint, "rest", "rest") if joint.stiffness is not None else []
-        torque = _joint_time_functions(kin, joint, "torque")
+        moving = moving_rest(kin, joint)    # an actuator: its power is counted in the work W
+        rest = joint_coordinate_values(kin, joint, "rest", "rest") if joint.stiffness is not None and \
+            moving is None else []
+        torque = _joint_efforts(kin, joint, "torque")
         for k, c in enumerate(coords):
             if c.u is None:
                 continue
             r = index[c.u]
-            if stiffness[k] is not None:
+            if stiffness[k] is not None and moving is not None:
+                parts["loads"][r] += -stiffness[k] * (c.q - moving)
+            elif stiffness[k] is not None:
                 parts["joints"][r] += -stiffness[k] * (c.q - (rest[k] if rest and rest[k] is not None else 0))
             if damping[k] is not None:
                 parts["joints"][r] += -damping[k] * c.u
@@ -128,7 +138,7 @@ def spatial_active_forces(kin) -> dict[str, list]:
         frame = kin.load_frame(load)
 
         def components(values, what):
-            vec = tuple(kin.symbols.time_function(f"{path}.{what}[{k}]", v) for k, v in enumerate(values))
+            vec = tuple(kin.symbols.effort(f"{path}.{what}[{k}]", v) for k, v in enumerate(values))
             return vec if load.frame == "local" else frame.rotation.inverse_apply(vec)
 
         add("loads", frame, components(load.force, "force") if load.force is not None else None,
@@ -149,4 +159,7 @@ def spatial_active_forces(kin) -> dict[str, list]:
         fb = tuple(-tension * x for x in e)             # on b, in N
         add("springs", b, b.rotation.inverse_apply(fb))
         add("springs", a, a.rotation.inverse_apply(tuple(-x for x in fb)))
+    for r, term in enumerate(input_forces(kin)):     # control inputs (kane/inputs.py)
+        if term != 0:
+            parts["loads"][r] += term
     return parts

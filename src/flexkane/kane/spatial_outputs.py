@@ -24,6 +24,8 @@ from __future__ import annotations
 
 import sympy as sp
 
+from .active import moving_rest
+from .controllers import signal_outputs
 from .rotation import yaw_pitch_roll
 from .spatial_active import joint_coordinate_values, spatial_gravity_vector
 from .spatial_beam import beam_outputs, tip_outputs
@@ -89,7 +91,10 @@ def spatial_output_expressions(eom) -> dict:
     for joint in chain.joints:
         coords = chain.joint_coordinates(joint.name)
         stiffness = joint_coordinate_values(kin, joint, "stiffness", "k")
-        rest = joint_coordinate_values(kin, joint, "rest", "rest") if joint.stiffness is not None else []
+        moving = moving_rest(kin, joint) is not None   # an actuator (its power is in the work): no spring energy
+        rest = joint_coordinate_values(kin, joint, "rest", "rest") if joint.stiffness is not None and \
+            not moving else []
+        stiffness = [None] * len(coords) if moving else stiffness
         damping = joint_coordinate_values(kin, joint, "damping", "c")
         for k, c in enumerate(coords):
             if stiffness[k] is not None:
@@ -121,4 +126,5 @@ def spatial_output_expressions(eom) -> dict:
     out["power_nonconservative"] = sp.Add(*power)
     for owner, effort in eom.driver_efforts.items():
         out[f"effort_{owner}"] = effort
+    out.update(signal_outputs(eom))    # efforts, loads, sensors, controllers (flexkane.kane.controllers)
     return out

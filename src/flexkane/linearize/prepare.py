@@ -14,8 +14,9 @@ Two changes turn a model into one whose Kane's equations give the linear model d
   An effort that uses the state (feedback: coordinates, speeds, sensors, controllers,
   :mod:`flexkane.model.signals`) stays in the equations with its law; its channel adds to it, of
   nominal value 0, so that ``B`` is then the input matrix of the closed loop.
-* **Spatial models** (``dimensions = 3``) have no input channels yet: their linear model has no
-  inputs, and their efforts and loads stay in the equations at their values at t0.
+  Spatial models (``dimensions = 3``) have the same channels, load components in three directions
+  (``_fx, _fy, _fz, _tx, _ty, _tz``); their inputs and outputs go through the same reduction of Euler
+  parameters as the state (:mod:`flexkane.linearize.rotation_reduction`).
 * **Steady spin.** For ``about = "spin"`` the hub joint (a revolute joint) is given the driver
   ``speed = Omega``, a new parameter whose value is the spin rate [rad/s]; its actuator torque, if
   any, is removed (the driver supplies the effort, the joint has no input), and so are initial
@@ -236,12 +237,6 @@ def prepare_model(model: Model, *, about: str, spin: float | None = None, hub: s
         prepared.hub = name
         prepared.spin_parameter = parameter
         prepared.notes.append(f"joint {name} spins at the constant rate {parameter} = {spin:g} rad/s")
-    if new.dimensions == 3:     # the spatial engine has no input channels yet (flexkane.kane.inputs)
-        prepared.notes.append("control inputs of spatial models are not yet supported: the linear model has no "
-                              "inputs (B has no columns); actuator torques and loads stay in the equations "
-                              f"with their values at t0 = {float(t0):g} s")
-        new.validate()
-        return prepared
     new.control_inputs = True           # derived with its input channels (flexkane.kane.inputs)
     for channel in input_channels(new):
         field_value = _field(new, channel.path)

@@ -7,7 +7,7 @@ engines can be compared on the same chain (a planar chain is the special case of
 * a body's moment of inertia J about the normal becomes the principal tensor ``diag(J, J, J)``: only
   ``Izz = J`` enters planar motion, and the in-plane values ``J, J`` keep the tensor a valid one
   (non-negative, triangle inequalities) whatever J is;
-* a load's torque T becomes ``(0, 0, T)``;
+* a load's torque T becomes ``(0, 0, T)``; a beam sensor reads the bending plane y (``component``);
 * a revolute joint turns about ``axis = [0, 0, 1]``; a prismatic one slides along
   ``[cos(axis), sin(axis), 0]``; a planar ``free`` joint becomes a spatial ``planar`` joint with
   normal z (the same coordinates x, y, angle; its speeds are the rates of x and y, so the initial
@@ -144,6 +144,9 @@ def as_spatial(model: Model, *, validate: bool = True) -> Model:
         con.position_a, con.position_b = _pad(con.position_a), _pad(con.position_b)
         if con.type == "revolute":
             con.type, con.axis = "point_on_line", _Z
+    for sensor in out.sensors.values():   # a planar beam's sensors read its bending in the x-y plane
+        if sensor.beam is not None:
+            sensor.component = "y"
     _free_joint_speeds(model, out)
     _rename_modal_names(model, out)
     return out.validate() if validate else out

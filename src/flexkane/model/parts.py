@@ -51,10 +51,14 @@ METHODS = ("auto", *INTEGRATION_METHODS)
 #: Frames in which the components of a distributed load are given.
 DISTRIBUTED_FRAMES = ("beam", "ground")
 #: Kinds of sensors (named outputs usable in effort expressions, :class:`Sensor`).
-SENSOR_TYPES = ("tip_deflection", "tip_slope", "bending_moment", "strain", "position", "velocity",
+SENSOR_TYPES = ("tip_deflection", "tip_slope", "bending_moment", "strain", "twist", "position", "velocity",
                 "acceleration", "joint_angle", "joint_rate")
 #: Components of a point sensor, along the axes of its frame.
 COMPONENTS = ("x", "y")
+#: Components of a point sensor of a spatial model (``dimensions = 3``).
+SPATIAL_COMPONENTS = ("x", "y", "z")
+#: Bending planes of a spatial beam's sensors: deflection along the section's principal axis y_p or z_p.
+BEAM_COMPONENTS = ("y", "z")
 
 
 @dataclass
@@ -619,6 +623,13 @@ class Sensor:
     * ``joint_angle`` [rad or m], ``joint_rate`` [rad/s or m/s]: the coordinate and speed of a
       revolute or prismatic ``joint``.
 
+    In a spatial model (``dimensions = 3``) point sensors have a third ``component``, ``z``; the
+    beam sensors of a spatial beam name their bending plane by ``component``: ``y`` for the
+    deflection ``v = sum Phi^y_i q_yi`` along the section's principal axis y_p (slope v', bending
+    moment ``EI_z v''``, strain ``-distance v''`` with distance along y_p), ``z`` for
+    ``w = sum Phi^z_j q_zj`` along z_p (``EI_y w''``, distance along z_p); ``twist`` [rad] is the
+    twist ``theta(x) = sum Theta_k q_tk`` of the section at ``station`` (spatial beams only).
+
     Parameters
     ----------
     name : str
@@ -634,7 +645,8 @@ class Sensor:
     frame : str
         ``ground`` or ``local`` (point sensors).
     component : str, optional
-        ``x`` or ``y`` (point sensors).
+        ``x``, ``y`` (``z`` in 3D) for point sensors; ``y`` or ``z`` (the bending plane) for the
+        beam sensors of a spatial beam.
     """
 
     name: str

@@ -33,15 +33,15 @@ import difflib
 import keyword
 
 from ..errors import ModelError
-from .parts import COMPONENTS, FRAMES, SENSOR_TYPES
+from .parts import BEAM_COMPONENTS, COMPONENTS, FRAMES, SENSOR_TYPES, SPATIAL_COMPONENTS
 
 __all__ = ["Signals", "effort_fields", "BEAM_SENSORS", "POINT_SENSORS", "JOINT_SENSORS", "SENSOR_UNITS"]
 
-BEAM_SENSORS = ("tip_deflection", "tip_slope", "bending_moment", "strain")
+BEAM_SENSORS = ("tip_deflection", "tip_slope", "bending_moment", "strain", "twist")
 POINT_SENSORS = ("position", "velocity", "acceleration")
 JOINT_SENSORS = ("joint_angle", "joint_rate")
 #: Unit of each kind of sensor (joint sensors: of a revolute joint; m and m/s for a prismatic one).
-SENSOR_UNITS = {"tip_deflection": "m", "tip_slope": "rad", "bending_moment": "N m", "strain": "-",
+SENSOR_UNITS = {"tip_deflection": "m", "tip_slope": "rad", "bending_moment": "N m", "strain": "-", "twist": "rad",
                 "position": "m", "velocity": "m/s", "acceleration": "m/s^2", "joint_angle": "rad",
                 "joint_rate": "rad/s"}
 _RESERVED = ("t", "x", "xi", "pi")
@@ -95,7 +95,8 @@ class Signals:
         kinds: dict[str, str] = {}
         for c in coordinates:
             kinds[c.q] = "coordinate"
-            kinds[c.u] = "speed"
+            if c.u is not None:     # a spatial joint's e0 has no speed
+                kinds[c.u] = "speed"
         owners: dict[str, str] = {name: f"coordinate or speed {name!r}" for name in kinds}
         owners.update({name: f"parameter {name!r}" for name in self.parameters})
 
@@ -341,9 +342,13 @@ def check_sensor(model, sensor, values, lengths: dict) -> None:
     kind = sensor.type
     given = {key for key in ("beam", "body", "point", "joint", "station", "distance", "component")
              if getattr(sensor, key) is not None}
+    spatial = model.dimensions == 3
+    if kind == "twist" and not spatial:
+        raise ModelError(f"{path}.type", "a sensor of a planar beam (twist: spatial beams, dimensions = 3)", kind)
     if kind in BEAM_SENSORS:
-        needed = {"beam"} | ({"station"} if kind in ("bending_moment", "strain") else set()) \
-            | ({"distance"} if kind == "strain" else set())
+        needed = {"beam"} | ({"station"} if kind in ("bending_moment", "strain", "twist") else set()) \
+            | ({"distance"} if kind == "strain" else set()) \
+            | ({"component"} if spatial and kind != "twist" else set())   # the bending plane
     elif kind in POINT_SENSORS:
         needed = {"body", "component"}
     else:
@@ -367,6 +372,9 @@ def check_sensor(model, sensor, values, lengths: dict) -> None:
             _station(f"{path}.station", sensor.station, sensor.beam, lengths, values)
         if sensor.distance is not None:
             values.number(f"{path}.distance", sensor.distance, "distance from the neutral axis", "m")
+        if spatial and kind != "twist" and sensor.component not in BEAM_COMPONENTS:
+            raise ModelError(f"{path}.component", "the bending plane of a spatial beam: 'y' (deflection along "
+                             "the principal axis y_p, EI_z) or 'z' (along z_p, EI_y)", sensor.component)
     elif kind in POINT_SENSORS:
         links = model.link_names()
         if not isinstance(sensor.body, str) or sensor.body not in links:
@@ -388,9 +396,10 @@ def check_sensor(model, sensor, values, lengths: dict) -> None:
             _station(f"{path}.station", sensor.station, sensor.body, lengths, values)
         if sensor.frame not in FRAMES:
             raise ModelError(f"{path}.frame", "one of " + ", ".join(repr(f) for f in FRAMES), sensor.frame)
-        if sensor.component not in COMPONENTS:
-            raise ModelError(f"{path}.component", "one of 'x', 'y' (along the axes of the sensor's frame)",
-                             sensor.component)
+        components = SPATIAL_COMPONENTS if spatial else COMPONENTS
+        if sensor.component not in components:
+            raise ModelError(f"{path}.component", "one of " + ", ".join(repr(c) for c in components)
+                             + " (along the axes of the sensor's frame)", sensor.component)
     else:
         joints = [j.name for j in model.joints.values() if j.type in ("revolute", "prismatic")]
         if not isinstance(sensor.joint, str) or sensor.joint not in joints:

@@ -287,15 +287,6 @@ def validate_model(model: Model, *, units: dict | None = None) -> None:
             raise ModelError("initial", "a table of initial values by coordinate or speed name", model.initial)
     problems.raise_found()   # values and parts are needed by every check below
     dimensions = model.dimensions
-    if dimensions == 3:   # parts that spatial models do not have yet, all named at once
-        from . import validate_spatial as spatial   # NumPy, for spatial models only
-
-        for kind, what in (("sensors", "sensors"),
-                           ("controllers", "controllers")):
-            for name in tables[kind]:
-                with problems.part():
-                    spatial.refuse_part(f"{kind}.{name}", what, name)
-        problems.raise_found()
     with problems.part():
         _check_parameter_names(model)
     with problems.part():

@@ -18,7 +18,7 @@ from .orientation import orientation_matrix, unit_vector, vector3
 from .parts import SPATIAL_JOINT_DOFS, Gravity, Joint, Load, RigidBody
 
 __all__ = ["check_body", "check_constraint_kind", "CONSTRAINT_EQUATIONS", "check_joint_geometry", "check_gravity",
-           "check_load", "check_position", "refuse_part",
+           "check_load", "check_position",
            "joint_counts", "PERPENDICULAR_TOLERANCE", "INERTIA_TOLERANCE"]
 
 #: Largest |cos| of the angle between a universal joint's two axes [-].
@@ -64,12 +64,6 @@ def check_constraint_kind(con, values) -> int:
         raise ModelError(f"{path}.orientation", "no orientation on a spatial loop constraint that is not a weld",
                          con.orientation)
     return CONSTRAINT_EQUATIONS[con.type]
-
-
-def refuse_part(path: str, what: str, given) -> None:
-    """Refuse a part that spatial models do not have yet (``what``: plural, e.g. ``beams``)."""
-    raise ModelError(path, f"no {what} in a model with dimensions = 3", given,
-                     f"{what} are not yet supported in 3D")
 
 
 def check_position(path: str, value, values, what: str, unit: str = "m", *, time: bool = False) -> np.ndarray:
@@ -188,9 +182,18 @@ def check_gravity(gravity: Gravity, values) -> None:
 
 
 def check_load(load: Load, values) -> None:
-    """A spatial load's force and torque vectors (expressions of t)."""
+    """A spatial load's force and torque vectors (expressions of t, the parameters and the signals:
+    those that name a signal are checked with the sensors and controllers, ``values.law``)."""
     path = f"loads.{load.name}"
-    if load.force is not None:
-        check_position(f"{path}.force", load.force, values, "force components", "N", time=True)
-    if load.torque is not None:
-        check_position(f"{path}.torque", load.torque, values, "torque components", "N m", time=True)
+    for key, what, unit in (("force", "force components", "N"), ("torque", "torque components", "N m")):
+        value = getattr(load, key)
+        if value is None:
+            continue
+        if not isinstance(value, (list, tuple)) or len(value) != 3:
+            raise ModelError(f"{path}.{key}", f"three values [x, y, z] ({what} [{unit}], numbers or expressions "
+                             "of t and the state)", value)
+        for k, component in enumerate(value):
+            if isinstance(component, bool) or not isinstance(component, (int, float, str)):
+                raise ModelError(f"{path}.{key}[{k}]", f"a number or an expression string ({what[:-1]} [{unit}])",
+                                 component)
+            values.law(f"{path}.{key}[{k}]", component, what[:-1], unit)

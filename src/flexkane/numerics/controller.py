@@ -55,7 +55,9 @@ class Controller:
     ----------
     function : callable
         ``f(t, y)`` with t [s] and y the state ``[q, u, z]`` (z: the controller states of the
-        model, none in most; shape (nq + nu + nz,), in the order of ``Results.state_names``), returning the efforts [N m or N]: an array of shape (m,) in the
+        model, none in most; shape (nq + nu + nz,), in the order of ``Results.state_names``; a
+        spatial model's q holds every Euler parameter, so nq may exceed nu), returning the efforts
+        [N m or N]: an array of shape (m,) in the
         order of ``channels``, or a dict by channel name. A Numba ``@njit`` function takes the
         compiled path and must return a float64 array of shape (m,).
     channels : list of str
