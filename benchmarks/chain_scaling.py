@@ -55,6 +55,8 @@ def cpu():
 model = chain_model({k})
 t0 = cpu()
 eom = flexkane.derive(model, cache=False)
+if not {mass_loop!r}:
+    eom.compact.mass_assembly = None   # M written out entry by entry (the form before the loop)
 t1 = cpu()
 source = model_source(eom)
 t2 = cpu()
@@ -76,13 +78,15 @@ print(json.dumps({{"derive": t1 - t0, "codegen": t2 - t1, "compile_rhs": t4 - t3
 """
 
 
-def measure(k: int, timeout: float = 1800.0) -> dict:
-    """Times of one chain length in a fresh process with an empty cache (module docstring)."""
+def measure(k: int, timeout: float = 1800.0, mass_loop: bool = True) -> dict:
+    """Times of one chain length in a fresh process with an empty cache (module docstring);
+    ``mass_loop=False``: the mass matrix written out entry by entry, as before the compiled loop
+    of :mod:`flexkane.numerics.mass_assembly` (for comparisons in the same period)."""
     with tempfile.TemporaryDirectory(prefix="flexkane-chain-") as cache:
         # the code-size budget that protects a run from untrusted model files (20,000 operations
         # outside term tables) is lifted: measuring what long chains cost is the point here
         env = dict(os.environ, FLEXKANE_CACHE_DIR=cache, FLEXKANE_COMPILE_OPERATIONS=str(10 ** 7))
-        code = _CHILD.format(here=str(HERE), k=k, cache=cache)
+        code = _CHILD.format(here=str(HERE), k=k, cache=cache, mass_loop=mass_loop)
         done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env,
                               timeout=timeout)
     if done.returncode != 0:

@@ -35,7 +35,7 @@ from sympy.printing.codeprinter import PrintMethodNotImplementedError
 from sympy.printing.precedence import precedence
 from sympy.printing.pycode import PythonCodePrinter
 
-from flexkane.numerics import constant_block, large_rhs
+from flexkane.numerics import constant_block, large_rhs, mass_assembly
 from flexkane.numerics.code_budget import check_compiled_operations, compiled_operations
 from flexkane.numerics.large_rhs import Statement
 
@@ -60,7 +60,8 @@ _RESERVED = {"t", "y", "p", "dy", "math", "np", "njit", "min", "max", "abs", "ra
              "ldl_solve", "mass_matrix_failure", "float", "int", "complex", "bool", "len",
              "rhs", "outputs", "PIVOT_RTOL", "w", "system_rhs", "ldl_factor", "ldl_substitute",
              "schur_solve", "constant_block_factor", "NP_PREPARED", "BLOCK_SPEEDS",
-             "REST_SPEEDS"}
+             "REST_SPEEDS", "assemble_mass_matrix", "MASS_POSES", "MASS_MOMENTA", "MASS_PAIR_STARTS",
+             "MASS_PAIR_SOURCES", "MASS_PAIR_ROWS", "MASS_PAIR_COLUMNS"}
 
 
 class _MathPrinter(PythonCodePrinter):
@@ -287,8 +288,8 @@ def _operation_count(text: str) -> int:
     return sum(text.count(op) for op in "+-*/") + 20 * text.count("math.")
 
 
-def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.Expr] | None = None
-                        ) -> str:
+def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.Expr] | None = None,
+                        *, mass_loop: bool = True) -> str:
     """Return the Python source of the Numba function ``name(t, y, p, dy) -> int``.
 
     Parameters
@@ -312,6 +313,10 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
         function ``NAME_system(t, y, p, dy)`` (``system_rhs`` for ``name == "rhs"``) of the state
         ``y = [q, u, W]`` (nq + nu + nw,): it calls ``name`` for ``[q', u']`` then writes
         ``W'``; without quadratures it is ``name`` itself.
+    mass_loop : bool
+        Whether ``M`` may be summed from twists and composite bodies by the compiled loop of
+        :mod:`flexkane.numerics.mass_assembly` (:func:`_uses_mass_loop` decides by the structure);
+        False writes every entry of its upper triangle.
 
     Returns
     -------
@@ -341,7 +346,12 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
     upper = [(i, j) for i in range(nu) for j in range(i, nu)]
     zdot = list(getattr(equations, "zdot", None) or [])   # controller states: dy[nq + nu + k]
     nz = len(zdot)
-    exprs = [qdot[i] for i in range(nq)] + [mass[i, j] for i, j in upper] \
+    tables = _mass_loop_tables(eom, equations, mass) if mass_loop else None
+    if tables is not None:   # M summed by the loop from the values of these targets
+        mass_targets, mass_exprs = _mass_loop_items(equations.mass_assembly, tables)
+    else:
+        mass_exprs = [mass[i, j] for i, j in upper]
+    exprs = [qdot[i] for i in range(nq)] + mass_exprs \
         + [forcing[i] for i in range(nu)] + zdot
     definitions = _needed_definitions(eom, exprs)
     subs, q_names, u_names, c_names, t_name = _symbol_table(eom, "t", [s for s, _ in definitions])
@@ -367,16 +377,19 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
     reduced = reduced[nd:]
     split = sum(len(st.text) for st in statements) + sum(map(len, texts)) > large_rhs.SPLIT_CHARS \
         and _has_long_sums([st.expr for st in statements] + list(reduced))
-    unrolled = nu <= UNROLL_LDL_MAX and not split
+    if split and tables is not None:   # term tables and parts: M written out entry by entry
+        return generate_rhs_source(eom, name, quadratures, mass_loop=False)
+    unrolled = nu <= UNROLL_LDL_MAX and not split and tables is None
     targets = ([f"dy[{i}]" for i in range(nq)]
-               + [f"_m{i}_{j}" if unrolled else f"_M[{i}, {j}]" for i, j in upper]
+               + (mass_targets if tables is not None else
+                  [f"_m{i}_{j}" if unrolled else f"_M[{i}, {j}]" for i, j in upper])
                + [f"_f{i}" if unrolled else f"dy[{nq + i}]" for i in range(nu)]
                + [f"dy[{nq + nu + k}]" for k in range(nz)])
     statements += [Statement(target, text, expr)
                    for target, text, expr in zip(targets, texts, reduced)]
     if definitions:
         statements = _evaluation_order(statements)
-    block = [] if unrolled else _constant_block(eom, mass)
+    block = [] if unrolled or tables is not None else _constant_block(eom, mass)
     if block:  # the constant block is factored by {name}_prepare, not evaluated by each call
         skipped = {f"_M[{i}, {j}]" for i in block for j in block}
         statements = [st for st in statements if st.target not in skipped]
@@ -391,7 +404,8 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
     operations = (sum(_operation_count(st.text) for st in tabulated.statements)
                   + tabulated.table_operations if split
                   else sum(_operation_count(st.text) for st in statements)) \
-        + _solve_operations(nu, len(block)) + system_operations
+        + _solve_operations(nu, len(block)) + system_operations \
+        + (tables.operations if tables is not None else 0)
     lines = _header(eom, q_names, u_names, c_names, f"generated right-hand side {name}")
     lines += ["# Kinematic equations q' = qdot(q, u, t); dynamic equations M(q, t) u' = f(q, u, t)",
               "# solved by M = L D L^T (upper triangle of M only).",
@@ -405,6 +419,8 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
               f"{prefix}RHS_OPERATIONS = {operations}",
               "",
               ""]
+    if tables is not None:
+        lines = lines[:-2] + _mass_loop_module_lines(prefix, tables) + ["", ""]
     prologue, solve = [], f"ldl_solve(_M, dy[{nq}:])"
     n_coefficients = tabulated.n_coefficients if split else 0
     block_exprs = []
@@ -434,9 +450,15 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
     ind = "    "
     lines += prologue
     lines += [f"{ind}{local} = {source}" for local, source in loads.items()]
-    if not unrolled:
+    if tables is not None:
+        lines += _mass_loop_allocations(ind, nu, tables)
+    elif not unrolled:
         lines.append(f"{ind}_M = np.empty(({nu}, {nu}))")
     lines += [f"{ind}{st.target} = {st.text}" for st in statements]
+    if tables is not None:
+        lines.append(f"{ind}assemble_mass_matrix(_M, _AX, _AI, _AT, _AC, _AW[{_mass_loop_data_size(tables)}:], "
+                     f"{prefix}MASS_POSES, {prefix}MASS_MOMENTA, {prefix}MASS_PAIR_STARTS, "
+                     f"{prefix}MASS_PAIR_SOURCES, {prefix}MASS_PAIR_ROWS, {prefix}MASS_PAIR_COLUMNS)")
     if unrolled:
         lines += _unrolled_ldl(nu, nq, ind)
         lines.append(f"{ind}return 0")
@@ -444,6 +466,85 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
         lines.append(f"{ind}return {solve}")
     check_compiled_operations(compiled_operations(lines + system_lines))
     return "\n".join(lines + system_lines) + "\n"
+
+
+# Fewest speeds for which M is summed by the compiled loop of :mod:`flexkane.numerics.mass_assembly`
+# (above the unrolled L D L^T): from there the entries written out cost Numba more than the loop.
+MASS_LOOP_MIN_SPEEDS = UNROLL_LDL_MAX + 1
+
+
+def _mass_loop_tables(eom, equations, mass: sympy.Matrix):
+    """The loop's tables if ``M`` is summed by :mod:`flexkane.numerics.mass_assembly`, else None.
+
+    A rule on the structure: the equations carry a :class:`flexkane.kane.inertia.MassAssembly`
+    (planar chains without closed loops), there are at least ``MASS_LOOP_MIN_SPEEDS`` speeds, no
+    constant block of ``M`` is factored once per run (a beam's modal mass), and the assembly refers
+    to no symbol the equations do not know (a composite term that vanishes in ``M``).
+    """
+    assembly = getattr(equations, "mass_assembly", None)
+    nu = mass.shape[0]
+    if assembly is None or nu < MASS_LOOP_MIN_SPEEDS or _constant_block(eom, mass):
+        return None
+    known = {*eom.q, *eom.u, *eom.constants, eom.t, *(getattr(eom, "z", None) or []),
+             *(s for s, _ in getattr(equations, "intermediates", None) or [])}
+    tables = mass_assembly.assembly_tables(assembly)
+    if any(not e.free_symbols <= known for e in _mass_loop_items(assembly, tables)[1]):
+        return None
+    return tables
+
+
+def _mass_loop_items(assembly, tables) -> tuple[list[str], list]:
+    """Targets and expressions the generated code evaluates for the loop (and M's explicit entries)."""
+    items = [(f"_M[{i}, {j}]", e) for (i, j), e in sorted(assembly.explicit.items()) if e != 0]
+    items += [(f"_AX[{b}, {k}]", assembly.offsets[b][k]) for b in tables.offsets for k in range(4)]
+    items += [(f"_AI[{b}, {k}]", assembly.inertia[b][k]) for b in tables.composites for k in range(4)]
+    items += [(f"_AT[{n}, {k}]", assembly.sources[src][2][k]) for n, src in enumerate(tables.sources)
+              for k in range(3)]
+    items += [(f"_AC[{n}, {k}]", assembly.wrenches[w][2][k]) for n, w in enumerate(tables.wrenches)
+              for k in range(3)]
+    return [t for t, _ in items], [sympy.sympify(e) for _, e in items]
+
+
+def _mass_loop_module_lines(prefix: str, tables) -> list[str]:
+    """Module lines: the loop's import and integer tables."""
+    def literal(table):
+        if table.ndim == 1:
+            return f"np.array({table.tolist()!r}, dtype=np.{table.dtype.name})"
+        return (f"np.array({table.tolist()!r}, dtype=np.{table.dtype.name})"
+                f".reshape({table.shape[0]}, {table.shape[1]})")
+
+    return ["# M summed from twists and composite bodies by a loop compiled once per installation",
+            f"# (flexkane.numerics.mass_assembly, source {mass_assembly.source_digest()}).",
+            "from flexkane.numerics.mass_assembly import assemble_mass_matrix  # noqa: E402",
+            f"{prefix}MASS_POSES = {literal(tables.poses)}",
+            f"{prefix}MASS_MOMENTA = {literal(tables.momenta)}",
+            f"{prefix}MASS_PAIR_STARTS = {literal(tables.pair_starts)}",
+            f"{prefix}MASS_PAIR_SOURCES = {literal(tables.pair_sources)}",
+            f"{prefix}MASS_PAIR_ROWS = {literal(tables.pair_rows)}",
+            f"{prefix}MASS_PAIR_COLUMNS = {literal(tables.pair_columns)}"]
+
+
+def _mass_loop_shapes(tables) -> list[tuple[str, int, int]]:
+    """The loop's arrays of values: name, rows, columns (views of one allocation ``_AW``)."""
+    n_links = max([*tables.offsets, *tables.composites, -1]) + 1
+    return [("_AX", n_links, 4), ("_AI", n_links, 4), ("_AT", len(tables.sources), 3),
+            ("_AC", len(tables.wrenches), 3)]
+
+
+def _mass_loop_data_size(tables) -> int:
+    return sum(rows * cols for _, rows, cols in _mass_loop_shapes(tables))
+
+
+def _mass_loop_allocations(ind: str, nu: int, tables) -> list[str]:
+    """``_M`` (zero) and one allocation for the loop's values and its scratch space."""
+    n_links = max([*tables.offsets, *tables.composites, -1]) + 1
+    size = _mass_loop_data_size(tables) + mass_assembly.work_size(n_links, len(tables.sources))
+    lines = [f"{ind}_M = np.zeros(({nu}, {nu}))", f"{ind}_AW = np.empty({size})"]
+    at = 0
+    for array, rows, cols in _mass_loop_shapes(tables):
+        lines.append(f"{ind}{array} = _AW[{at}:{at + rows * cols}].reshape({rows}, {cols})")
+        at += rows * cols
+    return lines
 
 
 def _has_long_sums(exprs) -> bool:
