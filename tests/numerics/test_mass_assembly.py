@@ -172,3 +172,18 @@ def test_short_chains_and_the_chapter_example_keep_the_written_out_mass_matrix()
 def test_spatial_and_closed_chains_have_no_assembly():
     assert flexkane.derive(flexkane.builtin_model("robot-arm-3d")).compact.mass_assembly is None
     assert flexkane.derive(flexkane.builtin_model("four-bar")).compact.mass_assembly is None
+
+
+@pytest.mark.slow
+def test_generated_right_hand_side_grows_linearly_with_the_links():
+    """Code size, which Numba's compile time follows, is linear in the links with the loop: each
+    further link adds about as many compiled operations (with M written out, 406, 1,118, 2,496, 7,101
+    operations for k = 1, 2, 4, 8)."""
+    from flexkane.numerics.code_budget import compiled_operations
+
+    size = {}
+    for k in (3, 5, 7):
+        source = generate_rhs_source(flexkane.derive(chain_model(k), cache=False))
+        size[k] = compiled_operations(source.splitlines())
+    first, second = size[5] - size[3], size[7] - size[5]
+    assert first > 0 and abs(second - first) < 0.15 * first, size
