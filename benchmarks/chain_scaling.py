@@ -11,10 +11,11 @@
   generated source (``RHS_OPERATIONS``).
 
 Times are CPU seconds of the child process (user + sys), which a loaded machine inflates less than
-wall time. The child lifts the code-size budget of untrusted models (``FLEXKANE_COMPILE_OPERATIONS``):
-20 links need about 38,000 operations outside term tables, above the default 20,000
-(``compiled operations``: :func:`flexkane.numerics.code_budget.compiled_operations` of the right-hand
-side). The ratio of consecutive rows, divided by the ratio of their link counts, shows the growth
+wall time. The child lifts the code-size budget of untrusted models (``FLEXKANE_COMPILE_OPERATIONS``);
+with the mass matrix summed by the loop of :mod:`flexkane.numerics.mass_assembly`, 20 links need
+about 7,900 operations outside term tables, under the default 20,000 (with M written out, 38,000;
+``compiled operations``: :func:`flexkane.numerics.code_budget.compiled_operations` of the right-hand
+side and ``system_rhs``). The ratio of consecutive rows, divided by the ratio of their link counts, shows the growth
 per link: 1 for linear growth.
 
 Usage: ``python benchmarks/chain_scaling.py [--quick] [--write]`` (``--quick``: k <= 8; ``--write``:
@@ -55,6 +56,8 @@ def cpu():
 model = chain_model({k})
 t0 = cpu()
 eom = flexkane.derive(model, cache=False)
+if not {mass_loop!r}:
+    eom.compact.mass_assembly = None   # M written out entry by entry (the form before the loop)
 t1 = cpu()
 source = model_source(eom)
 t2 = cpu()
@@ -68,7 +71,7 @@ module.outputs(np.zeros(0), np.zeros((0, n)), p)
 t5 = cpu()
 compile_integrators(module)        # system_rhs, spin rates; the integrators load from their cache
 t6 = cpu()
-rhs_source = source.split("def outputs(")[0]
+rhs_source = source.split("# ---- generated outputs")[0]   # rhs and system_rhs
 print(json.dumps({{"derive": t1 - t0, "codegen": t2 - t1, "compile_rhs": t4 - t3, "compile_outputs": t5 - t4,
                   "compile": t6 - t2, "operations": module.RHS_OPERATIONS,
                   "compiled_operations": compiled_operations(rhs_source.splitlines()),
@@ -76,13 +79,15 @@ print(json.dumps({{"derive": t1 - t0, "codegen": t2 - t1, "compile_rhs": t4 - t3
 """
 
 
-def measure(k: int, timeout: float = 1800.0) -> dict:
-    """Times of one chain length in a fresh process with an empty cache (module docstring)."""
+def measure(k: int, timeout: float = 1800.0, mass_loop: bool = True) -> dict:
+    """Times of one chain length in a fresh process with an empty cache (module docstring);
+    ``mass_loop=False``: the mass matrix written out entry by entry, as before the compiled loop
+    of :mod:`flexkane.numerics.mass_assembly` (for comparisons in the same period)."""
     with tempfile.TemporaryDirectory(prefix="flexkane-chain-") as cache:
         # the code-size budget that protects a run from untrusted model files (20,000 operations
         # outside term tables) is lifted: measuring what long chains cost is the point here
         env = dict(os.environ, FLEXKANE_CACHE_DIR=cache, FLEXKANE_COMPILE_OPERATIONS=str(10 ** 7))
-        code = _CHILD.format(here=str(HERE), k=k, cache=cache)
+        code = _CHILD.format(here=str(HERE), k=k, cache=cache, mass_loop=mass_loop)
         done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env,
                               timeout=timeout)
     if done.returncode != 0:
@@ -121,8 +126,11 @@ def markdown(result: dict, machine: dict) -> list[str]:
           "model's functions (what `compile_model` does after code generation), of which the right-hand "
           "side (*rhs*, with the linear-algebra helpers it calls) and *outputs*; *per link*: the total's "
           "ratio to the previous row divided by the ratio of the link counts (1 = linear growth); "
-          "*compiled operations*: the right-hand side's straight-line operations, the measure of the "
-          "code-size budget (20,000 by default; the child lifts it).", "",
+          "*compiled operations*: the straight-line operations of the right-hand side and `system_rhs`, "
+          "the measure of the code-size budget (20,000 by default; the child lifts it). From 9 speeds "
+          "on, the mass matrix is summed by the loop of `numerics.mass_assembly` (compiled once per "
+          "installation) from the twists and composites the generated code evaluates, instead of "
+          "being written out entry by entry.", "",
           f"Measured on {result['date']}: {machine.get('Model name', '?')}, {machine.get('CPU(s)', '?')} "
           f"CPUs, load average {machine.get('load_average', float('nan')):.1f} at the start, "
           f"{result.get('load_average_end', float('nan')):.1f} at the end (the machine is shared).", "",

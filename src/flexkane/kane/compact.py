@@ -33,6 +33,11 @@ class CompactEquations:
     outputs : dict of str to sympy.Expr
     zdot : sympy.Matrix, shape (nz, 1)
         Rates of the controller states (:mod:`flexkane.kane.controllers`).
+    mass_assembly : MassAssembly or None
+        The same ``mass_matrix`` as twists and composite bodies in terms of the intermediates
+        (:class:`flexkane.kane.inertia.MassAssembly`, rows numbered as ``u``), which generated code
+        of a long chain sums by a compiled loop; None when not available (spatial chains, closed
+        loops).
     """
 
     intermediates: list
@@ -41,9 +46,10 @@ class CompactEquations:
     qdot: sp.Matrix
     outputs: dict
     zdot: sp.Matrix = field(default_factory=lambda: sp.zeros(0, 1))
+    mass_assembly: object = None
 
     @classmethod
-    def collect(cls, eom, registry, sub, dependent: dict) -> "CompactEquations":
+    def collect(cls, eom, registry, sub, dependent: dict, mass_assembly=None) -> "CompactEquations":
         """The compact equations of ``eom`` (during its construction) from the chain's registry.
 
         Parameters
@@ -56,6 +62,9 @@ class CompactEquations:
             Substitution of the drivers' laws.
         dependent : dict
             Dependent speed -> its expression in the independent ones (closed loops), or empty.
+        mass_assembly : MassAssembly, optional
+            ``mass_matrix`` as twists and composites, drivers substituted (kept only without
+            dependent speeds, whose reduction mixes the rows).
         """
         M, f, qdot, outputs, zdot = eom.mass_matrix, eom.forcing, eom.qdot, dict(eom.outputs), eom.zdot
         # every definition is kept (generated code takes those it needs): other expressions of the
@@ -63,7 +72,8 @@ class CompactEquations:
         definitions = {s: sub(d).xreplace(dependent) if dependent else sub(d)
                        for s, d in registry.definitions.items()}
         order = {s: k for k, s in enumerate(registry.definitions)}
-        return cls(_topological(definitions, order), M, f, qdot, outputs, zdot)
+        return cls(_topological(definitions, order), M, f, qdot, outputs, zdot,
+                   None if dependent else mass_assembly)
 
     # ------------------------------------------------------------------ views
     def expressions(self) -> list:
@@ -91,7 +101,7 @@ class CompactEquations:
             return self
         return CompactEquations([], self.expand(self.mass_matrix), self.expand(self.forcing),
                                 self.expand(self.qdot), {k: self.expand(v) for k, v in self.outputs.items()},
-                                self.expand(self.zdot))
+                                self.expand(self.zdot))   # no assembly: its terms refer to intermediates
 
     def __getstate__(self):
         state = dict(self.__dict__)

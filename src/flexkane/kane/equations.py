@@ -170,7 +170,9 @@ class EquationsOfMotion:
         dependent_subs: dict = {}
         if chain.model.constraints:
             dependent_subs = self._reduce_by_constraints(sub)
-        self.compact = CompactEquations.collect(self, chain.intermediates, sub, dependent_subs)
+        assembly = getattr(inertia, "assembly", None)
+        assembly = assembly.reduced(free, sub) if assembly is not None else None
+        self.compact = CompactEquations.collect(self, chain.intermediates, sub, dependent_subs, assembly)
         self._expanded = None
         known = set(self.q) | set(self.u) | set(self.ud) | set(self.z) | {self.t}
         symbols = set()

@@ -40,7 +40,7 @@ import sympy as sp
 from .kinematics import Kinematics, rigid_vec
 from .modal_field import ONE, vec_map
 
-__all__ = ["InertiaForces", "generalized_inertia_forces"]
+__all__ = ["InertiaForces", "MassAssembly", "generalized_inertia_forces"]
 
 
 class InertiaForces:
@@ -54,18 +54,84 @@ class InertiaForces:
         ``Fhat_r``, so that ``F*_r = -sum_s M_rs u_s' - Fhat_r``.
     speeds : list of sympy.Symbol
         The speeds r, in order.
+    assembly : MassAssembly or None
+        The same mass matrix as data for a compiled sum over twists (generated code of long
+        chains); None where the engine does not provide it (spatial chains).
     """
 
-    def __init__(self, mass_matrix: sp.Matrix, remainder: list, speeds: list):
+    def __init__(self, mass_matrix: sp.Matrix, remainder: list, speeds: list,
+                 assembly: "MassAssembly | None" = None):
         self.mass_matrix = mass_matrix
         self.remainder = remainder
         self.speeds = speeds
+        self.assembly = assembly
 
     def F_r_star(self, ud: dict) -> list[sp.Expr]:
         """F*_r with the symbols of u' (eq. 8.22, term by term as eq. 8.23)."""
         n = len(self.speeds)
         return [-sp.Add(*[self.mass_matrix[r, s] * ud[self.speeds[s]] for s in range(n)])
                 - self.remainder[r] for r in range(n)]
+
+
+@dataclass
+class MassAssembly:
+    """The mass matrix of a planar chain as data: twists and composite bodies (module docstring).
+
+    ``M_rs`` is the sum of three kinds of terms, which a compiled loop
+    (:mod:`flexkane.numerics.mass_assembly`) adds up from the arrays below, so that the generated
+    code evaluates only quantities whose number grows with the links, not with pairs of speeds:
+
+    * for two *sources* (a speed and a link frame where it starts to move links rigidly) of which
+      one's link is beyond (or is) the other's, at the deeper link F: ``T_r(F) . I_F T_s(F)``
+      with ``T(F) = (A_x, A_y, W)`` the twist carried out to F link by link
+      (``A_child = R(-angle) (A + W k x d)``, ``W`` unchanged) and ``I_F`` the composite
+      rigid-body properties ``(m, S_x, S_y, J)`` about F;
+    * for a beam's own modal speed r (a *wrench* ``c_r`` at the beam's frame B) and a source s
+      that moves B rigidly: ``T_s(B) . c_r`` with ``c_r = (int rho v_r,x, int rho v_r,y,
+      int rho (X v_r,y - Y v_r,x) [+ int rho_I w_s,r])``;
+    * *explicit* entries: the products of a beam's own modal speeds (its modal mass).
+
+    Attributes
+    ----------
+    parent : list of int
+        Per link (tree order), the index of its parent link, -1 for a link on the ground.
+    offsets : list of tuple
+        Per link, ``(cos, sin, d_x, d_y)`` of its frame in its parent's (angle and origin [m]);
+        for a link on the ground, in N.
+    inertia : list of tuple
+        Per link, the composite ``(m, S_x, S_y, J)`` about its frame [kg, kg m, kg m, kg m^2].
+    sources : list of (int, int, tuple)
+        ``(speed index, link index, (A_x, A_y, W))``.
+    wrenches : list of (int, int, tuple)
+        ``(speed index, beam's link index, (c_x, c_y, c_w))``.
+    explicit : dict of (int, int) to sympy.Expr
+        Entries ``(r, s)``, ``r <= s``, added as expressions.
+    """
+
+    parent: list
+    offsets: list
+    inertia: list
+    sources: list
+    wrenches: list
+    explicit: dict
+
+    def reduced(self, free: list, sub) -> "MassAssembly":
+        """The assembly of the rows and columns ``free`` (indices of speeds), numbered 0, 1, ...
+        in that order, with ``sub`` (the drivers' laws) applied to every expression."""
+        row = {r: i for i, r in enumerate(free)}
+        tup = lambda v: tuple(sub(sp.sympify(e)) for e in v)  # noqa: E731
+        return MassAssembly(list(self.parent), [tup(o) for o in self.offsets],
+                            [tup(i) for i in self.inertia],
+                            [(row[r], b, tup(t)) for r, b, t in self.sources if r in row],
+                            [(row[r], b, tup(c)) for r, b, c in self.wrenches if r in row],
+                            {(row[r], row[s]): sub(e) for (r, s), e in self.explicit.items()
+                             if r in row and s in row})
+
+    def expressions(self) -> list:
+        """Every expression of the assembly (offsets, composites, twists, wrenches, entries)."""
+        return [*(e for o in self.offsets for e in o),
+                *(e for i in self.inertia for e in i), *(e for _, _, t in self.sources for e in t),
+                *(e for _, _, c in self.wrenches for e in c), *self.explicit.values()]
 
 
 @dataclass
@@ -214,6 +280,8 @@ def generalized_inertia_forces(kin: Kinematics) -> InertiaForces:
                     M[r][s] += (P.m * (Ar0 * As0 + Ar1 * As1) + Ws * (-Ar0 * P.S[1] + Ar1 * P.S[0])
                                 + Wr * (-As0 * P.S[1] + As1 * P.S[0]) + P.J * Wr * Ws)
     # a beam's own modal speeds deform it: their terms are integrated over that beam
+    explicit: dict = {}
+    wrenches: list = []
     for name, bm in kin.beams.items():
         consts = bm.constants
         own = {c.u for c in chain.of(name) if c.role in ("mode", "axial")}
@@ -225,19 +293,57 @@ def generalized_inertia_forces(kin: Kinematics) -> InertiaForces:
         for i, r in enumerate(active):
             for s in active[i:]:
                 if speeds[r] in own or speeds[s] in own:
-                    M[r][s] += consts.integrate(V[r][0], V[s][0]) + consts.integrate(V[r][1], V[s][1])
+                    term = consts.integrate(V[r][0], V[s][0]) + consts.integrate(V[r][1], V[s][1])
+                    M[r][s] += term
+                    if speeds[r] in own and speeds[s] in own:
+                        explicit[(r, s)] = explicit.get((r, s), sp.Integer(0)) + term
             if speeds[r] in own:
                 rem[r] += consts.integrate(V[r][0], a_rem[0]) + consts.integrate(V[r][1], a_rem[1])
+        W = None
         if bm.rotation is not None:   # the sections' rotation (Rayleigh beam)
             W = [bm.rotation.map(lambda c, u=u: chain.partial(c, u)) for u in speeds]
             turning = [r for r in range(n) if not W[r].is_zero()]
             for i, r in enumerate(turning):
                 for s in turning[i:]:
                     if speeds[r] in own or speeds[s] in own:
-                        M[r][s] += consts.rotary_integrate(W[r], W[s])
+                        term = consts.rotary_integrate(W[r], W[s])
+                        M[r][s] += term
+                        if speeds[r] in own and speeds[s] in own:
+                            explicit[(r, s)] = explicit.get((r, s), sp.Integer(0)) + term
                 if speeds[r] in own:
                     rem[r] += consts.rotary_integrate(W[r], beam_alpha_rem[name])
+        # the same products with a speed that moves the beam rigidly (twist T_s at its frame):
+        # int rho v_r . (A_s + W_s k x r) dx = T_s . c_r
+        for r in range(n):
+            if speeds[r] in own:
+                c_w = consts.integrate(bm.X, V[r][1]) - consts.integrate(bm.Y, V[r][0])
+                if W is not None:
+                    c_w += consts.rotary_integrate1(W[r])
+                wrenches.append((r, name, (consts.integrate1(V[r][0]), consts.integrate1(V[r][1]), c_w)))
     for r in range(n):
         for s in range(r):
             M[r][s] = M[s][r]
-    return InertiaForces(sp.Matrix(M), rem, speeds)
+    return InertiaForces(sp.Matrix(M), rem, speeds,
+                         _assembly(kin, joints, composite, roots, twist_at, speeds, wrenches, explicit))
+
+
+def _assembly(kin: Kinematics, joints: list, composite: dict, roots: dict, twist_at, speeds: list,
+              wrenches: list, explicit: dict) -> MassAssembly | None:
+    """The mass matrix as twists and composite bodies (:class:`MassAssembly`); None if a link's
+    offset in its parent is not known."""
+    index = {j.child: b for b, j in enumerate(joints)}
+    parent = [index.get(j.parent, -1) for j in joints]
+    offsets = []
+    for j, pa in zip(joints, parent):
+        if pa < 0:   # a link on the ground: its frame's pose in N
+            F = kin.joint_frames[j.name][1]
+            offsets.append((sp.cos(F.theta), sp.sin(F.theta), F.r[0], F.r[1]))
+            continue
+        if j.name not in kin.link_offsets:
+            return None
+        d, angle = kin.link_offsets[j.name]
+        offsets.append((sp.cos(angle), sp.sin(angle), d[0], d[1]))
+    inertia = [(P.m, P.S[0], P.S[1], P.J) for P in (composite[j.child] for j in joints)]
+    sources = [(r, index[root], twist_at(u, root)) for r, u in enumerate(speeds) for root in roots[u]]
+    return MassAssembly(parent, offsets, inertia, sources,
+                        [(r, index[link], c) for r, link, c in wrenches], explicit)

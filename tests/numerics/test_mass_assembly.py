@@ -1,0 +1,189 @@
+"""The mass matrix of a planar chain summed from twists and composite bodies by the compiled loop
+(flexkane.numerics.mass_assembly) equals the mass matrix of the derivation, and generated code
+chooses that form by a rule on the structure."""
+
+from __future__ import annotations
+
+import re
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import flexkane
+from flexkane.numerics import codegen, mass_assembly
+from flexkane.numerics.codegen import generate_rhs_source
+from flexkane.numerics.jit_module import compose_module_source
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
+from scaling import chain_model  # noqa: E402
+
+# a branched chain (two arms on one hub), with a Rayleigh beam and a prismatic joint
+BRANCHED = """
+name = "branched"
+[bodies.hub]
+mass = 2.0
+inertia = 0.1
+points = { left = [0.1, 0.0], right = [-0.1, 0.02] }
+[bodies.slider]
+mass = 0.3
+inertia = 0.01
+[bodies.tip]
+mass = 0.2
+inertia = 0.002
+[beams.arm]
+L = 0.8
+EI = 5.0
+rho = 0.4
+n_modes = 2
+rotary_inertia = 1e-4
+[beams.boom]
+L = 0.5
+EI = 3.0
+rho = 0.3
+n_modes = 1
+[joints.base]
+type = "revolute"
+parent = "ground"
+child = "hub"
+[joints.weld_arm]
+type = "weld"
+parent = "hub"
+parent_point = "left"
+child = "arm"
+[joints.pin_boom]
+type = "revolute"
+parent = "hub"
+parent_point = "right"
+child = "boom"
+angle = 2.5
+[joints.slide]
+type = "prismatic"
+parent = "arm"
+station = 0.8
+child = "slider"
+[joints.tip_pin]
+type = "revolute"
+parent = "boom"
+station = 0.5
+child = "tip"
+[simulation]
+t_end = 1.0
+"""
+
+
+def _numeric_state(eom, seed: int) -> dict:
+    """Random numbers for q, u, t and the constants, and the intermediates evaluated in order."""
+    rng = np.random.default_rng(seed)
+    values = {eom.t: sp.Float(0.3)}
+    values.update({s: sp.Float(rng.uniform(-0.5, 0.5)) for s in [*eom.q, *eom.u]})
+    values.update({s: sp.Float(rng.uniform(0.5, 1.5)) for s in eom.constants})
+    for symbol, definition in eom.compact.intermediates:
+        values[symbol] = sp.sympify(definition).xreplace(values).evalf(20)
+    return values
+
+
+def _assembled(assembly, values: dict, nu: int) -> np.ndarray:
+    """The upper triangle of M from the assembly by the loop (its Python original)."""
+    tables = mass_assembly.assembly_tables(assembly)
+    number = lambda e: float(sp.sympify(e).xreplace(values))  # noqa: E731
+    n_links = len(assembly.parent)
+    X = np.array([[number(e) for e in assembly.offsets[b]] for b in range(n_links)])
+    inertia = np.array([[number(e) for e in assembly.inertia[b]] for b in range(n_links)])
+    T = np.array([[number(e) for e in assembly.sources[k][2]] for k in tables.sources]).reshape(-1, 3)
+    C = np.array([[number(e) for e in assembly.wrenches[w][2]] for w in tables.wrenches]).reshape(-1, 3)
+    M = np.zeros((nu, nu))
+    for (i, j), e in assembly.explicit.items():
+        M[i, j] += number(e)
+    work = np.empty(mass_assembly.work_size(n_links, len(tables.sources)))
+    mass_assembly.assemble_mass_matrix.py_func(
+        M, X, inertia, T, C, work, tables.poses, tables.momenta, tables.pair_starts, tables.pair_sources,
+        tables.pair_rows, tables.pair_columns)
+    return np.triu(M)
+
+
+@pytest.mark.parametrize("label", [pytest.param("chain_model(2)", marks=pytest.mark.slow),
+                                   pytest.param("branched", marks=pytest.mark.slow), "falling-beam"])
+def test_assembled_mass_matrix_equals_the_derived_one(label):
+    model = {"chain_model(2)": lambda: chain_model(2), "branched": lambda: flexkane.loads_model(BRANCHED),
+             "falling-beam": lambda: flexkane.builtin_model("falling-beam")}[label]()
+    eom = flexkane.derive(model, cache=False)
+    assembly = eom.compact.mass_assembly
+    assert assembly is not None and assembly.sources
+    nu = len(eom.u)
+    for seed in (1, 2):
+        values = _numeric_state(eom, seed)
+        derived = np.triu(np.array(eom.compact.mass_matrix.xreplace(values).evalf(), dtype=float))
+        np.testing.assert_allclose(_assembled(assembly, values, nu), derived, rtol=1e-12,
+                                   atol=1e-12 * np.max(np.abs(derived)))
+
+
+def _python_rhs(source: str):
+    """The generated ``rhs`` run by Python (decorators removed, the loop's Python original)."""
+    text = re.sub(r"^@njit\(.*\)$", "", compose_module_source(source, "test"), flags=re.M)
+    namespace: dict = {}
+    exec(compile(text, "<generated>", "exec"), namespace)   # our own generated code, not user text
+    namespace["assemble_mass_matrix"] = mass_assembly.assemble_mass_matrix.py_func
+    return namespace["rhs"]
+
+
+def _loop_equals_written_out(eom):
+    looped = generate_rhs_source(eom)
+    assert "assemble_mass_matrix(_M, " in looped and looped == generate_rhs_source(eom)   # deterministic
+    written = generate_rhs_source(eom, mass_loop=False)
+    assert "assemble_mass_matrix" not in written
+    # the entries of M are no longer written out: the source is shorter
+    entries = lambda source: len(re.findall(r"^\s+(_M\[\d+, \d+\]|_m\d+_\d+) = ", source, re.M))  # noqa: E731
+    assert entries(looped) < entries(written) / 3
+    rhs_loop, rhs_written = _python_rhs(looped), _python_rhs(written)
+    rng = np.random.default_rng(5)
+    n, p = len(eom.q) + len(eom.u), eom.parameter_vector()
+    for _ in range(5):
+        t, y = float(rng.uniform(0.0, 1.0)), rng.normal(scale=0.5, size=n)
+        a, b = np.empty(n), np.empty(n)
+        assert rhs_loop(t, y, p, a) == rhs_written(t, y, p, b) == 0
+        np.testing.assert_allclose(a, b, rtol=1e-10, atol=1e-10 * np.max(np.abs(b)))
+
+
+@pytest.mark.slow
+def test_generated_code_sums_a_long_chains_mass_matrix_by_the_loop():
+    eom = flexkane.derive(chain_model(3), cache=False)
+    assert len(eom.u) >= codegen.MASS_LOOP_MIN_SPEEDS
+    _loop_equals_written_out(eom)
+
+
+def test_generated_loop_form_equals_the_written_out_form(monkeypatch):
+    """The same fact as the slow test above on a chain of two links, the rule's threshold lowered."""
+    eom = flexkane.derive(chain_model(2), cache=False)
+    assert len(eom.u) < codegen.MASS_LOOP_MIN_SPEEDS   # written out by default (the slow tests)
+    monkeypatch.setattr(codegen, "MASS_LOOP_MIN_SPEEDS", 2)
+    _loop_equals_written_out(eom)
+
+
+@pytest.mark.slow
+def test_short_chains_and_the_chapter_example_keep_the_written_out_mass_matrix():
+    for model in (chain_model(2), flexkane.builtin_model("flexible-arm")):
+        assert "assemble_mass_matrix" not in generate_rhs_source(flexkane.derive(model))
+
+
+@pytest.mark.slow
+def test_spatial_and_closed_chains_have_no_assembly():
+    assert flexkane.derive(flexkane.builtin_model("robot-arm-3d")).compact.mass_assembly is None
+    assert flexkane.derive(flexkane.builtin_model("four-bar")).compact.mass_assembly is None
+
+
+@pytest.mark.slow
+def test_generated_right_hand_side_grows_linearly_with_the_links():
+    """Code size, which Numba's compile time follows, is linear in the links with the loop: each
+    further link adds about as many compiled operations (with M written out, 406, 1,118, 2,496, 7,101
+    operations for k = 1, 2, 4, 8)."""
+    from flexkane.numerics.code_budget import compiled_operations
+
+    size = {}
+    for k in (3, 5, 7):
+        source = generate_rhs_source(flexkane.derive(chain_model(k), cache=False))
+        size[k] = compiled_operations(source.splitlines())
+    first, second = size[5] - size[3], size[7] - size[5]
+    assert first > 0 and abs(second - first) < 0.15 * first, size
