@@ -154,3 +154,19 @@ def test_results_npz_keeps_timing_apart_and_its_bytes_do_not_depend_on_the_clock
     assert load_results(tmp_path / "b").solver["wall_time"] == 0.7
     res.write(tmp_path / "c")
     assert (tmp_path / "b" / "results.npz").read_bytes() == (tmp_path / "c" / "results.npz").read_bytes()
+
+
+def test_spatial_beam_tips_are_plotted_deflections_in_metres_twist_and_slopes_in_radians(tmp_path, captured_figures):
+    """A spatial beam's ``tip_<b>_y``, ``tip_<b>_z`` [m] share the tip deflection plot; its
+    ``twist_<b>`` and slopes [rad] have a plot of their own."""
+    t = np.linspace(0.0, 1.0, 40)
+    outputs = {"tip_b_y": 0.01 * np.sin(3 * t), "tip_b_z": 0.02 * np.cos(2 * t), "slope_b_y": 0.01 * t,
+               "slope_b_z": -0.02 * t, "twist_b": 0.05 * np.sin(5 * t)}
+    res = Results(t=t, state=np.zeros((len(t), 0)), state_names=[], outputs=outputs)
+    write_plots(res, {}, tmp_path, "spatial")
+    tips = captured_figures["tip_deflection.png"].axes[0]
+    assert [line.get_label() for line in tips.get_lines()] == ["tip_b_y", "tip_b_z"]
+    twist = captured_figures["tip_twist.png"].axes[0]
+    assert [line.get_label() for line in twist.get_lines()] == ["slope_b_y", "slope_b_z", "twist_b"]
+    assert twist.get_ylabel().endswith("[rad]")
+    assert curve_pixels(tmp_path / "tip_twist.png") > 300

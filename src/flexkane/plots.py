@@ -203,6 +203,10 @@ def write_plots(results: Results, unit: dict, directory: Path, title: str) -> li
     if tips:
         paths.append(plot_series(results, tips, "m", directory / "tip_deflection.png",
                                  f"{title}: tip deflection in the beam frame"))
+    twists = [k for k in results.outputs if k.startswith(("twist_", "slope_"))]
+    if twists:
+        paths.append(plot_series(results, twists, "rad", directory / "tip_twist.png",
+                                 f"{title}: twist and slopes of the beams' tips"))
     efforts = [k for k in results.outputs if k.startswith("effort_")]
     for name in efforts:
         paths.append(single.draw(results, name, unit.get(name, "-"), directory / f"{name}.png",

@@ -127,7 +127,7 @@ def units(eom) -> dict[str, str]:
     for name in eom.output_names:
         if name.startswith(("x_", "y_", "z_", "tip_")):
             out[name] = "m"
-        elif name.startswith(("theta_", "yaw_", "pitch_", "roll_")):
+        elif name.startswith(("theta_", "yaw_", "pitch_", "roll_", "twist_", "slope_")):
             out[name] = "rad"
         elif name.startswith(("e0_", "e1_", "e2_", "e3_", "quaternion_norm_")):
             out[name] = "-"

@@ -32,7 +32,7 @@ from .spatial_beam_constants import SpatialBeamConstants
 from .spatial_frame import SpatialFrame, add, cross
 
 __all__ = ["SpatialBeamMotion", "beam_motion", "beam_own_properties", "add_beam_rows", "beam_active_forces",
-           "beam_outputs"]
+           "beam_outputs", "tip_outputs"]
 
 
 @dataclass
@@ -225,6 +225,33 @@ def strain_energy(kin, name: str) -> sp.Expr:
             for cj in coords:
                 out.append(stiffness(ci.index, cj.index) * ci.q * cj.q / 2)
     return sp.Add(*out)
+
+
+def tip_outputs(kin, name: str) -> dict:
+    """Deformation of a beam's tip section, by output name [m or rad].
+
+    ``tip_<b>_y = v(L) = sum_i Phi^y_i(L) q_yi`` and ``tip_<b>_z = w(L)`` [m]: the tip's deflections
+    along the section's principal axes y_p and z_p (in the beam frame's y and z when
+    ``principal_angle`` is 0; ``tip_<b>_y`` is the planar ``tip_<b>``); ``slope_<b>_y = v'(L)``,
+    ``slope_<b>_z = w'(L)`` [rad]; ``twist_<b> = theta(L) = sum_k Theta_k(L) q_tk`` [rad]. Each
+    appears when the beam has coordinates of its kind.
+    """
+    chain = kin.chain
+    beam = kin.beams[name].beam
+    k = kin.beams[name].constants
+    L = kin.value(f"beams.{name}.L", beam.L, f"L_{name}")
+    text = beam.L.strip() if isinstance(beam.L, str) else repr(beam.L)
+    out = {}
+    for label in ("y", "z"):
+        coords = chain.of(name, f"mode_{label}")
+        if coords:
+            out[f"tip_{name}_{label}"] = sp.Add(*[k.station(phi(c.index, label), L, text) * c.q for c in coords])
+            out[f"slope_{name}_{label}"] = sp.Add(*[k.station(phi(c.index, label), L, text, 1) * c.q
+                                                    for c in coords])
+    coords = chain.of(name, "torsion")
+    if coords:
+        out[f"twist_{name}"] = sp.Add(*[k.station(theta(c.index), L, text) * c.q for c in coords])
+    return out
 
 
 def beam_outputs(kin, name: str, gravity) -> dict:

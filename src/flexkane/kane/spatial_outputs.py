@@ -12,6 +12,9 @@ Names of the outputs (columns of results files):
   chain: continuous, no branches) and its 3-2-1 angles ``yaw_<b>, pitch_<b>, roll_<b>`` [rad];
 * ``x_cm, y_cm, z_cm`` [m], ``p_x, p_y, p_z`` [kg m/s]: centre of mass and linear momentum of the
   system; ``H_x, H_y, H_z`` [kg m^2/s]: angular momentum about the centre of mass, components in N;
+* per beam: ``tip_<b>_y``, ``tip_<b>_z`` [m], the tip's deflections along the section's principal
+  axes, ``slope_<b>_y``, ``slope_<b>_z`` [rad] their slopes, ``twist_<b>`` [rad] the tip section's
+  twist (:func:`flexkane.kane.spatial_beam.tip_outputs`);
 * ``quaternion_norm_<j>`` [-]: ``e0^2 + ... + e3^2 - 1`` of each spherical and free joint;
 * ``effort_<joint>`` [N m or N]: generalized force supplied by each driver.
 """
@@ -22,7 +25,7 @@ import sympy as sp
 
 from .rotation import yaw_pitch_roll
 from .spatial_active import joint_coordinate_values, spatial_gravity_vector
-from .spatial_beam import beam_outputs
+from .spatial_beam import beam_outputs, tip_outputs
 from .spatial_frame import add, cross, dot
 
 __all__ = ["spatial_output_expressions"]
@@ -54,6 +57,8 @@ def spatial_output_expressions(eom) -> dict:
             out[f"e{k}_{name}"] = c
         out[f"yaw_{name}"], out[f"pitch_{name}"], out[f"roll_{name}"] = yaw_pitch_roll(frame.R)
     beam_parts = {name: beam_outputs(kin, name, spatial_gravity_vector(kin)) for name in kin.beams}
+    for name in kin.beams:
+        out.update(tip_outputs(kin, name))
     for part in beam_parts.values():
         kinetic.append(part["kinetic"])
         masses.append(part["mass"])
