@@ -174,7 +174,6 @@ def test_flexible_arm_power_balance():
     v = model.parameters
     t = results.t
     power = (np.where(t < v["t1"], v["T_waist"] * np.sin(2 * np.pi * t / v["t1"]), 0) * results["u_waist"]
-             - 2.0 * results["u_waist"] ** 2
              + (v["T_sh"] + v["dT_sh"] * np.where(t < v["t1"], np.sin(np.pi * t / v["t1"]), 0)) * results["u_shoulder"]
              - v["c_sh"] * results["u_shoulder"] ** 2
              + v["T_el"] * results["u_elbow"] - v["c_el"] * results["u_elbow"] ** 2)
