@@ -60,6 +60,10 @@ def targets(results) -> list[tuple[str, bool | None, str]]:
         from first_class_rhs import targets as integrator_targets
 
         out += integrator_targets(integrators)
+    if "rows" in results.get("spatial_chains", {}):
+        from spatial_chains import targets as spatial_targets
+
+        out += spatial_targets(results["spatial_chains"])
     exu = _rows(results, "exudyn")
     if exu:
         for m in exu["matches"]:
@@ -81,6 +85,10 @@ def summary_lines(results) -> list[str]:
         y = sim["yardstick"]
         lines.append(f"  (d) yardstick / flexkane: rhs {1 / y['rhs_ratio']:.2f}x, whole run "
                      f"{1 / y['run_ratio']:.2f}x")
+    if "rows" in results.get("spatial_chains", {}):
+        from spatial_chains import targets as spatial_targets
+
+        out += spatial_targets(results["spatial_chains"])
     exu = _rows(results, "exudyn")
     if exu:
         lines += [f"  (c) tip error <= {m['target']:g}, {m['family']}: "
@@ -280,6 +288,9 @@ def markdown(results) -> str:
     if "rows" in results.get("chain_scaling", {}):
         from chain_scaling import markdown as chain_markdown
         md += [""] + chain_markdown(results["chain_scaling"], info)
+    if "rows" in results.get("spatial_chains", {}):
+        from spatial_chains import markdown as spatial_markdown
+        md += [""] + spatial_markdown(results["spatial_chains"], info)
     if "rows" in results.get("startup", {}):
         from startup import markdown as startup_markdown
 

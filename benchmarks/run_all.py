@@ -15,6 +15,8 @@ Sections (one script each, also runnable alone):
 (i) ``first_class_rhs.py``  integrators compiled once: the cost of calling the right-hand side through a
     first-class function, and the time of a new structure with the integrators cached;
 (j) ``chain_scaling.py``  derive, code generation and compilation of chain_model(k), k = 1 ... 20;
+(k) ``spatial_chains.py``  spatial chains: a rigid three-joint arm, spherical chains, the flexible
+    three-joint arm (issue 17's Performance targets) and its growth with flexible links and modes;
 and, when the sweep module and Dask are installed, ``sweep_throughput.py`` (variants per second).
 
 Compiled models go to a fresh cache directory, so compile times are those of a first run.
@@ -116,6 +118,10 @@ def main() -> dict:
     import chain_scaling
     _section("chain_scaling", chain_scaling.run, results,
              chain_scaling.QUICK_LINKS if quick else chain_scaling.LINKS)
+    import spatial_chains
+    _section("spatial_chains", spatial_chains.run, results,
+             spatial_chains.QUICK_LINKS if quick else spatial_chains.LINKS,
+             spatial_chains.QUICK_FLEXIBLE_CASES if quick else spatial_chains.FLEXIBLE_CASES)
     import first_class_rhs
     _section("integrators", first_class_rhs.run, results, quick)
     _section("sweep", _sweep, results, quick)

@@ -43,8 +43,11 @@ def test_chapter8_notebook_executes_and_shows_the_modes_the_equations_the_six_pl
     assert "(F_4)_elastic - eq. 8.31: 0" in text
     assert "## Partial velocities" in text and "## Constants" in text    # the report
     assert "falling-beam-exact" in text and "q2(1) = -4.9050 m" in text  # both variants simulated
-    assert images.count("image/png") >= 2 and "image/gif" in images     # modes, six plots, animation
+    assert images.count("image/png") >= 4 and "image/gif" in images     # modes, six plots, animation, 3D
+    for name in ("robot-arm-3d-flexible", "rotor-blade", "spacecraft-flexible-slew"):    # section 6
+        assert f"{name}: t = 0 ..." in text
+    assert "largest tip deflection of the forearm" in text and "slewed 30.0 degrees" in text
     out = tmp_path / "out"
     for name in ("modes.png", "six-plots.png", "falling-beam.gif", "falling-beam/results.npz",
-                 "falling-beam-exact/results.npz"):
+                 "falling-beam-exact/results.npz", "spatial-tips.png", "robot-arm-3d-flexible.png"):
         assert (out / name).stat().st_size > 1000, name

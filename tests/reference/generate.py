@@ -114,7 +114,9 @@ def state_scales(eom) -> tuple[np.ndarray, np.ndarray]:
     Joint angles 0.5 rad and 1 rad/s; translations 0.2 L and 1 m/s (``L`` the longest beam, 1 m
     without beams); bending modes ``0.01 L / i^2`` and that times the clamped-free estimate of the
     mode's frequency ``lambda_i^2 (EI / rho L^4)^(1/2)``; axial modes ``1e-5 L`` and that times
-    ``(2k - 1) pi / 2 (EA / rho)^(1/2) / L``. Only orders of magnitude matter: the states must
+    ``(2k - 1) pi / 2 (EA / rho)^(1/2) / L``; a spatial beam's bending modes as these with ``EI_z``
+    (along y) or ``EI_y`` (along z), its torsion modes ``0.01 / k`` rad and that times
+    ``(2k - 1) pi / (2 L) (GJ / rho_Ip)^(1/2)``. Only orders of magnitude matter: the states must
     exercise every term of the equations with sensible weights.
     """
     model = eom.model
@@ -123,9 +125,16 @@ def state_scales(eom) -> tuple[np.ndarray, np.ndarray]:
     for name, beam in model.beams.items():
         path = f"beams.{name}"
         L = _field(model, values, beam.L, f"{path}.L")
-        EI = _field(model, values, beam.EI, f"{path}.EI")
         rho = _field(model, values, beam.rho, f"{path}.rho")
         EA = _field(model, values, beam.EA, f"{path}.EA") if beam.EA is not None else None
+        if beam.EI is not None:
+            EI = _field(model, values, beam.EI, f"{path}.EI")
+        else:   # a spatial beam: v (mode_y) bends with EI_z, w (mode_z) with EI_y; torsion GJ / rho_Ip
+            EI = {role: _field(model, values, getattr(beam, key), f"{path}.{key}")
+                  for role, key in (("mode_y", "EI_z"), ("mode_z", "EI_y")) if getattr(beam, key) is not None}
+            if beam.GJ is not None and beam.rho_Ip is not None:
+                EI["torsion"] = (_field(model, values, beam.GJ, f"{path}.GJ"),
+                                 _field(model, values, beam.rho_Ip, f"{path}.rho_Ip"))
         beams[name] = (L, EI, rho, EA)
     length = max([b[0] for b in beams.values()], default=1.0)
     lambdas = [1.8751, 4.6941, 7.8548]
@@ -139,8 +148,15 @@ def state_scales(eom) -> tuple[np.ndarray, np.ndarray]:
                 by_symbol[c.u] = 1.0
         elif c.role in ("x", "y", "z", "slide"):
             by_symbol[c.q], by_symbol[c.u] = 0.2 * length, 1.0
-        elif c.role == "mode":
+        elif c.role == "torsion":      # 0.01 rad / k, times (2k - 1) pi / (2 L) (GJ / rho_Ip)^(1/2)
+            L, stiffness, _, _ = beams[c.owner]
+            GJ, rho_Ip = stiffness["torsion"]
+            amplitude = 0.01 / c.index
+            by_symbol[c.q] = amplitude
+            by_symbol[c.u] = amplitude * (2 * c.index - 1) * np.pi / (2 * L) * np.sqrt(GJ / rho_Ip)
+        elif c.role in ("mode", "mode_y", "mode_z"):
             L, EI, rho, _ = beams[c.owner]
+            EI = EI[c.role] if isinstance(EI, dict) else EI
             lam = lambdas[c.index - 1] if c.index <= len(lambdas) else (c.index - 0.5) * np.pi
             amplitude = 0.01 * L / c.index ** 2
             by_symbol[c.q], by_symbol[c.u] = amplitude, amplitude * lam ** 2 * np.sqrt(EI / (rho * L ** 4))

@@ -11,7 +11,8 @@ results (``results.npz`` holds the model file text), so any finished run directo
 
 A spatial model (``dimensions = 3``) is drawn on matplotlib's 3D axes from a chosen ``view``
 (elevation, azimuth [deg]): its bodies' outlines (or centre lines between their points) placed by the
-outputs ``x_<b>, y_<b>, z_<b>`` and ``yaw_<b>, pitch_<b>, roll_<b>`` (:mod:`.spatial_scene`).
+outputs ``x_<b>, y_<b>, z_<b>`` and ``yaw_<b>, pitch_<b>, roll_<b>`` (:mod:`.spatial_scene`), beams as
+their deflected centre lines (displacements magnified alike).
 :func:`animate_polylines` draws any per-frame 3D polylines (:mod:`.spatial_render`), with no model.
 """
 
@@ -89,7 +90,7 @@ def check_animation_options(model, magnify, trace, view=None) -> None:
         _magnification_number(magnify)
     _check_view_for(model.dimensions, view)
     if trace not in (None, "", "auto") and model.dimensions == 3:
-        names = [*model.bodies, TRACE_CENTRE_OF_MASS, TRACE_NONE]
+        names = [*model.bodies, *model.beams, TRACE_CENTRE_OF_MASS, TRACE_NONE]
         if trace not in names:
             raise ModelError("--trace", "one of " + ", ".join(names), trace)
     elif trace not in (None, "", "auto"):
@@ -127,18 +128,21 @@ def _model_of(results: Results):
     return loads_model(results.model_text, source="results.npz")
 
 
-def _spatial_drawing(results: Results, model, trace, view, rows, dpi: int):
-    """The 3D drawing of a spatial model's run, and the traced point."""
+def _spatial_drawing(results: Results, model, trace, view, rows, dpi: int, magnify=1.0):
+    """The 3D drawing of a spatial model's run, the traced point and the beams' magnification."""
     from .spatial_render import SpatialDrawing
     from .spatial_scene import SpatialScene
 
-    scene = SpatialScene(results, model)
+    auto = isinstance(magnify, str) and magnify.strip().lower() == "auto"
+    scene = SpatialScene(results, model, "auto" if auto else _magnification_number(magnify))
     point = scene.default_trace() if trace in (None, "", "auto") else trace
     path = scene.trace(point)
     title = scene.name + (" (partial run)" if scene.partial else "")
+    if scene.beams and scene.magnify != 1.0:
+        title += f", beam displacements x {scene.magnify:g}"
     drawing = SpatialDrawing(scene.t, scene.polylines(), trace=path, trace_label=scene.trace_label(point),
                              view=view, title=title, rows=rows, dpi=dpi)
-    return drawing, point
+    return drawing, point, scene.magnify
 
 
 def _setup(results: Results, magnify, trace):
@@ -181,11 +185,9 @@ def render_frame(results: Results, path, *, time: float | None = None, magnify=1
     model = _model_of(results)
     view = _check_view_for(model.dimensions, view)
     if model.dimensions == 3:
-        if not (isinstance(magnify, str) and magnify.strip().lower() == "auto"):
-            _magnification_number(magnify)   # checked alike; spatial models have no beams to magnify yet
         t = np.asarray(results.t, dtype=float)
         k = len(t) - 1 if time is None else int(np.argmin(np.abs(t - float(time))))
-        drawing, _ = _spatial_drawing(results, model, trace, view, None, dpi)
+        drawing, _, _ = _spatial_drawing(results, model, trace, view, None, dpi, magnify)
         try:
             drawing.save_png(k, Path(path))
         finally:
@@ -240,11 +242,9 @@ def animate(results: Results, gif, *, magnify=1.0, trace=None, fps: float = 20, 
     model = _model_of(results)
     view = _check_view_for(model.dimensions, view)
     if model.dimensions == 3:
-        if not (isinstance(magnify, str) and magnify.strip().lower() == "auto"):
-            _magnification_number(magnify)
         rows = frame_rows(len(results.t), frames)
-        drawing, point = _spatial_drawing(results, model, trace, view, rows, dpi)
-        return _write_movie(drawing, rows, gif, fps, mp4, progress, 1.0 if model.beams else None, point)
+        drawing, point, factor = _spatial_drawing(results, model, trace, view, rows, dpi, magnify)
+        return _write_movie(drawing, rows, gif, fps, mp4, progress, factor if model.beams else None, point)
     scene, factor, point = _setup(results, magnify, trace)
     rows = frame_rows(len(scene.t), frames)
     drawing = FrameDrawing(scene, rows, magnify=factor, trace=point, dpi=dpi)

@@ -22,11 +22,13 @@ __all__ = ["SpatialPolyline", "SpatialDrawing", "check_view", "DEFAULT_VIEW", "P
 
 #: Elevation and azimuth of the camera [deg] when none is given (matplotlib's own default is 30, -60).
 DEFAULT_VIEW = (25.0, -60.0)
-#: How a polyline is drawn: a body's closed outline, a link's centre line, or a marker at one point.
-POLYLINE_KINDS = ("outline", "link", "marker")
+#: How a polyline is drawn: a body's closed outline, a link's centre line, a beam's deflected centre
+#: line, or a marker at one point.
+POLYLINE_KINDS = ("outline", "link", "beam", "marker")
 
 _STYLE = {"outline": {"color": _BODY_EDGE, "lw": 1.6},
           "link": {"color": _BEAM, "lw": 2.4, "solid_capstyle": "round"},
+          "beam": {"color": _BEAM, "lw": 3.0, "solid_capstyle": "round"},
           "marker": {"color": _BODY_EDGE, "marker": "o", "ms": 6, "mfc": _BODY_FACE, "mew": 1.5, "ls": "none"}}
 
 

@@ -16,6 +16,8 @@ Names of the outputs (columns of results files):
 * per beam: ``tip_<b>_y``, ``tip_<b>_z`` [m], the tip's deflections along the section's principal
   axes, ``slope_<b>_y``, ``slope_<b>_z`` [rad] their slopes, ``twist_<b>`` [rad] the tip section's
   twist (:func:`flexkane.kane.spatial_beam.tip_outputs`);
+* per beam: ``x_<b>, y_<b>, z_<b>`` [m] of the root (the beam frame's origin) in N and the Euler
+  parameters ``e0_<b> .. e3_<b>`` of the beam frame;
 * ``quaternion_norm_<j>`` [-]: ``e0^2 + ... + e3^2 - 1`` of each spherical and free joint;
 * ``effort_<joint>`` [N m or N]: generalized force supplied by each driver.
 """
@@ -62,6 +64,11 @@ def spatial_output_expressions(eom) -> dict:
     beam_parts = {name: beam_outputs(kin, name, spatial_gravity_vector(kin)) for name in kin.beams}
     for name in kin.beams:
         out.update(tip_outputs(kin, name))
+        root = kin.beams[name].frame          # the beam frame at the root: drawn by the 3D animation
+        for axis, c in zip("xyz", root.r):
+            out[f"{axis}_{name}"] = c
+        for k, c in enumerate(root.rotation.quaternion):
+            out[f"e{k}_{name}"] = c
     for part in beam_parts.values():
         kinetic.append(part["kinetic"])
         masses.append(part["mass"])
