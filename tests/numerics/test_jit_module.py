@@ -159,7 +159,7 @@ def test_the_child_compiles_and_announces_what_is_missing(tmp_path, monkeypatch,
 
     children = []
     monkeypatch.setattr(jit_module, "_compile_in_child",
-                        lambda path, meanwhile=None: children.append(path) or True)
+                        lambda path, meanwhile=None, loops=True: children.append(path) or True)
     monkeypatch.setattr(jit_module, "integrators_compiled", lambda: integrators)
     source = generate_rhs_source(models.pendulum())
     key = structure_key(source, f"announce-{model_compiled}-{integrators}-{callbacks}")
