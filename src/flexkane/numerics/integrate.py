@@ -390,7 +390,7 @@ def integrate(module, y0, t_out, p, *, rtol: float, atol, method: str = "auto",
         quadratures=np.ascontiguousarray(rows[:, n_motion:]))
 
 
-def compile_integrators(module, *, loops: bool = True) -> None:
+def compile_integrators(module, *, loops: bool = True, outputs: bool = True) -> None:
     """Compile (or load from Numba's disk cache) everything :func:`integrate` calls.
 
     Numba compiles a function at its first call; calling each function once here, on an empty
@@ -407,6 +407,9 @@ def compile_integrators(module, *, loops: bool = True) -> None:
         Also the integrator loops (default). False: the module's own functions only, as the child
         process that compiles a new structure does while its parent loads the loops
         (:func:`load_integrators`) from their cache.
+    outputs : bool
+        Also the outputs functions (default). False: they compile on their first call (a caller
+        that evaluates the right-hand side only).
     """
     n_motion = _motion_count(module)
     n = n_motion + _quadrature_count(module)
@@ -417,7 +420,7 @@ def compile_integrators(module, *, loops: bool = True) -> None:
     if loops:
         calls += _integrator_calls(system_function(module), n, p)
     calls += [(getattr(module, name), (np.zeros(0), np.zeros((0, n_motion)), p))
-              for name in ("outputs", "spin_rates") if hasattr(module, name)]   # evaluate_outputs' types
+              for name in ("outputs", "spin_rates") if outputs and hasattr(module, name)]   # evaluate_outputs' types
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore")
         for function, args in calls:
