@@ -104,6 +104,9 @@ def summary_lines(results) -> list[str]:
         new = integrators["new_structure"]
         lines.append(f"  (h) new structure of falling-beam, integrators cached: wall {fmt_time(new['fresh_wall_s'])}, "
                      f"CPU {fmt_time(new['fresh_cpu_s'])}")
+        if "fresh_plots_wall_s" in new:
+            lines.append(f"  (h) the same with its plots (the whole command): wall {fmt_time(new['fresh_plots_wall_s'])}, "
+                         f"CPU {fmt_time(new['fresh_plots_cpu_s'])}")
     lines.append("Targets of issue 6:")
     for name, met, value in targets(results):
         mark = "n/a" if met is None else ("met" if met else "MISSED")

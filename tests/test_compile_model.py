@@ -57,3 +57,22 @@ def test_the_first_compile_of_the_integrators_is_announced(falling_beam, monkeyp
     compile_model(eom, announce=messages.append)
     assert messages == [INTEGRATORS_MESSAGE]
     assert COMPILING_MESSAGE not in messages  # the model's own functions are compiled already
+
+
+def test_outputs_compiled_on_first_use_give_the_same_results(falling_beam):
+    """compile_model(outputs=False) leaves the outputs functions to their first call (a caller that
+    evaluates the right-hand side only compiles less); a run then gives the same numbers."""
+    import numpy as np
+
+    from flexkane.errors import ModelError
+
+    model, eom = falling_beam
+    eager = simulate(compile_model(eom), t_end=0.05, dt_out=0.01, model=model)
+    lazy_model = compile_model(eom, outputs=False)
+    assert is_compiled(lazy_model.module)   # the right-hand side is
+    lazy = simulate(lazy_model, t_end=0.05, dt_out=0.01, model=model)
+    assert list(lazy.outputs) == list(eager.outputs)
+    for name in eager.outputs:
+        assert np.array_equal(lazy[name], eager[name]), name
+    with pytest.raises(ModelError, match="outputs"):
+        compile_model(eom, outputs="no")

@@ -14,8 +14,14 @@ from .atomic import atomic_writer
 from .results import Results
 from .run_manifest import units  # noqa: F401 - the columns' units, here too for plotting scripts
 
-__all__ = ["write_plots", "plot_series", "plot_energy", "plot_runs", "units"]
+__all__ = ["write_plots", "plot_series", "plot_energy", "plot_runs", "units", "load_matplotlib"]
 
+
+def load_matplotlib() -> None:
+    """Import the parts of matplotlib that the plots draw with (about half a second of CPU), so that a
+    caller can do it while it waits for something else (a model structure compiling)."""
+    import matplotlib.backends.backend_agg  # noqa: F401
+    import matplotlib.figure  # noqa: F401
 
 
 def _new_figure(width: float, height: float, rows: int = 1, columns: int = 1, **subplots):

@@ -228,7 +228,7 @@ def model_source(eom) -> str:
     return "\n\n".join(parts)
 
 
-def compile_model(eom, cache_dir=None, *, announce=None) -> CompiledModel:
+def compile_model(eom, cache_dir=None, *, announce=None, outputs: bool = True) -> CompiledModel:
     """Generate, build (or load from the cache) and compile the module of an equation set.
 
     Parameters
@@ -242,6 +242,10 @@ def compile_model(eom, cache_dir=None, *, announce=None) -> CompiledModel:
         ``announce(text)`` is called with :data:`COMPILING_MESSAGE` before Numba compiles a model
         structure that is not in the cache yet, and with :data:`INTEGRATORS_MESSAGE` before it
         compiles the integrators (the first run of an installation).
+    outputs : bool
+        Compile the outputs functions now (default), so that ``compile_time`` holds the whole
+        compilation; False: on their first call (:func:`simulate` calls them), for a caller that
+        evaluates the right-hand side only (:meth:`CompiledModel.rhs`).
 
     Returns
     -------
@@ -259,6 +263,8 @@ def compile_model(eom, cache_dir=None, *, announce=None) -> CompiledModel:
         if not isinstance(eom, EquationsOfMotion):
             raise ModelError("eom", "EquationsOfMotion from flexkane.derive", type(eom).__name__)
         derivation = Derivation(eom=eom, cache_dir=cache_dir)
+    if not isinstance(outputs, bool):
+        raise ModelError("outputs", "True or False (compile the outputs functions now)", outputs)
     from .numerics.integrate import compile_integrators
     from .numerics.jit_module import build_module, integrators_compiled, is_compiled, structure_key
 
@@ -270,7 +276,7 @@ def compile_model(eom, cache_dir=None, *, announce=None) -> CompiledModel:
         announce(INTEGRATORS_MESSAGE)
     if announce is not None and not is_compiled(module):
         announce(COMPILING_MESSAGE)
-    compile_integrators(module)
+    compile_integrators(module, outputs=outputs)
     return CompiledModel(derivation, module, key, time.perf_counter() - start)
 
 

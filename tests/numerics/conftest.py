@@ -2,7 +2,9 @@
 
 Every model is an equations-of-motion namespace like the one the derivation produces (``t``,
 ``q``, ``u``, ``constants``, ``qdot``, ``mass_matrix``, ``forcing``). Compiled modules are
-session-scoped: Numba compilation dominates the run time of these tests.
+session-scoped: Numba compilation dominates the run time of these tests. They go to the session's one
+cache directory (tests/conftest.py), which the other folders' tests share: a structure is compiled
+once per session, not once before and once after these tests.
 """
 
 from __future__ import annotations
@@ -16,15 +18,6 @@ from sympy.physics import mechanics as me
 
 from flexkane.numerics import build_module, generate_outputs_source, generate_rhs_source, \
     structure_key
-
-
-@pytest.fixture(scope="session", autouse=True)
-def _cache_dir(tmp_path_factory):
-    """Point FLEXKANE_CACHE_DIR to a temporary directory for the whole session."""
-    mp = pytest.MonkeyPatch()
-    mp.setenv("FLEXKANE_CACHE_DIR", str(tmp_path_factory.mktemp("flexkane_cache")))
-    yield
-    mp.undo()
 
 
 def eom_namespace(t, q, u, constants, qdot, mass_matrix, forcing):

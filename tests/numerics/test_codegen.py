@@ -150,3 +150,21 @@ def test_every_generated_constant_is_a_float(models):
     eom = models.eom(t, [x], [sp.Symbol("v")], [], [sp.Symbol("v")], [[1]], [(3 * t) ** 50])
     source = generate_rhs_source(eom)
     assert not re.search(r"(?<![\w.])\d{19,}(?![\d.e])", source)  # no integer literal beyond int64
+
+
+def test_generated_functions_load_only_the_constants_and_state_entries_they_read(models):
+    """Unused loads cost Numba typing and lowering: the rhs and the outputs read only what they use,
+    and give the same numbers."""
+    t, x, v, m, k, unused = sp.symbols("t x v m k unused_constant")
+    eom = models.eom(t, [x], [v], [m, k, unused], [v], [[m]], [-k * x])
+    rhs = generate_rhs_source(eom)
+    assert "m = p[0]" in rhs and "k = p[1]" in rhs and "unused_constant" not in rhs.split("def rhs")[1]
+    outputs = generate_outputs_source({"kinetic": m * v ** 2 / 2, "time": t}, eom)
+    body = outputs.split("def outputs")[1]
+    assert "m = _p[0]" in body and "v = _Y[_k, 1]" in body and "t = _t[_k]" in body
+    assert "k = _p[" not in body and "x = _Y[" not in body and "unused_constant" not in body
+    none = generate_outputs_source({}, eom, name="nothing")
+    namespace = {}
+    exec(compile(none.replace("@njit(cache=True, error_model=\"numpy\")", ""), "<generated>", "exec"),
+         {"np": np, "math": __import__("math")}, namespace)
+    assert namespace["nothing"](np.zeros(3), np.zeros((3, 2)), np.ones(3)).shape == (3, 0)

@@ -159,7 +159,7 @@ def test_the_child_compiles_and_announces_what_is_missing(tmp_path, monkeypatch,
 
     children = []
     monkeypatch.setattr(jit_module, "_compile_in_child",
-                        lambda path, meanwhile=None: children.append(path) or True)
+                        lambda path, meanwhile=None, loops=True: children.append(path) or True)
     monkeypatch.setattr(jit_module, "integrators_compiled", lambda: integrators)
     source = generate_rhs_source(models.pendulum())
     key = structure_key(source, f"announce-{model_compiled}-{integrators}-{callbacks}")
@@ -206,3 +206,36 @@ def test_a_forked_child_compiles_a_new_structure_into_the_cache(tmp_path, models
     assert list((path.parent / "__pycache__").glob("*rhs*.nbi"))
     module = build_module(source, key, tmp_path, in_subprocess=False)
     assert jit_module.is_compiled(module)  # in the disk cache: this process loads, not compiles
+
+
+@pytest.mark.parametrize("integrators", [True, False])
+def test_the_callers_meanwhile_work_runs_while_a_child_compiles_and_the_child_skips_cached_loops(
+        tmp_path, monkeypatch, models, integrators):
+    """compile_in_subprocess(meanwhile=...) hands the caller's work to the wait for the child (once per
+    child, never when nothing is compiled); the child compiles the integrator loops only when their
+    cache lacks them."""
+    from flexkane.numerics import jit_module
+
+    children = []
+
+    def child(path, meanwhile=None, loops=True):
+        children.append(loops)
+        meanwhile()
+        return True
+
+    monkeypatch.setattr(jit_module, "_compile_in_child", child)
+    monkeypatch.setattr(jit_module, "integrators_compiled", lambda: integrators)
+    monkeypatch.setattr(sys.modules["flexkane.numerics.integrate"], "load_integrators", lambda: None)
+    source = generate_rhs_source(models.pendulum())
+    key = structure_key(source, f"meanwhile-{integrators}")
+    done = []
+    with jit_module.compile_in_subprocess(meanwhile=lambda: done.append(True)):
+        build_module(source, key, tmp_path)
+    assert done == [True] and children == [not integrators]
+    path = tmp_path / key / f"flexkane_generated_{key}.py"
+    jit_module._compiled_marker(path).write_text(jit_module._text_digest(path.read_text(encoding="utf-8")),
+                                                 encoding="utf-8")
+    monkeypatch.setattr(jit_module, "integrators_compiled", lambda: True)
+    with jit_module.compile_in_subprocess(meanwhile=lambda: done.append(True)):
+        build_module(source, key, tmp_path)   # compiled: no child, no meanwhile work
+    assert done == [True] and len(children) == 1

@@ -80,7 +80,7 @@ def engine():
             ref = load_reference(name)
             model = flexkane.loads_model(str(ref["model_text"]), source=name)
             eom = flexkane.derive(model)
-            compiled = flexkane.compile_model(eom)
+            compiled = flexkane.compile_model(eom, outputs=False)   # the outputs compile when a run needs them
             values = eom.constant_values(model)
             p = np.array([values[s] for s in eom.constants], dtype=float)
             cache[name] = (ref, model, eom, compiled, p)

@@ -132,9 +132,18 @@ def _run_phases(model, out: Path, stop, *, t_end, dt_out, rtol, atol, method, ma
                             cache=cache)
     derivation.manifest    # loaded, or made from the equations (derived or loaded first)
     derive_time = time.perf_counter() - started
+
+    def meanwhile():   # while a child compiles: what the run needs afterwards anyway (kept)
+        derivation.numbers(model, ("equations",), remember=True)
+        if plots:
+            from ..plots import load_matplotlib
+
+            load_matplotlib()
+
     # a structure new to the cache compiles in a child process (a signal stops it at once)
     with compile_in_subprocess(announce=lambda: _say(quiet, f"{COMPILING_MESSAGE} ..."),
-                               announce_integrators=lambda: _say(quiet, f"{INTEGRATORS_MESSAGE} ...")):
+                               announce_integrators=lambda: _say(quiet, f"{INTEGRATORS_MESSAGE} ..."),
+                               meanwhile=meanwhile):
         compiled = compile_model(derivation, announce=None if quiet else (lambda text: _say(quiet, f"{text} ...")))
     with stop.deferred():
         with ProgressBar(t_end, enabled=not quiet, unit="s", delay=0.0) as bar:

@@ -289,6 +289,16 @@ def _unrolled_ldl(nu: int, nq: int, indent: str) -> list[str]:
     return out
 
 
+def _used_names(texts) -> set[str]:
+    """The identifiers that the printed statements ``texts`` read (a superset: every word in them).
+
+    A generated function loads only these from ``y``, ``p`` and the time: Numba types and lowers
+    every statement, a load not used included (a generated function of a small model reads few of
+    its constants; the unused loads were a third of the compile time of ``spin_rates``).
+    """
+    return set(re.findall(r"[A-Za-z_]\w*", "\n".join(texts)))
+
+
 def _operation_count(text: str) -> int:
     """Floating-point operations of a printed expression: operators, and 20 per ``math`` call."""
     return sum(text.count(op) for op in "+-*/") + 20 * text.count("math.")
@@ -455,9 +465,11 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
               f'    """Write [q\', u\'{zd}] ({nq + nu + nz},) into dy; return 0, 2 or 4."""']
     ind = "    "
     lines += prologue
-    lines += [f"{ind}{local} = {source}" for local, source in loads.items()]
+    allocations = _mass_loop_allocations(ind, nu, tables) if tables is not None else []
+    used = _used_names([*prologue, *allocations, *(st.text for st in statements), solve])
+    lines += [f"{ind}{local} = {source}" for local, source in loads.items() if local in used]
     if tables is not None:
-        lines += _mass_loop_allocations(ind, nu, tables)
+        lines += allocations
     elif not unrolled:
         lines.append(f"{ind}_M = np.empty(({nu}, {nu}))")
     lines += [f"{ind}{st.target} = {st.text}" for st in statements]
@@ -732,19 +744,25 @@ def generate_outputs_source(exprs: Mapping[str, sympy.Expr], args, name: str = "
               f"    _out = np.empty((_t.shape[0], {len(keys)}))"]
     if needs_ud:
         lines.append(f"    _dy = np.empty({len(y_names)})")
+    read = _used_names(st.text for st in statements)
     for k, cn in enumerate(c_names):
-        lines.append(f"    {cn} = _p[{k}]")
+        if cn in read:
+            lines.append(f"    {cn} = _p[{k}]")
     lines.append("    for _k in range(_t.shape[0]):")
     ind = "        "
-    lines.append(f"{ind}{t_name} = _t[_k]")
+    if t_name in read:
+        lines.append(f"{ind}{t_name} = _t[_k]")
     for k, qn in enumerate(y_names):
-        lines.append(f"{ind}{qn} = _Y[_k, {k}]")
+        if qn in read:
+            lines.append(f"{ind}{qn} = _Y[_k, {k}]")
     if needs_ud:
         lines.append(f"{ind}{rhs_name}(_t[_k], _Y[_k], _p, _dy)")
         for k, un in enumerate(ud_names):
             lines.append(f"{ind}{un} = _dy[{nq + k}]")
     for st in statements:
         lines.append(f"{ind}{st.target} = {st.text}")
+    if lines[-1] == "    for _k in range(_t.shape[0]):":   # no outputs, nothing read
+        lines.append(f"{ind}pass")
     lines.append("    return _out")
     return "\n".join(lines) + "\n"
 

@@ -390,19 +390,26 @@ def integrate(module, y0, t_out, p, *, rtol: float, atol, method: str = "auto",
         quadratures=np.ascontiguousarray(rows[:, n_motion:]))
 
 
-def compile_integrators(module) -> None:
+def compile_integrators(module, *, loops: bool = True, outputs: bool = True) -> None:
     """Compile (or load from Numba's disk cache) everything :func:`integrate` calls.
 
     Numba compiles a function at its first call; calling each function once here, on an empty
     span with the argument types of :func:`integrate`, moves that cost out of the first
     integration (so its time is integration only, and a caller can say that it compiles). The
     integrator loops are the package's (compiled once per installation, whatever the model);
-    the model's own functions are its ``rhs`` and ``system_rhs``.
+    the model's own functions are its ``rhs``, ``system_rhs`` and outputs functions.
 
     Parameters
     ----------
     module : module
         Generated module (:func:`~flexkane.numerics.jit_module.build_module`).
+    loops : bool
+        Also the integrator loops (default). False: the module's own functions only, as the child
+        process that compiles a new structure does while its parent loads the loops
+        (:func:`load_integrators`) from their cache.
+    outputs : bool
+        Also the outputs functions (default). False: they compile on their first call (a caller
+        that evaluates the right-hand side only).
     """
     n_motion = _motion_count(module)
     n = n_motion + _quadrature_count(module)
@@ -410,9 +417,10 @@ def compile_integrators(module) -> None:
     y = np.zeros(n)
     calls = [(_system(module), (0.0, y, p, np.empty(n))),
              (module.rhs, (0.0, np.zeros(n_motion), p, np.empty(n_motion)))]
-    calls += _integrator_calls(system_function(module), n, p)
+    if loops:
+        calls += _integrator_calls(system_function(module), n, p)
     calls += [(getattr(module, name), (np.zeros(0), np.zeros((0, n_motion)), p))
-              for name in ("outputs", "spin_rates") if hasattr(module, name)]   # evaluate_outputs' types
+              for name in ("outputs", "spin_rates") if outputs and hasattr(module, name)]   # evaluate_outputs' types
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore")
         for function, args in calls:

@@ -24,7 +24,10 @@ met for the first time is therefore compiled by a child process that fills the o
 Linux a fork of this process, which has Numba loaded already; elsewhere a new interpreter); this
 process waits for it (a signal stops the child at once and raises :class:`KeyboardInterrupt`) and
 then loads the machine code from the cache. The same child compiles the integrator loops when the
-package's cache does not hold them yet (the first run of an installation).
+package's cache does not hold them yet (the first run of an installation); when it does, this process
+loads them first (a fork inherits them and Numba's machinery) and the child compiles the structure's
+functions only, while this process does the work it was given (``compile_in_subprocess(meanwhile=...)``,
+e.g. the command's preparations of its output): on two cores that work costs no time.
 """
 
 from __future__ import annotations
@@ -175,7 +178,7 @@ _in_subprocess: list = []
 
 
 @contextlib.contextmanager
-def compile_in_subprocess(announce=None, announce_integrators=None):
+def compile_in_subprocess(announce=None, announce_integrators=None, meanwhile=None):
     """Within the block, :func:`build_module` compiles a structure new to the cache in a child process.
 
     Parameters
@@ -186,9 +189,14 @@ def compile_in_subprocess(announce=None, announce_integrators=None):
     announce_integrators : callable, optional
         Called without arguments just before a child process starts compiling the integrator
         loops (once per installation, see :func:`integrators_compiled`); default ``announce``.
+    meanwhile : callable, optional
+        Called without arguments in this process while a child compiles (at most once per child;
+        not at all when nothing is compiled): work the caller needs later anyway and keeps (e.g.
+        importing the plotting library), so that it overlaps the compilation. An exception in it
+        stops the child and propagates.
     """
     announce = announce or (lambda: None)
-    _in_subprocess.append((announce, announce_integrators or announce))
+    _in_subprocess.append((announce, announce_integrators or announce, meanwhile))
     try:
         yield
     finally:
@@ -203,12 +211,13 @@ def _text_digest(text: str) -> str:
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
-def _compile_file(path: str) -> None:
+def _compile_file(path: str, loops: bool = True) -> None:
     """Import the generated module at ``path`` and compile (into Numba's cache) everything a run calls.
 
     Run in the child process of :func:`_compile_in_child`, through the one function that compiles a
     module's integrators (:func:`~flexkane.numerics.integrate.compile_integrators`), so that the
-    parent loads exactly the signatures it will call.
+    parent loads exactly the signatures it will call. ``loops``: also the integrator loops (when
+    their cache does not hold them); otherwise the module's own functions only.
     """
     from flexkane.numerics.integrate import compile_integrators
 
@@ -218,7 +227,7 @@ def _compile_file(path: str) -> None:
     module = importlib.util.module_from_spec(spec)
     sys.modules[path.stem] = module
     spec.loader.exec_module(module)
-    compile_integrators(module)
+    compile_integrators(module, loops=loops)
     atomic_write_text(_compiled_marker(path), _text_digest(path.read_text(encoding="utf-8")))
 
 
@@ -228,8 +237,9 @@ def _fork_allowed() -> bool:
             and threading.current_thread() is threading.main_thread())
 
 
-def _compile_in_fork(path: Path) -> bool:
-    """:func:`_compile_file` in a fork of this process (which has Numba and flexkane loaded already)."""
+def _compile_in_fork(path: Path, meanwhile=None, loops: bool = True) -> bool:
+    """:func:`_compile_file` in a fork of this process (which has Numba and flexkane loaded already);
+    ``meanwhile`` (no arguments, optional) is called here once the child runs."""
     sys.stdout.flush()
     sys.stderr.flush()
     with warnings.catch_warnings():  # Python >= 3.12 warns of native threads (BLAS), unused by the child
@@ -244,12 +254,14 @@ def _compile_in_fork(path: Path) -> bool:
             null = os.open(os.devnull, os.O_RDWR)
             for fd in (0, 1, 2):
                 os.dup2(null, fd)
-            _compile_file(str(path))
+            _compile_file(str(path), loops)
             status = 0
         finally:
             os._exit(status)
     finished = False
     try:
+        if meanwhile is not None:
+            meanwhile()
         while not finished:
             finished, code = os.waitpid(pid, os.WNOHANG)
             if not finished:
@@ -261,26 +273,27 @@ def _compile_in_fork(path: Path) -> bool:
             os.waitpid(pid, 0)
 
 
-def _compile_in_child(path: Path, meanwhile=None) -> bool:
+def _compile_in_child(path: Path, meanwhile=None, loops: bool = True) -> bool:
     """Compile the module at ``path`` into Numba's cache in a child process; return whether it worked.
 
     The child runs in a session of its own (Ctrl-C in the terminal reaches this process only). On any
     exception here, a signal among them (:class:`KeyboardInterrupt`), the child is killed first.
     ``meanwhile`` (optional, no arguments; e.g. loading what this process needs from Numba's cache)
-    is called once: on Linux before the child is forked from this process, which then inherits its
-    result and Numba's loaded machinery (about a second less per new structure than a new
-    interpreter importing Numba); elsewhere, or with other threads running, while a new interpreter
-    compiles.
+    is called once in this process while the child compiles: on Linux a fork of this process (which
+    has Numba's machinery loaded: about a second less per new structure than a new interpreter
+    importing Numba), elsewhere, or with other threads running, a new interpreter. ``loops``: the
+    child also compiles the integrator loops (when their cache lacks them; ``meanwhile`` must not
+    load them then).
     """
     if _fork_allowed():
-        if meanwhile is not None:
-            meanwhile()
-        return _compile_in_fork(path)
+        return _compile_in_fork(path, meanwhile, loops)
     package_root = str(Path(__file__).resolve().parents[2])   # the folder that holds the package
     code = ("import sys; sys.path.insert(0, sys.argv[1]); "
-            "from flexkane.numerics.jit_module import _compile_file; _compile_file(sys.argv[2])")
+            "from flexkane.numerics.jit_module import _compile_file; "
+            "_compile_file(sys.argv[2], sys.argv[3] == 'loops')")
     with tempfile.TemporaryFile() as errors:
-        child = subprocess.Popen([sys.executable, "-c", code, package_root, str(path)],
+        child = subprocess.Popen([sys.executable, "-c", code, package_root, str(path),
+                                  "loops" if loops else "module"],
                                  stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=errors,
                                  start_new_session=True)
         try:
@@ -353,17 +366,30 @@ def build_module(source: str, key: str, cache_dir: Path | None = None, *,
             compiled = False
         integrators = integrators_compiled()
         if not (compiled and integrators):
+            extra = None
             if _in_subprocess:
-                announce, announce_integrators = _in_subprocess[-1]
+                announce, announce_integrators, extra = _in_subprocess[-1]
                 if not integrators:
                     announce_integrators()
                 if not compiled and not (announce is announce_integrators and not integrators):
                     announce()  # (once, when one callable announces both)
             from flexkane.numerics.integrate import load_integrators
 
-            # this process loads the integrators it will need from their cache (a fraction of a
-            # second); when they are not cached, the child compiles them and this process waits
-            _compile_in_child(path, meanwhile=load_integrators if integrators else None)
+            # this process loads the integrators it will need from their cache (0.05 s, after 0.3 s
+            # for Numba's machinery); when they are not cached, the child compiles them and this
+            # process must not. A fork is made after the loading: the child inherits the machinery
+            # instead of building it again; a new interpreter builds its own meanwhile.
+            fork = _fork_allowed()
+            if integrators and fork:
+                load_integrators()
+
+            def meanwhile():   # while the child compiles the structure
+                if integrators and not fork:
+                    load_integrators()
+                if extra is not None:
+                    extra()
+
+            _compile_in_child(path, meanwhile=meanwhile, loops=not integrators)
     spec = importlib.util.spec_from_file_location(module_name, path)
     module = importlib.util.module_from_spec(spec)
     sys.modules[module_name] = module
