@@ -10,7 +10,13 @@ from flexkane.builtin import builtin_names
 from flexkane.cli import main
 
 
-@pytest.mark.parametrize("name", builtin_names())
+#: Built-ins whose run from the command line costs a compile of 15 to 25 s on CI: run in the slow set
+#: (their physics, in tests/test_spatial_flexible_examples_physics.py, runs them in the default set).
+SLOW_TO_COMPILE = {"robot-arm-3d-flexible", "spacecraft-flexible-slew"}
+
+
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in SLOW_TO_COMPILE else n
+                                  for n in builtin_names()])
 def test_example_runs_from_the_command_line(name, tmp_path):
     model = flexkane.builtin_model(name)
     t_end = min(model.simulation.t_end, 0.02)
