@@ -207,8 +207,10 @@ def write_plots(results: Results, unit: dict, directory: Path, title: str) -> li
         paths.append(single.draw(results, name, unit.get(name, "-"), directory / f"{name}.png", title))
     tips = [k for k in results.outputs if k.startswith("tip_")]
     if tips:
+        spatial = any(k.endswith("_y") and k[:-2] + "_z" in tips for k in tips)   # a spatial beam's pair
+        where = "along the sections' principal axes" if spatial else "in the beam frame"
         paths.append(plot_series(results, tips, "m", directory / "tip_deflection.png",
-                                 f"{title}: tip deflection in the beam frame"))
+                                 f"{title}: tip deflection {where}"))
     twists = [k for k in results.outputs if k.startswith(("twist_", "slope_"))]
     if twists:
         paths.append(plot_series(results, twists, "rad", directory / "tip_twist.png",
