@@ -67,3 +67,18 @@ def test_lazily_formed_equations_are_the_written_out_ones():
     # the entries named new intermediates: the compact equations took their definitions
     assert {s for s, _ in lazy_eom.intermediates} == {s for s, _ in eager.intermediates}
     assert sp.Matrix(lazy_eom.compact.mass_matrix) == eager.compact.mass_matrix
+
+
+def test_lazy_mass_matrix_of_a_branched_chain_with_a_rayleigh_beam_and_a_slider():
+    """Entries of every kind (a branch, a Rayleigh beam's rotary terms, a prismatic joint) formed
+    when read are the written-out ones, and so are the constants."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "numerics"))
+    from test_mass_assembly import BRANCHED
+
+    import flexkane
+
+    lazy_eom = equations.derive(flexkane.loads_model(BRANCHED), lazy_mass=True)
+    eager = equations.derive(flexkane.loads_model(BRANCHED), lazy_mass=False)
+    assert isinstance(lazy_eom.compact.mass_matrix, LazyMassMatrix)
+    assert lazy_eom.constants == eager.constants
+    assert lazy_eom.mass_matrix == eager.mass_matrix
