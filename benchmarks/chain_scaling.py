@@ -151,7 +151,9 @@ def markdown(result: dict, machine: dict) -> list[str]:
           "the measure of the code-size budget (20,000 by default; the child lifts it). From 9 speeds "
           "on, the mass matrix is summed by the loop of `numerics.mass_assembly` (compiled once per "
           "installation) from the twists and composites the generated code evaluates, instead of "
-          "being written out entry by entry.", "",
+          "being written out entry by entry, and the derivation forms none of the symbolic mass "
+          "matrix's entries (`kane.compact.LazyMassMatrix`: each is formed when read; code "
+          "generation reads the diagonal).", "",
           f"Measured on {result['date']}: {machine.get('Model name', '?')}, {machine.get('CPU(s)', '?')} "
           f"CPUs, load average {machine.get('load_average', float('nan')):.1f} at the start, "
           f"{result.get('load_average_end', float('nan')):.1f} at the end (the machine is shared).", "",
