@@ -18,8 +18,9 @@ about 7,900 operations outside term tables, under the default 20,000 (with M wri
 side and ``system_rhs``). The ratio of consecutive rows, divided by the ratio of their link counts, shows the growth
 per link: 1 for linear growth.
 
-Usage: ``python benchmarks/chain_scaling.py [--quick] [--write]`` (``--quick``: k <= 8; ``--write``:
-replace this section of benchmarks/RESULTS.md). ``make bench`` runs it through ``run_all.py``.
+Usage: ``python benchmarks/chain_scaling.py [--quick] [--write] [--compare]`` (``--quick``: k <= 8;
+``--write``: replace this section of benchmarks/RESULTS.md; ``--compare``: k = 8 and 20 with the
+symbolic mass matrix formed by the derivation and formed when read, alternately). ``make bench`` runs it through ``run_all.py``.
 """
 
 from __future__ import annotations
@@ -55,7 +56,11 @@ def cpu():
 
 model = chain_model({k})
 t0 = cpu()
-eom = flexkane.derive(model, cache=False)
+if {lazy_mass!r}:
+    eom = flexkane.derive(model, cache=False)
+else:   # every entry of the symbolic M formed by the derivation (the form before the lazy one)
+    from flexkane.kane.equations import derive as derive_afresh
+    eom = derive_afresh(model, lazy_mass=False)
 if not {mass_loop!r}:
     eom.compact.mass_assembly = None   # M written out entry by entry (the form before the loop)
 t1 = cpu()
@@ -79,15 +84,17 @@ print(json.dumps({{"derive": t1 - t0, "codegen": t2 - t1, "compile_rhs": t4 - t3
 """
 
 
-def measure(k: int, timeout: float = 1800.0, mass_loop: bool = True) -> dict:
+def measure(k: int, timeout: float = 1800.0, mass_loop: bool = True, lazy_mass: bool = True) -> dict:
     """Times of one chain length in a fresh process with an empty cache (module docstring);
     ``mass_loop=False``: the mass matrix written out entry by entry, as before the compiled loop
-    of :mod:`flexkane.numerics.mass_assembly` (for comparisons in the same period)."""
+    of :mod:`flexkane.numerics.mass_assembly`; ``lazy_mass=False``: every entry of the symbolic
+    mass matrix formed by the derivation, as before they were formed when read (both for
+    comparisons in the same period)."""
     with tempfile.TemporaryDirectory(prefix="flexkane-chain-") as cache:
         # the code-size budget that protects a run from untrusted model files (20,000 operations
         # outside term tables) is lifted: measuring what long chains cost is the point here
         env = dict(os.environ, FLEXKANE_CACHE_DIR=cache, FLEXKANE_COMPILE_OPERATIONS=str(10 ** 7))
-        code = _CHILD.format(here=str(HERE), k=k, cache=cache, mass_loop=mass_loop)
+        code = _CHILD.format(here=str(HERE), k=k, cache=cache, mass_loop=mass_loop, lazy_mass=lazy_mass)
         done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env,
                               timeout=timeout)
     if done.returncode != 0:
@@ -117,6 +124,20 @@ def run(links=LINKS) -> dict:
     return {"rows": rows, "load_average_end": os.getloadavg()[0], "date": time.strftime("%Y-%m-%d")}
 
 
+def compare(links=(8, 20)) -> list:
+    """The symbolic mass matrix formed when read against formed by the derivation, alternately in
+    the same period: rows ``(k, written-out row, lazy row)`` of :func:`measure`."""
+    rows = []
+    for k in links:
+        before, after = measure(k, lazy_mass=False), measure(k)
+        rows.append((k, before, after))
+        for label, r in (("formed by derive", before), ("formed when read", after)):
+            print(f"  k = {k:2d}, M {label}: derive {r['derive']:.2f} s, codegen {r['codegen']:.2f} s, "
+                  f"compile {r['compile']:.2f} s, total {r['total']:.2f} s", flush=True)
+    print(f"  load average {os.getloadavg()[0]:.1f}")
+    return rows
+
+
 def markdown(result: dict, machine: dict) -> list[str]:
     """The RESULTS.md section of :func:`run`'s result."""
     md = [SECTION, "",
@@ -130,7 +151,9 @@ def markdown(result: dict, machine: dict) -> list[str]:
           "the measure of the code-size budget (20,000 by default; the child lifts it). From 9 speeds "
           "on, the mass matrix is summed by the loop of `numerics.mass_assembly` (compiled once per "
           "installation) from the twists and composites the generated code evaluates, instead of "
-          "being written out entry by entry.", "",
+          "being written out entry by entry, and the derivation forms none of the symbolic mass "
+          "matrix's entries (`kane.compact.LazyMassMatrix`: each is formed when read; code "
+          "generation reads the diagonal).", "",
           f"Measured on {result['date']}: {machine.get('Model name', '?')}, {machine.get('CPU(s)', '?')} "
           f"CPUs, load average {machine.get('load_average', float('nan')):.1f} at the start, "
           f"{result.get('load_average_end', float('nan')):.1f} at the end (the machine is shared).", "",
@@ -155,6 +178,8 @@ def main() -> dict:
     sys.path.insert(0, str(HERE))
     import _common
 
+    if "--compare" in sys.argv:
+        return {"compare": compare()}
     return _common.section_main(lambda: run(QUICK_LINKS if "--quick" in sys.argv else LINKS), markdown,
                                 SECTION)
 

@@ -16,7 +16,57 @@ import sympy as sp
 
 from .intermediates import written_out
 
-__all__ = ["CompactEquations"]
+__all__ = ["CompactEquations", "LazyMassMatrix"]
+
+
+class LazyMassMatrix:
+    """The mass matrix of a chain whose generated code sums ``M`` from its
+    :class:`flexkane.kane.inertia.MassAssembly`: each entry is formed when read, the same
+    expression as the written-out matrix's, so that nothing pays for the entries nothing reads.
+
+    Forming an entry may name new intermediates (partial derivatives of the kinematics); the
+    compact equations it belongs to then take them into their definitions.
+
+    Parameters
+    ----------
+    inertia : InertiaForces
+        With :attr:`~flexkane.kane.inertia.InertiaForces.lazy` entries.
+    rows : list of int
+        The speeds of the chain (indices in ``inertia.speeds``) of the rows and columns.
+    registry : Intermediates
+        The chain's definitions.
+    """
+
+    lazy = True
+
+    def __init__(self, inertia, rows: list, registry):
+        self.inertia = inertia
+        self.rows = list(rows)
+        self.registry = registry
+        self.shape = (len(self.rows), len(self.rows))
+        self.owner = None      # the CompactEquations holding this matrix
+
+    def __getitem__(self, key) -> sp.Expr:
+        i, j = key
+        known = len(self.registry.definitions)
+        entry = self.inertia.entry(self.rows[i], self.rows[j])
+        if len(self.registry.definitions) != known and self.owner is not None:
+            self.owner.take_definitions(self.registry)
+        return entry
+
+    def formed(self) -> sp.Matrix:
+        """Every entry, as a sympy Matrix."""
+        n = self.shape[0]
+        return sp.Matrix(n, n, lambda i, j: self[i, j])
+
+    def xreplace(self, rule: dict) -> sp.Matrix:
+        return self.formed().xreplace(rule)
+
+    def __array__(self, dtype=None, copy=None):
+        """Every entry, as an object array (what ``sympy.Matrix(self)`` reads)."""
+        import numpy as np
+
+        return np.array(self.formed().tolist(), dtype=object)
 
 
 @dataclass
@@ -27,7 +77,7 @@ class CompactEquations:
     ----------
     intermediates : list of (Intermediate, sympy.Expr)
         Definitions in evaluation order; each refers only to earlier ones, q, u, t and constants.
-    mass_matrix : sympy.Matrix, shape (nu, nu)
+    mass_matrix : sympy.Matrix or LazyMassMatrix, shape (nu, nu)
     forcing : sympy.Matrix, shape (nu, 1)
     qdot : sympy.Matrix, shape (nq, 1)
     outputs : dict of str to sympy.Expr
@@ -72,17 +122,32 @@ class CompactEquations:
         definitions = {s: sub(d).xreplace(dependent) if dependent else sub(d)
                        for s, d in registry.definitions.items()}
         order = {s: k for k, s in enumerate(registry.definitions)}
-        return cls(_topological(definitions, order), M, f, qdot, outputs, zdot,
-                   None if dependent else mass_assembly)
+        compact = cls(_topological(definitions, order), M, f, qdot, outputs, zdot,
+                      None if dependent else mass_assembly)
+        if isinstance(M, LazyMassMatrix):
+            M.owner = compact
+        return compact
+
+    def take_definitions(self, registry) -> None:
+        """Take the definitions ``registry`` gained since (those a :class:`LazyMassMatrix`'s entries
+        named; its equations have no substitutions), in evaluation order."""
+        order = {s: k for k, s in enumerate(registry.definitions)}
+        self.intermediates = _topological(dict(registry.definitions), order)
+        self._full_memo = None
 
     # ------------------------------------------------------------------ views
     def expressions(self) -> list:
-        """Every expression: definitions, q', M (all entries), f, outputs."""
-        return [*(e for _, e in self.intermediates), *self.qdot, *self.mass_matrix, *self.forcing,
+        """Every expression: definitions, q', M (all entries; for a :class:`LazyMassMatrix`, its
+        assembly's expressions), f, outputs."""
+        mass = self.mass_assembly.expressions() if isinstance(self.mass_matrix, LazyMassMatrix) \
+            else self.mass_matrix
+        return [*(e for _, e in self.intermediates), *self.qdot, *mass, *self.forcing,
                 *self.outputs.values(), *self.zdot]
 
     def expand(self, expr):
         """``expr`` with every intermediate replaced by its full definition."""
+        if isinstance(expr, LazyMassMatrix):
+            expr = expr.formed()
         if not self.intermediates:
             return expr
         full = self._full()
@@ -97,7 +162,7 @@ class CompactEquations:
 
     def expanded(self) -> "CompactEquations":
         """The same equations without intermediates."""
-        if not self.intermediates:
+        if not self.intermediates and not isinstance(self.mass_matrix, LazyMassMatrix):
             return self
         return CompactEquations([], self.expand(self.mass_matrix), self.expand(self.forcing),
                                 self.expand(self.qdot), {k: self.expand(v) for k, v in self.outputs.items()},

@@ -20,10 +20,10 @@ from . import numeric
 from .active import generalized_active_forces
 from .budget import DerivationBudget
 from .chain import Chain, build_chain
-from .compact import CompactEquations
+from .compact import CompactEquations, LazyMassMatrix
 from .controllers import control_signals
 from .driver_laws import parse_state_laws, speed_coupling, state_driver_substitutions
-from .inertia import InertiaForces, generalized_inertia_forces
+from .inertia import LAZY_MASS_MIN_SPEEDS, InertiaForces, generalized_inertia_forces
 from .kinematics import Kinematics
 from .outputs import output_expressions
 from .spatial_active import spatial_active_forces
@@ -59,6 +59,30 @@ class _Expanded:
 
     def __delete__(self, instance):
         del instance.__dict__[self.name]
+
+
+class LazyForces:
+    """F*_r of every speed, formed on first use from :class:`InertiaForces` whose mass matrix is
+    formed entry by entry (a sequence: ``len``, indexing, iteration)."""
+
+    def __init__(self, inertia: InertiaForces, ud: dict):
+        self.inertia = inertia
+        self.ud = ud
+        self._formed = None
+
+    def _list(self) -> list:
+        if self._formed is None:
+            self._formed = self.inertia.F_r_star(self.ud)
+        return self._formed
+
+    def __len__(self) -> int:
+        return len(self.inertia.speeds)
+
+    def __getitem__(self, r):
+        return self._list()[r]
+
+    def __iter__(self):
+        return iter(self._list())
 
 
 class EquationsOfMotion:
@@ -112,7 +136,6 @@ class EquationsOfMotion:
         self.kinematics = kin
         self.t = chain.t
         self.all_speeds = list(chain.u)
-        self.F_r_star = inertia.F_r_star(chain.ud)
         self.F_r = active
         self._inertia = inertia
         coords = chain.coordinates
@@ -140,13 +163,20 @@ class EquationsOfMotion:
         self.qdot = sp.Matrix([sub(chain.qdot[q]) for q in self.q])
         self.z = list(chain.controller_states)
         self.zdot = sp.Matrix(len(self.z), 1, [sub(chain.controller_rates[z]) for z in self.z])
-        Mfull = inertia.mass_matrix
+        # M's entries formed when read where nothing here needs them (no drivers, no closed loops)
+        lazy = getattr(inertia, "lazy", False) and inertia.assembly is not None and not subs \
+            and not driven and not chain.model.constraints
+        Mfull = None if lazy else inertia.mass_matrix
+        self.F_r_star = LazyForces(inertia, chain.ud) if lazy else inertia.F_r_star(chain.ud)
         F_total = [sp.Add(*[part[r] for part in active.values()]) for r in range(len(speed_coords))]
         ud_driven = [sub(chain.ud[speed_coords[d].u]) for d in driven]
         coupling = speed_coupling(chain, subs, self.u)
+        if lazy:
+            self.mass_matrix = LazyMassMatrix(inertia, free, chain.intermediates)
         if not coupling:
-            self.mass_matrix = sp.Matrix(len(free), len(free),
-                                         lambda i, j: sub(Mfull[free[i], free[j]]))
+            if not lazy:
+                self.mass_matrix = sp.Matrix(len(free), len(free),
+                                             lambda i, j: sub(Mfull[free[i], free[j]]))
             self.forcing = sp.Matrix([sub(F_total[r] - inertia.remainder[r]
                                           - sp.Add(*[Mfull[r, d] * a for d, a in zip(driven, ud_driven)]))
                                       for r in free])
@@ -395,13 +425,18 @@ class EquationsOfMotion:
         return numeric.initial_state(self, model)
 
 
-def derive(model: Model) -> EquationsOfMotion:
+def derive(model: Model, *, lazy_mass: bool | None = None) -> EquationsOfMotion:
     """Derive Kane's equations of motion of a model.
 
     Parameters
     ----------
     model : Model
         A model (validated here).
+    lazy_mass : bool, optional
+        Whether the entries of the symbolic mass matrix are formed only when read. By default,
+        by the structure: a planar chain without drivers or closed loops with at least
+        ``LAZY_MASS_MIN_SPEEDS`` speeds, whose generated code sums ``M`` from its
+        :class:`~flexkane.kane.inertia.MassAssembly`; the entries are the same either way.
 
     Returns
     -------
@@ -418,8 +453,13 @@ def derive(model: Model) -> EquationsOfMotion:
     spatial = chain.dimensions == 3
     kin = SpatialKinematics(chain) if spatial else Kinematics(chain)
     budget.check_time("the kinematics")
-    inertia = spatial_inertia_forces(kin) if spatial else generalized_inertia_forces(kin)
-    budget.check_size(list(inertia.mass_matrix) + list(inertia.remainder), "the inertia forces")
+    if lazy_mass is None:
+        lazy_mass = not model.constraints and len(chain.u) >= LAZY_MASS_MIN_SPEEDS \
+            and all(c.driver is None for c in chain.coordinates)
+    inertia = spatial_inertia_forces(kin) if spatial else generalized_inertia_forces(kin, lazy=lazy_mass)
+    mass = inertia.assembly.expressions() if getattr(inertia, "lazy", False) and inertia.assembly is not None \
+        else list(inertia.mass_matrix)
+    budget.check_size(mass + list(inertia.remainder), "the inertia forces")
     control_signals(kin)   # sensors, controller states and outputs: the names efforts may use
     if not spatial:
         parse_state_laws(chain)   # drivers' laws that read them (planar chains)

@@ -40,7 +40,12 @@ import sympy as sp
 from .kinematics import Kinematics, rigid_vec
 from .modal_field import ONE, vec_map
 
-__all__ = ["InertiaForces", "MassAssembly", "generalized_inertia_forces"]
+__all__ = ["LAZY_MASS_MIN_SPEEDS", "InertiaForces", "MassAssembly", "generalized_inertia_forces"]
+
+#: Fewest speeds for which :func:`flexkane.kane.equations.derive` forms the mass matrix's entries
+#: only when read: generated code then sums ``M`` from the :class:`MassAssembly` (the same number
+#: as ``flexkane.numerics.codegen.MASS_LOOP_MIN_SPEEDS``).
+LAZY_MASS_MIN_SPEEDS = 9
 
 
 class InertiaForces:
@@ -54,22 +59,40 @@ class InertiaForces:
         ``Fhat_r``, so that ``F*_r = -sum_s M_rs u_s' - Fhat_r``.
     speeds : list of sympy.Symbol
         The speeds r, in order.
+    lazy : bool
+        Whether ``mass_matrix`` is formed on first use, entry by entry (:meth:`entry`).
     assembly : MassAssembly or None
         The same mass matrix as data for a compiled sum over twists (generated code of long
         chains); None where the engine does not provide it (spatial chains).
     """
 
-    def __init__(self, mass_matrix: sp.Matrix, remainder: list, speeds: list,
-                 assembly: "MassAssembly | None" = None):
-        self.mass_matrix = mass_matrix
+    def __init__(self, mass_matrix: sp.Matrix | None, remainder: list, speeds: list,
+                 assembly: "MassAssembly | None" = None, terms: "_MassTerms | None" = None):
+        self._mass_matrix = mass_matrix
         self.remainder = remainder
         self.speeds = speeds
         self.assembly = assembly
+        self.terms = terms
+
+    @property
+    def lazy(self) -> bool:
+        """Whether the entries of the mass matrix are formed only when read (:meth:`entry`)."""
+        return self._mass_matrix is None
+
+    @property
+    def mass_matrix(self) -> sp.Matrix:
+        if self._mass_matrix is None:
+            self._mass_matrix = self.terms.matrix()
+        return self._mass_matrix
+
+    def entry(self, r: int, s: int) -> sp.Expr:
+        """``M_rs`` (formed on demand when :attr:`lazy`)."""
+        return self.terms.entry(r, s) if self._mass_matrix is None else self._mass_matrix[r, s]
 
     def F_r_star(self, ud: dict) -> list[sp.Expr]:
         """F*_r with the symbols of u' (eq. 8.22, term by term as eq. 8.23)."""
         n = len(self.speeds)
-        return [-sp.Add(*[self.mass_matrix[r, s] * ud[self.speeds[s]] for s in range(n)])
+        return [-sp.Add(*[self.entry(r, s) * ud[self.speeds[s]] for s in range(n)])
                 - self.remainder[r] for r in range(n)]
 
 
@@ -205,12 +228,15 @@ def _own_properties(kin: Kinematics, link: str, joint, beam_a_rem: dict,
     return own
 
 
-def generalized_inertia_forces(kin: Kinematics) -> InertiaForces:
+def generalized_inertia_forces(kin: Kinematics, lazy: bool = False) -> InertiaForces:
     """Mass matrix and remainder of F*_r of the chain, by composite bodies (module docstring).
 
     Parameters
     ----------
     kin : Kinematics
+    lazy : bool
+        Form the entries of the mass matrix only when they are read (:attr:`InertiaForces.lazy`):
+        where generated code sums ``M`` from its :class:`MassAssembly`, nothing else may need them.
 
     Returns
     -------
@@ -249,65 +275,51 @@ def generalized_inertia_forces(kin: Kinematics) -> InertiaForces:
             roots[c.u] = [j.child for j in joints if j.parent == c.owner]
         else:
             roots[c.u] = [j.child for j in joints if j.name == c.owner]
-    twist: dict = {}
-
-    def twist_at(u, link):
-        key = (u, link)
-        if key not in twist:
-            F = frame[link]
-            twist[key] = (chain.partial(F.v[0], u), chain.partial(F.v[1], u), chain.partial(F.omega, u))
-        return twist[key]
-
-    M = [[sp.Integer(0)] * n for _ in range(n)]
+    terms = _MassTerms(kin, speeds, roots, beyond, composite, frame)
+    twist_at = terms.twist_at
+    M = None if lazy else [[sp.Integer(0)] * n for _ in range(n)]
     rem = [sp.Integer(0)] * n
     for r in range(n):
         for root in roots[speeds[r]]:
             Ax, Ay, W = twist_at(speeds[r], root)
             P = composite[root]
             rem[r] += Ax * P.R[0] + Ay * P.R[1] + W * P.K
-        for s in range(r, n):
-            for root_r in roots[speeds[r]]:
-                for root_s in roots[speeds[s]]:
-                    if root_s in beyond[root_r]:
-                        F = root_s
-                    elif root_r in beyond[root_s]:
-                        F = root_r
-                    else:
-                        continue
-                    Ar0, Ar1, Wr = twist_at(speeds[r], F)
-                    As0, As1, Ws = twist_at(speeds[s], F)
-                    P = composite[F]
-                    M[r][s] += (P.m * (Ar0 * As0 + Ar1 * As1) + Ws * (-Ar0 * P.S[1] + Ar1 * P.S[0])
-                                + Wr * (-As0 * P.S[1] + As1 * P.S[0]) + P.J * Wr * Ws)
+        if not lazy:
+            for s in range(r, n):
+                M[r][s] = terms.rigid_part(r, s)
     # a beam's own modal speeds deform it: their terms are integrated over that beam
     explicit: dict = {}
     wrenches: list = []
     for name, bm in kin.beams.items():
         consts = bm.constants
-        own = {c.u for c in chain.of(name) if c.role in ("mode", "axial")}
+        own = terms.own[name]
         if not own:
             continue
-        V = [vec_map(bm.v, lambda c, u=u: chain.partial(c, u)) for u in speeds]
+        # every speed's field (written-out M), or only the beam's own speeds' (lazy M)
+        moving = range(n) if not lazy else [r for r in range(n) if speeds[r] in own]
+        V = {r: terms.field(name, r) for r in moving}
         a_rem = beam_a_rem[name]
-        active = [r for r in range(n) if not (V[r][0].is_zero() and V[r][1].is_zero())]
+        active = [r for r in moving if not (V[r][0].is_zero() and V[r][1].is_zero())]
         for i, r in enumerate(active):
             for s in active[i:]:
                 if speeds[r] in own or speeds[s] in own:
                     term = consts.integrate(V[r][0], V[s][0]) + consts.integrate(V[r][1], V[s][1])
-                    M[r][s] += term
+                    if not lazy:
+                        M[r][s] += term
                     if speeds[r] in own and speeds[s] in own:
                         explicit[(r, s)] = explicit.get((r, s), sp.Integer(0)) + term
             if speeds[r] in own:
                 rem[r] += consts.integrate(V[r][0], a_rem[0]) + consts.integrate(V[r][1], a_rem[1])
         W = None
         if bm.rotation is not None:   # the sections' rotation (Rayleigh beam)
-            W = [bm.rotation.map(lambda c, u=u: chain.partial(c, u)) for u in speeds]
-            turning = [r for r in range(n) if not W[r].is_zero()]
+            W = {r: terms.turning(name, r) for r in moving}
+            turning = [r for r in moving if not W[r].is_zero()]
             for i, r in enumerate(turning):
                 for s in turning[i:]:
                     if speeds[r] in own or speeds[s] in own:
                         term = consts.rotary_integrate(W[r], W[s])
-                        M[r][s] += term
+                        if not lazy:
+                            M[r][s] += term
                         if speeds[r] in own and speeds[s] in own:
                             explicit[(r, s)] = explicit.get((r, s), sp.Integer(0)) + term
                 if speeds[r] in own:
@@ -320,11 +332,99 @@ def generalized_inertia_forces(kin: Kinematics) -> InertiaForces:
                 if W is not None:
                     c_w += consts.rotary_integrate1(W[r])
                 wrenches.append((r, name, (consts.integrate1(V[r][0]), consts.integrate1(V[r][1]), c_w)))
-    for r in range(n):
-        for s in range(r):
-            M[r][s] = M[s][r]
-    return InertiaForces(sp.Matrix(M), rem, speeds,
-                         _assembly(kin, joints, composite, roots, twist_at, speeds, wrenches, explicit))
+    if not lazy:
+        for r in range(n):
+            for s in range(r):
+                M[r][s] = M[s][r]
+        M = sp.Matrix(M)
+    return InertiaForces(M, rem, speeds,
+                         _assembly(kin, joints, composite, roots, twist_at, speeds, wrenches, explicit),
+                         terms=terms if lazy else None)
+
+
+class _MassTerms:
+    """The entries of the written-out mass matrix, each formed on demand (module docstring):
+    twists of the speeds at link frames and the beams' partial velocity fields, created once."""
+
+    def __init__(self, kin: Kinematics, speeds: list, roots: dict, beyond: dict, composite: dict,
+                 frame: dict):
+        self.kin, self.speeds, self.roots, self.beyond = kin, speeds, roots, beyond
+        self.composite, self.frame = composite, frame
+        chain = kin.chain
+        self.own = {name: {c.u for c in chain.of(name) if c.role in ("mode", "axial")}
+                    for name in kin.beams}
+        self._twist: dict = {}
+        self._field: dict = {}
+        self._turning: dict = {}
+        self._entry: dict = {}
+
+    def twist_at(self, u, link) -> tuple:
+        """``(A_x, A_y, W)`` of speed ``u`` at the frame of ``link`` (eq. 8.20)."""
+        key = (u, link)
+        if key not in self._twist:
+            chain, F = self.kin.chain, self.frame[link]
+            self._twist[key] = (chain.partial(F.v[0], u), chain.partial(F.v[1], u), chain.partial(F.omega, u))
+        return self._twist[key]
+
+    def field(self, name: str, r: int):
+        """The partial velocity field of beam ``name`` for speed ``r``."""
+        if (name, r) not in self._field:
+            chain, u = self.kin.chain, self.speeds[r]
+            self._field[(name, r)] = vec_map(self.kin.beams[name].v, lambda c: chain.partial(c, u))
+        return self._field[(name, r)]
+
+    def turning(self, name: str, r: int):
+        """The partial angular velocity field of the sections of Rayleigh beam ``name``."""
+        if (name, r) not in self._turning:
+            chain, u = self.kin.chain, self.speeds[r]
+            self._turning[(name, r)] = self.kin.beams[name].rotation.map(lambda c: chain.partial(c, u))
+        return self._turning[(name, r)]
+
+    def rigid_part(self, r: int, s: int) -> sp.Expr:
+        """The terms of ``M_rs`` (``r <= s``) of the links the two speeds move rigidly."""
+        speeds, beyond = self.speeds, self.beyond
+        total = sp.Integer(0)
+        for root_r in self.roots[speeds[r]]:
+            for root_s in self.roots[speeds[s]]:
+                if root_s in beyond[root_r]:
+                    F = root_s
+                elif root_r in beyond[root_s]:
+                    F = root_r
+                else:
+                    continue
+                Ar0, Ar1, Wr = self.twist_at(speeds[r], F)
+                As0, As1, Ws = self.twist_at(speeds[s], F)
+                P = self.composite[F]
+                total += (P.m * (Ar0 * As0 + Ar1 * As1) + Ws * (-Ar0 * P.S[1] + Ar1 * P.S[0])
+                          + Wr * (-As0 * P.S[1] + As1 * P.S[0]) + P.J * Wr * Ws)
+        return total
+
+    def entry(self, r: int, s: int) -> sp.Expr:
+        """``M_rs``: the same sum, term by term in the same order, as the written-out matrix."""
+        r, s = min(r, s), max(r, s)
+        if (r, s) in self._entry:
+            return self._entry[(r, s)]
+        speeds = self.speeds
+        total = self.rigid_part(r, s)
+        for name, bm in self.kin.beams.items():
+            own = self.own[name]
+            if not own or not (speeds[r] in own or speeds[s] in own):
+                continue
+            consts = bm.constants
+            Vr, Vs = self.field(name, r), self.field(name, s)
+            if not (Vr[0].is_zero() and Vr[1].is_zero()) and not (Vs[0].is_zero() and Vs[1].is_zero()):
+                total += consts.integrate(Vr[0], Vs[0]) + consts.integrate(Vr[1], Vs[1])
+            if bm.rotation is not None:
+                Wr, Ws = self.turning(name, r), self.turning(name, s)
+                if not Wr.is_zero() and not Ws.is_zero():
+                    total += consts.rotary_integrate(Wr, Ws)
+        self._entry[(r, s)] = total
+        return total
+
+    def matrix(self) -> sp.Matrix:
+        """The whole (symmetric) mass matrix."""
+        n = len(self.speeds)
+        return sp.Matrix(n, n, lambda r, s: self.entry(r, s))
 
 
 def _assembly(kin: Kinematics, joints: list, composite: dict, roots: dict, twist_at, speeds: list,

@@ -353,7 +353,8 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
     nq, nu = len(eom.q), len(eom.u)
     equations = getattr(eom, "compact", None) or eom   # in terms of named intermediates when given
     qdot = sympy.Matrix(equations.qdot)
-    mass = sympy.Matrix(equations.mass_matrix)
+    mass = equations.mass_matrix   # entries formed when read where lazy (kane.compact.LazyMassMatrix)
+    mass = mass if getattr(mass, "lazy", False) else sympy.Matrix(mass)
     forcing = sympy.Matrix(equations.forcing)
     if qdot.shape != (nq, 1) or mass.shape != (nu, nu) or forcing.shape != (nu, 1):
         raise ValueError(f"shapes: qdot {qdot.shape} (expected ({nq}, 1)), mass_matrix "

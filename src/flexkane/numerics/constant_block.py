@@ -97,12 +97,12 @@ def constant_block(eom, mass: sympy.Matrix, intermediates: dict | None = None) -
     def is_constant(i, j):
         return sympy.sympify(mass[i, j]).free_symbols <= allowed
 
-    constant = [[i == j or is_constant(i, j) for j in range(n)] for i in range(n)]
     candidates = [i for i in range(n) if is_constant(i, i)]
-    order = sorted(candidates, key=lambda i: (-sum(constant[i][j] for j in candidates), i))
+    constant = {(i, j): i == j or is_constant(i, j) for i in candidates for j in candidates}
+    order = sorted(candidates, key=lambda i: (-sum(constant[i, j] for j in candidates), i))
     block: list[int] = []
     for i in order:
-        if all(constant[i][j] for j in block):
+        if all(constant[i, j] for j in block):
             block.append(i)
     return sorted(block)
 
