@@ -183,3 +183,42 @@ def test_rssr_four_bar_linear_frequencies_equal_the_energy_method():
         mode = [m for m in modes if m.kind == kind][0]
         value = mode.omega ** 2 if kind == "oscillatory" else -mode.eigenvalue.real ** 2
         assert value == pytest.approx(omega_squared, rel=1e-7)
+
+
+def _turn(axis, angle: float) -> np.ndarray:
+    a = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
+    K = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    return np.eye(3) + np.sin(angle) * K + (1 - np.cos(angle)) * K @ K
+
+
+@pytest.mark.slow
+def test_welded_pair_swings_as_one_physical_pendulum():
+    """All six speeds of the free joint dependent: the pair is one rigid body on the horizontal hinge
+    axis (1, 1, 0), omega^2 = m g rho / I_n with the composite inertia (block turned by the weld's
+    orientation, its point W at the arm's)."""
+    model = load_model(LOOPS / "welded_pair.toml")
+    turn = _turn([0, 1, 0], 0.4)
+    m1, m2 = 1.0, 0.5
+    c1 = np.array([0.0, 0.0, -0.3])
+    c2 = np.array([0.1, 0.05, -0.2]) - [0.0, 0.0, 0.3] - turn @ np.array([-0.05, 0.02, 0.1])
+    inertia2 = turn @ np.array([[0.004, 0.0005, 0.0], [0.0005, 0.006, 0.0], [0.0, 0.0, 0.005]]) @ turn.T
+
+    def about_pivot(inertia, m, c):
+        return inertia + m * (c @ c * np.eye(3) - np.outer(c, c))
+    total = about_pivot(np.diag([0.02, 0.03, 0.04]), m1, c1) + about_pivot(inertia2, m2, c2)
+    n = np.array([1.0, 1.0, 0.0]) / np.sqrt(2)
+    centre = (m1 * c1 + m2 * c2) / (m1 + m2)
+    rho = np.linalg.norm(centre - (centre @ n) * n)
+    linear = Linearization(model).at()
+    assert linear.coordinates == ["q_hinge"]
+    assert set(linear.dropped) == {"q_float_x", "q_float_y", "q_float_z", "rx_float", "ry_float", "rz_float"}
+    modes = modal_analysis(linear).modes
+    assert [m.kind for m in modes] == ["oscillatory"]
+    assert modes[0].omega == pytest.approx(np.sqrt((m1 + m2) * G * rho / (n @ total @ n)), rel=1e-9)
+
+
+@pytest.mark.slow
+def test_free_spin_of_a_chain_with_loops_is_refused():
+    with pytest.raises(flexkane.ModelError, match="without closed loops"):
+        Linearization(load_model(LOOPS / "axis_pendulum.toml"), about="spin", spin=1.0, hub="pivot",
+                      spin_axis=(1, 0, 0))
