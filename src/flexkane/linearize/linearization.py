@@ -322,7 +322,8 @@ class Linearization:
         self._f_forcing = sp.lambdify(args, [fj.values, fj.jacobian], modules="numpy", cse=fj.cse)
         self._f_mass = sp.lambdify(args, self.M, modules="numpy", cse=True)
         kinematic = [self.qdot0, self.W, self.V, self.phi, self.phi_q]
-        if self.reduction is not None:     # rates and their Jacobian at the speeds u0 of a free spin
+        if self.reduction is not None and self.loop_columns is None:   # rates and their Jacobian at the
+            # speeds u0 of a free spin (refused with loops: u0 = 0, where they are qdot0 and V)
             qdot = sp.Matrix([self.eom.qdot[k] for k, q in enumerate(self.eom.q) if q not in self.dropped])
             kinematic[0], kinematic[2] = qdot, qdot.jacobian(self.q_all)
         self._f_kinematic = sp.lambdify(args, kinematic, modules="numpy", cse=True)
