@@ -22,7 +22,9 @@ together over ``(q, z)`` (an integral state settles where it cancels a constant 
 ``z0 = tau_d / Ki``); the controllers' outputs and the sensors are outputs with their ``dz`` columns.
 Chains with closed loops are linearized in their independent coordinates
 (:mod:`flexkane.linearize.reduction`), spatial chains with spherical or free joints in three rotation
-coordinates per set of Euler parameters (:mod:`flexkane.linearize.rotation_reduction`), about a state
+coordinates per set of Euler parameters (:mod:`flexkane.linearize.rotation_reduction`); spatial chains
+with both in the rotation coordinates of their independent speeds, the loops closing the others
+(``dq = T_r T_c dx_i``, :mod:`flexkane.linearize.reduction`), about a state
 at rest or about a free steady spin of such a joint (``spin_axis``: a body spinning about a principal
 axis, a top spinning upright), with ``u0 = Omega * axis`` for its angular speeds.
 
@@ -60,7 +62,7 @@ from .equilibrium import EquilibriumCheck, NoEquilibriumError, check_equilibrium
 from .jacobian import forward_jacobian
 from .linear_model import LinearModel, linear_outputs
 from .prepare import ABOUT, prepare_model
-from .reduction import closure_map
+from .reduction import closure_map, loop_columns
 from .rotation_reduction import RotationReduction
 
 __all__ = ["Linearization", "linearize", "ABOUT"]
@@ -97,6 +99,10 @@ class Linearization:
     reduction : RotationReduction or None
         The map to the independent coordinates of a spatial chain with spherical or free joints
         (:mod:`flexkane.linearize.rotation_reduction`); None otherwise.
+    loop_columns : tuple of (list of int, list of int) or None
+        With both Euler parameters and closed loops: the positions of the independent (in the order
+        of u) and dependent reduced coordinates (:func:`~flexkane.linearize.reduction.loop_columns`);
+        ``q`` is then ``q_all``. None otherwise.
     q_all : list of sympy.Symbol
         The coordinates searched for the operating point: ``q`` and the dependent coordinates of
         closed loops.
@@ -150,10 +156,22 @@ class Linearization:
         self.q_all = [q for q in eom.q if q not in self.dropped]
         self.q = [q for q in self.q_all if q not in self.dependent]
         self.u = list(eom.u)
-        # spatial orientations: three rotation coordinates per set of Euler parameters
-        self.reduction = RotationReduction.of(eom.chain.coordinates, [q.name for q in self.q],
-                                              self.prepared.hub if self.prepared.spin_axis is not None else None)
-        n_independent = self.reduction.n if self.reduction is not None else len(self.q)
+        # spatial orientations: three rotation coordinates per set of Euler parameters; with closed
+        # loops over all the coordinates, those of the dependent speeds then closed (reduction.py)
+        spinning = self.prepared.hub if self.prepared.spin_axis is not None else None
+        self.reduction = RotationReduction.of(eom.chain.coordinates, [q.name for q in self.q_all], spinning)
+        self.loop_columns = None
+        if self.reduction is not None and self.dependent:
+            if spinning is not None:
+                raise ModelError("--spin-axis", "a chain without closed loops for a free steady spin (its "
+                                 "loops would turn with the spinning joint)", self.prepared.spin_axis)
+            self.q = list(self.q_all)
+            self.loop_columns = loop_columns(self.reduction.speeds, [u.name for u in self.u],
+                                             [u.name for u in eom.dependent_speeds])
+        elif self.reduction is not None:
+            self.reduction = RotationReduction.of(eom.chain.coordinates, [q.name for q in self.q], spinning)
+        n_independent = len(self.u) if self.loop_columns is not None else \
+            self.reduction.n if self.reduction is not None else len(self.q)
         if n_independent != len(self.u):  # pragma: no cover - the chain gives one speed per coordinate
             raise ModelError("model", "as many independent speeds as coordinates",
                              f"{n_independent} and {len(self.u)}")
@@ -250,8 +268,9 @@ class Linearization:
                 self.notes.append(f"{q.name} (joint {owner}) is prescribed by a driver: dropped from the "
                                   f"linear model, its value frozen at t0 = {self.t0:g} s")
         if self.dependent:
-            self.notes.append("closed loops: " + ", ".join(q.name for q in self.dependent)
-                              + " follow the independent coordinates (dq = T dq_i)")
+            names = [q.name for q in self.dependent] if self.loop_columns is None else \
+                [self.reduction.names[j] for j in self.loop_columns[1]]
+            self.notes.append("closed loops: " + ", ".join(names) + " follow the independent coordinates (dq = T dq_i)")
         exprs = list(self.M) + list(self.eom.forcing) + list(self.qdot0) + list(self.phi) + self.zdot
         if any(self.t in e.free_symbols for e in exprs):
             self.notes.append(f"the equations depend explicitly on time (drivers, loads): frozen at t0 = {self.t0:g} s")
@@ -303,7 +322,8 @@ class Linearization:
         self._f_forcing = sp.lambdify(args, [fj.values, fj.jacobian], modules="numpy", cse=fj.cse)
         self._f_mass = sp.lambdify(args, self.M, modules="numpy", cse=True)
         kinematic = [self.qdot0, self.W, self.V, self.phi, self.phi_q]
-        if self.reduction is not None:     # rates and their Jacobian at the speeds u0 of a free spin
+        if self.reduction is not None and self.loop_columns is None:   # rates and their Jacobian at the
+            # speeds u0 of a free spin (refused with loops: u0 = 0, where they are qdot0 and V)
             qdot = sp.Matrix([self.eom.qdot[k] for k, q in enumerate(self.eom.q) if q not in self.dropped])
             kinematic[0], kinematic[2] = qdot, qdot.jacobian(self.q_all)
         self._f_kinematic = sp.lambdify(args, kinematic, modules="numpy", cse=True)
@@ -505,6 +525,8 @@ class Linearization:
         origin = None
         if self.reduction is not None:  # searched in rotation coordinates x about the start (q = origin at x = 0)
             origin = self.reduction.normalize(np.where(elastic, 0.0, start) if self.about == "rest" else start)
+            if self.dependent:      # the loops closed along the dependent speeds
+                origin = self._project(origin)
             steady = self.reduction.columns(self.prepared.hub) if self.prepared.spin_axis is not None else []
             if self.about != "rest":
                 settled = self.reduction.settle(origin, ev, steady)
@@ -514,7 +536,8 @@ class Linearization:
             ev = self.reduction.wrap(origin, ev, steady)
             start, elastic = np.zeros(self.reduction.n), np.zeros(self.reduction.n, dtype=bool)
         if self.about == "rest":
-            check = check_equilibrium(np.concatenate([self._project(np.where(elastic, 0.0, start)), self.z_initial]),
+            at_rest = start if origin is not None else self._project(np.where(elastic, 0.0, start))
+            check = check_equilibrium(np.concatenate([at_rest, self.z_initial]),
                                       **ev, load_accelerations=loads)
             if not check.ok:
                 raise NoEquilibriumError(
@@ -571,19 +594,33 @@ class Linearization:
              "Y_ud": np.zeros((0, n)), "Y_z": np.zeros((0, nz)), "Y_r": np.zeros((0, len(self.r)))}
         independent = [k for k, q in enumerate(self.q_all) if q not in self.dependent]
         dependent = [k for k, q in enumerate(self.q_all) if q in self.dependent]
-        T = closure_map(x["phi_q"], independent, dependent)
+        T = closure_map(x["phi_q"], independent, dependent) if self.reduction is None else None
         fixed = {q.name: float(v) for q, v in zip(self.dropped, self.dropped_values)}
         fixed.update({self.q_all[k].name: float(check.q[k]) for k in dependent})
         dropped = {q.name: ("cyclic" if not self._appears(q) else "prescribed, frozen") for q in self.dropped}
         dropped.update({q.name: "dependent (closed loop)" for q in self.dependent})
-        coordinates, q0 = [q.name for q in self.q], check.q[independent].copy()
-        W, V = x["W"][independent], (x["V"] @ T)[independent]
-        if self.reduction is not None:      # rotation coordinates (rotation_reduction); no loops in 3D
-            T, back = self.reduction.tangent(check.q)
-            W, V = back @ x["W"], back @ (x["V"] @ T - self.reduction.tangent(check.q, x["qdot"])[0])
+        if self.reduction is None:
+            coordinates, q0 = [q.name for q in self.q], check.q[independent].copy()
+            W, V = x["W"][independent], (x["V"] @ T)[independent]
+            dependent_map = T[dependent]
+        else:       # rotation coordinates (rotation_reduction), the loops' dependent ones closed (reduction)
+            T_r, back = self.reduction.tangent(check.q)
+            n_r = self.reduction.n
+            closing, (kept, moved) = np.eye(n_r), (list(range(n_r)), [])
+            if self.loop_columns is not None:
+                kept, moved = self.loop_columns
+                closing = closure_map(x["phi_q"] @ T_r, kept, moved)
+                for q in self.dependent:        # Euler parameters: their rotation coordinates instead
+                    dropped.pop(q.name, None)
+                dropped.update({self.reduction.names[j]: "dependent (closed loop)" for j in moved})
+            T = T_r @ closing
+            back = back[kept]
+            W, V = back @ x["W"], back @ (x["V"] @ T - self.reduction.tangent(check.q, x["qdot"])[0] @ closing)
             held = self.reduction.reference_rows()
-            coordinates, q0 = list(self.reduction.names), back @ np.where(held, 0.0, check.q)
+            reduced = self.reduction.tangent(check.q)[1] @ np.where(held, 0.0, check.q)
+            coordinates, q0 = [self.reduction.names[j] for j in kept], reduced[kept]
             fixed.update({self.q_all[k].name: float(check.q[k]) for k in np.flatnonzero(held)})
+            dependent_map = closing[moved]
             self._check_steady(-x["F_q"] @ T, x["F_u"] @ u0, u0)
         spin_value = None
         if self.prepared.spin_axis is not None:
@@ -601,7 +638,7 @@ class Linearization:
             W=W, V=V,
             C_out=np.hstack([y["Y_q"] @ T, y["Y_u"], y["Y_z"]]), C_acc=y["Y_ud"], D_out=y["Y_r"], y0=y["y"],
             dropped=dropped, fixed=fixed,
-            dependent_map=T[dependent], notes=list(self.notes), residual=check.residual, linearization=self,
+            dependent_map=dependent_map, notes=list(self.notes), residual=check.residual, linearization=self,
             output_units={k: self._units.get(k, "") for k in names},
             controller_states=[z.name for z in self.z], z0=check.q[len(self.q_all):].copy(),
             K_z=-x["F_z"], Z_x=np.hstack([x["Z_q"] @ T, x["Z_u"], x["Z_z"]]),
@@ -647,7 +684,12 @@ class Linearization:
         """
         q = np.asarray(q, dtype=float)
         if self.reduction is not None:      # rotation coordinates: orientations turned exactly
-            q_all = self.reduction.retract(self.full_operating_point(linear), q - linear.q0)
+            x = q - linear.q0
+            if self.loop_columns is not None:   # the loops' dependent rotation coordinates moved along, closed
+                kept, moved = self.loop_columns
+                x = np.zeros(self.reduction.n)
+                x[kept], x[moved] = q - linear.q0, linear.dependent_map @ (q - linear.q0)
+            q_all = self._project(self.reduction.retract(self.full_operating_point(linear), x))
             out = {s: float(v) for s, v in zip(self.q_all, q_all)}
             out.update({s: float(v) for s, v in zip(self.dropped, self.dropped_values)})
             return out
@@ -665,12 +707,8 @@ class Linearization:
 
     def full_operating_point(self, linear: LinearModel) -> np.ndarray:
         """All coordinates ``q_all`` of a linear model's operating point, shape (n_all,)."""
-        if self.reduction is not None:
-            values = {name: linear.q0[j] for (_, j), name in
-                      zip(self.reduction.plain, [self.reduction.names[j] for _, j in self.reduction.plain])}
-            return np.array([values[s.name] if s.name in values else linear.fixed[s.name] for s in self.q_all])
-        values = dict(zip(self.q, linear.q0))
-        return np.array([values[s] if s in values else linear.fixed[s.name] for s in self.q_all])
+        values = dict(zip(linear.coordinates, linear.q0))   # plain coordinates keep their names
+        return np.array([values[s.name] if s.name in values else linear.fixed[s.name] for s in self.q_all])
 
 
 def linearize(model: Model, *, about: str = "equilibrium", spin: float | None = None,

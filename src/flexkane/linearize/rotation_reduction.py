@@ -99,6 +99,10 @@ class RotationReduction:
     shifts : list of (list of int, list of int, list of int)
         Per freely spinning free joint: the positions of its Euler parameters and of its x, y, z in q
         and of ``sx, sy, sz`` in the reduced coordinates.
+    speeds : list of str
+        Name of the generalized speed of each reduced coordinate (``rx_J``: ``u_J_wx``), length n: a
+        reduced coordinate is dependent in a closed loop when its speed is
+        (:func:`flexkane.linearize.reduction.loop_columns`).
     """
 
     n_full: int
@@ -106,6 +110,7 @@ class RotationReduction:
     names: list
     plain: list
     shifts: list = ()
+    speeds: list = ()
 
     @classmethod
     def of(cls, coordinates: list, q_names: list[str], spinning: str | None = None) -> "RotationReduction | None":
@@ -117,7 +122,9 @@ class RotationReduction:
         roles = [by_name[name].role for name in q_names]
         if not any(role in EULER_ROLES for role in roles):
             return None
-        blocks, names, plain, seen = [], [], [], {}
+        angular = {(c.owner, c.role): c.u for c in coordinates if c.role in EULER_ROLES}
+        speed = lambda u: u.name if u is not None else ""  # noqa: E731
+        blocks, names, plain, seen, speeds = [], [], [], {}, []
         moving: dict = {}
         for k, name in enumerate(q_names):
             c = by_name[name]
@@ -125,17 +132,20 @@ class RotationReduction:
                 moving.setdefault("rows", []).append(k)
                 moving.setdefault("cols", []).append(len(names))
                 names.append(f"{SHIFTS['xyz'.index(c.role)]}_{c.owner}")
+                speeds.append(speed(c.u))
             elif c.role in EULER_ROLES:
                 if c.owner not in seen:
                     seen[c.owner] = (c.owner, [None] * 4, list(range(len(names), len(names) + 3)))
                     blocks.append(seen[c.owner])
                     names += [f"{axis}_{c.owner}" for axis in AXES]
+                    speeds += [speed(angular.get((c.owner, role))) for role in EULER_ROLES[1:]]
                 seen[c.owner][1][EULER_ROLES.index(c.role)] = k
             else:
                 plain.append((k, len(names)))
                 names.append(name)
+                speeds.append(speed(c.u))
         shifts = [(seen[spinning][1], moving["rows"], moving["cols"])] if moving else []
-        return cls(len(q_names), blocks, names, plain, shifts)
+        return cls(len(q_names), blocks, names, plain, shifts, speeds)
 
     @property
     def n(self) -> int:
@@ -187,33 +197,57 @@ class RotationReduction:
         """Equilibrium evaluators (:func:`flexkane.linearize.equilibrium.check_equilibrium`) in the
         reduced coordinates x about ``q_ref``: ``stiffness`` becomes ``K T`` and ``rates`` ``T^+ q'``,
         but for the columns ``steady`` (a joint spinning freely: its orientation turns at the
-        operating point, which is a steady motion, not a rest)."""
+        operating point, which is a steady motion, not a rest). With closed loops (``constraints``
+        and ``constraint_jacobian`` among the evaluators) also ``Phi`` and ``Phi_q T``."""
         at = lambda x: self.retract(q_ref, x)   # noqa: E731
         keep = np.ones(self.n)
         keep[list(steady)] = 0.0
-        return {"forcing": lambda x: evaluators["forcing"](at(x)),
-                "mass": lambda x: evaluators["mass"](at(x)),
-                "stiffness": lambda x: evaluators["stiffness"](at(x)) @ self.tangent(at(x))[0],
-                "rates": lambda x: keep * (self.tangent(at(x))[1] @ evaluators["rates"](at(x)))}
+        wrapped = {"forcing": lambda x: evaluators["forcing"](at(x)),
+                   "mass": lambda x: evaluators["mass"](at(x)),
+                   "stiffness": lambda x: evaluators["stiffness"](at(x)) @ self.tangent(at(x))[0],
+                   "rates": lambda x: keep * (self.tangent(at(x))[1] @ evaluators["rates"](at(x)))}
+        if evaluators.get("constraints") is not None:    # closed loops: Phi and Phi_q T
+            wrapped["constraints"] = lambda x: evaluators["constraints"](at(x))
+            wrapped["constraint_jacobian"] = \
+                lambda x: evaluators["constraint_jacobian"](at(x)) @ self.tangent(at(x))[0]
+        return wrapped
 
     def settle(self, q_start: np.ndarray, evaluators: dict, steady: list[int] = (), iterations: int = 100) -> np.ndarray:
         """A configuration near ``q_start`` where the forcing vanishes, by Gauss-Newton steps in the
         reduced coordinates re-centred at every step (where ``K T`` is the exact Jacobian), each the
         least-norm step (so that neutral directions, such as turns about the vertical, are not
-        wandered along) halved until the forcing decreases; shape (n_full,). The caller checks it."""
+        wandered along) halved until the forcing decreases; shape (n_full,). The caller checks it.
+        With closed loops (``constraints`` among the evaluators) the residual is the forcing and the
+        loops' gaps together, ``(f, w Phi)`` with the Jacobian ``(-K T, w Phi_q T)``, ``w`` balancing
+        forces [N] and gaps [m] as :func:`~flexkane.linearize.equilibrium.find_equilibrium` does."""
         q = self.normalize(q_start)
         zero = np.zeros(self.n)
+        loops = evaluators.get("constraints") is not None
+        weight = 1.0
+        if loops:
+            first = self.wrap(q, evaluators, steady)
+            K, G = first["stiffness"](zero), first["constraint_jacobian"](zero)
+            if np.abs(G).max() > 0 and np.abs(K).max() > 0:
+                weight = float(np.abs(K).max() / np.abs(G).max())
+
+        def residual(wrapped, x):
+            f = wrapped["forcing"](x)
+            return np.concatenate([f, weight * wrapped["constraints"](x)]) if loops else f
+
         for _ in range(iterations):
             wrapped = self.wrap(q, evaluators, steady)
-            f = wrapped["forcing"](zero)
+            f = residual(wrapped, zero)
             size = float(np.linalg.norm(f))
             if size == 0.0 or not np.isfinite(size):
                 break
-            step = np.linalg.lstsq(-wrapped["stiffness"](zero), -f, rcond=1e-10)[0]
+            J = -wrapped["stiffness"](zero)
+            if loops:
+                J = np.vstack([J, weight * wrapped["constraint_jacobian"](zero)])
+            step = np.linalg.lstsq(J, -f, rcond=1e-10)[0]
             fraction = 1.0
             while fraction > 1e-6:
                 trial = self.retract(q, fraction * step)
-                if float(np.linalg.norm(wrapped["forcing"](fraction * step))) < size:
+                if float(np.linalg.norm(residual(wrapped, fraction * step))) < size:
                     break
                 fraction /= 2
             else:
