@@ -173,19 +173,7 @@ def distributed_load_forces(kin, load, speeds) -> list:
         directions = [(c, -s), (s, c)]
     else:
         directions = [(sp.Integer(1), sp.Integer(0)), (sp.Integer(0), sp.Integer(1))]
-    out = []
-    for u in speeds:
-        Vx, Vy = _partial(kin, bm.v[0], u), _partial(kin, bm.v[1], u)
-        total = sp.Integer(0)
-        for k, ((ex, ey), component) in enumerate(zip(directions, ("x", "y"))):
-            if not loads.loaded(k):
-                continue
-            if ex != 0 and not Vx.is_zero():
-                total += ex * loads.integral(Vx, k, component)
-            if ey != 0 and not Vy.is_zero():
-                total += ey * loads.integral(Vy, k, component)
-        out.append(total)
-    return out
+    return _load_forces(kin, loads, directions, bm.v, speeds)
 
 
 def spatial_distributed_load_forces(kin, load, speeds) -> list:
@@ -214,11 +202,18 @@ def spatial_distributed_load_forces(kin, load, speeds) -> list:
         directions = [tuple(R[k, j] for j in range(3)) for k in range(3)]
     else:
         directions = [tuple(sp.Integer(1 if j == k else 0) for j in range(3)) for k in range(3)]
+    return _load_forces(kin, loads, directions, bm.v, speeds)
+
+
+def _load_forces(kin, loads, directions, velocity, speeds) -> list:
+    """``F_r = sum_k int f_k (e_k . v_P,r) dx`` for each speed: ``directions[k]`` holds the beam-frame
+    components of the load's k-th direction, ``velocity`` the beam-frame components of the velocity
+    field of the point at x (2 or 3 fields)."""
     out = []
     for u in speeds:
-        V = [_partial(kin, c, u) for c in bm.v]
+        V = [_partial(kin, c, u) for c in velocity]
         total = sp.Integer(0)
-        for k, component in enumerate("xyz"):
+        for k, component in enumerate("xyz"[:len(directions)]):
             if not loads.loaded(k):
                 continue
             for e, Vj in zip(directions[k], V):

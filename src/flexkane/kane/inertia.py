@@ -48,6 +48,18 @@ __all__ = ["LAZY_MASS_MIN_SPEEDS", "InertiaForces", "MassAssembly", "generalized
 LAZY_MASS_MIN_SPEEDS = 9
 
 
+def shared_frames(roots_r, roots_s, beyond):
+    """The link frames whose composite bodies both speeds move rigidly: for each pair of the links
+    where the two speeds start to move links (``roots_r``, ``roots_s``), the outer of the two when one
+    lies beyond the other (``beyond[a]``: the links outboard of ``a``, ``a`` included)."""
+    for root_r in roots_r:
+        for root_s in roots_s:
+            if root_s in beyond[root_r]:
+                yield root_s
+            elif root_r in beyond[root_s]:
+                yield root_r
+
+
 class InertiaForces:
     """The pieces of F*_r.
 
@@ -384,19 +396,12 @@ class _MassTerms:
         """The terms of ``M_rs`` (``r <= s``) of the links the two speeds move rigidly."""
         speeds, beyond = self.speeds, self.beyond
         total = sp.Integer(0)
-        for root_r in self.roots[speeds[r]]:
-            for root_s in self.roots[speeds[s]]:
-                if root_s in beyond[root_r]:
-                    F = root_s
-                elif root_r in beyond[root_s]:
-                    F = root_r
-                else:
-                    continue
-                Ar0, Ar1, Wr = self.twist_at(speeds[r], F)
-                As0, As1, Ws = self.twist_at(speeds[s], F)
-                P = self.composite[F]
-                total += (P.m * (Ar0 * As0 + Ar1 * As1) + Ws * (-Ar0 * P.S[1] + Ar1 * P.S[0])
-                          + Wr * (-As0 * P.S[1] + As1 * P.S[0]) + P.J * Wr * Ws)
+        for F in shared_frames(self.roots[speeds[r]], self.roots[speeds[s]], beyond):
+            Ar0, Ar1, Wr = self.twist_at(speeds[r], F)
+            As0, As1, Ws = self.twist_at(speeds[s], F)
+            P = self.composite[F]
+            total += (P.m * (Ar0 * As0 + Ar1 * As1) + Ws * (-Ar0 * P.S[1] + Ar1 * P.S[0])
+                      + Wr * (-As0 * P.S[1] + As1 * P.S[0]) + P.J * Wr * Ws)
         return total
 
     def entry(self, r: int, s: int) -> sp.Expr:

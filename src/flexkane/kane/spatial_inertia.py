@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from .inertia import InertiaForces
+from .inertia import InertiaForces, shared_frames
 from .spatial_beam import acceleration_remainder as beam_acceleration_remainder
 from .chain import BEAM_ROLES
 from .spatial_beam import add_beam_rows, beam_own_properties
@@ -149,19 +149,12 @@ def spatial_inertia_forces(kin) -> InertiaForces:
             P = composite[root]
             rem[r] += dot(A, P.R) + dot(W, P.K)
         for s in range(r, n):
-            for root_r in roots[speeds[r]]:
-                for root_s in roots[speeds[s]]:
-                    if root_s in beyond[root_r]:
-                        F = root_s
-                    elif root_r in beyond[root_s]:
-                        F = root_r
-                    else:
-                        continue
-                    Ar, Wr = twist_at(speeds[r], F)
-                    As, Ws = twist_at(speeds[s], F)
-                    P = composite[F]
-                    M[r][s] += (P.m * dot(Ar, As) + dot(Ar, cross(Ws, P.S)) + dot(As, cross(Wr, P.S))
-                                + dot(Wr, _matvec(P.J, Ws)))
+            for F in shared_frames(roots[speeds[r]], roots[speeds[s]], beyond):
+                Ar, Wr = twist_at(speeds[r], F)
+                As, Ws = twist_at(speeds[s], F)
+                P = composite[F]
+                M[r][s] += (P.m * dot(Ar, As) + dot(Ar, cross(Ws, P.S)) + dot(As, cross(Wr, P.S))
+                            + dot(Wr, _matvec(P.J, Ws)))
     add_beam_rows(kin, M, rem, a_rems)
     for r in range(n):
         for s in range(r):
