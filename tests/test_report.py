@@ -176,3 +176,10 @@ def test_a_report_too_long_to_print_term_by_term_is_written_in_terms_of_intermed
     assert sp.expand(forces[0][0].xreplace(values) - eom.F_r_star[0]) == 0
     md = report.equations_markdown(eom)
     assert "intermediates $x_k$" in md and "x_{0} &=" in md
+
+
+def test_natural_order_sorts_a_name_before_the_same_name_with_digits():
+    from flexkane.natural_order import natural_key
+
+    names = ["m1", "E_10", "m", "E_2", "E_1_2", "E_1", "L", "L2", "q01", "q1"]
+    assert sorted(names, key=natural_key) == ["E_1", "E_1_2", "E_2", "E_10", "L", "L2", "m", "m1", "q01", "q1"]

@@ -20,8 +20,11 @@ def natural_key(text: str) -> tuple:
     Returns
     -------
     tuple
-        Alternating text and integer parts: ``"E_10" -> ("E_", 10, "")``; ties between texts whose
-        numbers are written differently (``q01``, ``q1``) are broken by the text itself.
+        Pairs of a text part and the number after it (-1 after the last text part), then the text:
+        ``"E_10" -> (("E_", 10), ("", -1)), "E_10")``, so that ``m`` sorts before ``m1`` (a text part
+        is never compared with a number); ties between texts whose numbers are written differently
+        (``q01``, ``q1``) are broken by the text itself.
     """
-    parts = _DIGITS.split(text)
-    return tuple(int(p) if k % 2 else p for k, p in enumerate(parts)) + (text,)
+    parts = _DIGITS.split(text) + [None]
+    return tuple((parts[k], int(parts[k + 1]) if parts[k + 1] is not None else -1)
+                 for k in range(0, len(parts) - 1, 2)), text
