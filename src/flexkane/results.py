@@ -24,8 +24,9 @@ __all__ = ["Results", "load_results", "csv_text"]
 
 #: Output columns written to results.csv after the state, when present.
 CSV_OUTPUTS_PREFIXES = ("tip_", "effort_", "load_", "sensor_", "controller_")
-#: Outputs of spatial models written after those: each beam's tip twist, each body's 3-2-1 angles, each spherical or free
-#: joint's quaternion norm, then the angular momentum vector about the mass centre.
+#: Outputs of spatial models written after those: each beam's tip twist, each body's 3-2-1 angles,
+#: each spherical or free joint's quaternion norm, then the angular momentum vector about the mass
+#: centre.
 CSV_SPATIAL_PREFIXES = ("twist_", "yaw_", "pitch_", "roll_", "quaternion_norm_")
 CSV_OUTPUTS = ("H_x", "H_y", "H_z", "kinetic", "potential_gravity", "strain", "potential_springs", "energy",
                "work", "energy_balance")

@@ -35,7 +35,7 @@ def _derived(lazy: bool):
 
 
 def test_the_threshold_is_the_one_of_the_compiled_loop():
-    assert LAZY_MASS_MIN_SPEEDS == codegen.MASS_LOOP_MIN_SPEEDS
+    assert LAZY_MASS_MIN_SPEEDS == codegen.MASS_LOOP_MIN_SPEEDS == codegen.UNROLL_LDL_MAX + 1
 
 
 def test_generated_code_reads_only_the_diagonal_of_a_long_chains_mass_matrix():

@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from ..model import Model
-from ..model.coordinates import coordinate_names, tree_order
+from ..model.coordinates import BEAM_ROLES, coordinate_names, tree_order
 from ..model.parts import Joint
 from ..model.values import TIME, FieldSymbols, GeneratedSymbol
 from .driver_laws import reads_state
@@ -34,9 +34,6 @@ from .intermediates import NAME_ABOVE, Intermediates
 from .spatial_joints import kinematic_equations
 
 __all__ = ["BEAM_ROLES", "Chain", "Coordinate", "build_chain"]
-
-#: Roles of a beam's own coordinates (planar and spatial).
-BEAM_ROLES = ("mode", "axial", "mode_y", "mode_z", "torsion")
 
 
 @dataclass

@@ -19,7 +19,7 @@ from ..model.values import symbol_order
 from . import numeric
 from .active import generalized_active_forces
 from .budget import DerivationBudget
-from .chain import Chain, build_chain
+from .chain import BEAM_ROLES, Chain, build_chain
 from .compact import CompactEquations, LazyMassMatrix
 from .controllers import control_signals
 from .driver_laws import parse_state_laws, speed_coupling, state_driver_substitutions
@@ -315,7 +315,7 @@ class EquationsOfMotion:
         A_full = sub(chain.intermediates.expand(A))
         A0 = np.array(A_full.xreplace({k: sp.Float(v) for k, v in numeric.items()}).evalf(), dtype=float)
         roles = {c_.u: c_.role for c_ in chain.coordinates}
-        preferred = [roles[u] not in ("mode", "axial", "mode_y", "mode_z", "torsion") for u in u_free]
+        preferred = [roles[u] not in BEAM_ROLES for u in u_free]
         dep = choose_dependent(A0, u_free, preferred, cons.dependent)
         ind = [j for j in range(len(u_free)) if j not in dep]
         Ad = A[:, dep]

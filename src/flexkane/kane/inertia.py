@@ -43,8 +43,9 @@ from .modal_field import ONE, vec_map
 __all__ = ["LAZY_MASS_MIN_SPEEDS", "InertiaForces", "MassAssembly", "generalized_inertia_forces"]
 
 #: Fewest speeds for which :func:`flexkane.kane.equations.derive` forms the mass matrix's entries
-#: only when read: generated code then sums ``M`` from the :class:`MassAssembly` (the same number
-#: as ``flexkane.numerics.codegen.MASS_LOOP_MIN_SPEEDS``).
+#: only when read: generated code then sums ``M`` from the :class:`MassAssembly`
+#: (``flexkane.numerics.codegen.MASS_LOOP_MIN_SPEEDS`` is this number: one more than the 8 speeds up to
+#: which generated code unrolls the L D L^T factorization, ``codegen.UNROLL_LDL_MAX``).
 LAZY_MASS_MIN_SPEEDS = 9
 
 

@@ -34,7 +34,8 @@ engines can be compared on the same chain (a planar chain is the special case of
 A ``prismatic`` loop constraint has no spatial counterpart with its two scalar constraints (a
 spatial prismatic closure keeps the orientation in three equations, redundant for a planar
 motion): it is carried over unchanged and the spatial model refuses it by name. Spatial models also
-refuse (for now) beams with the midpoint gravity model or shear-moment elastic forces, so the result of a model that has them does not validate.
+refuse (for now) beams with the midpoint gravity model or shear-moment elastic forces, so the result
+of a model that has them does not validate.
 """
 
 from __future__ import annotations

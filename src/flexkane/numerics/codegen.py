@@ -41,6 +41,7 @@ from sympy.printing.codeprinter import PrintMethodNotImplementedError
 from sympy.printing.precedence import precedence
 from sympy.printing.pycode import PythonCodePrinter
 
+from flexkane.kane.inertia import LAZY_MASS_MIN_SPEEDS
 from flexkane.numerics import constant_block, large_rhs, mass_assembly
 from flexkane.numerics.code_budget import check_compiled_operations, compiled_operations
 from flexkane.numerics.large_rhs import Statement
@@ -488,8 +489,9 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
 
 
 # Fewest speeds for which M is summed by the compiled loop of :mod:`flexkane.numerics.mass_assembly`
-# (above the unrolled L D L^T): from there the entries written out cost Numba more than the loop.
-MASS_LOOP_MIN_SPEEDS = UNROLL_LDL_MAX + 1
+# (above the unrolled L D L^T): from there the entries written out cost Numba more than the loop. The
+# derivation's own threshold, so that the chains whose M it leaves unformed are the ones summed here.
+MASS_LOOP_MIN_SPEEDS = LAZY_MASS_MIN_SPEEDS
 
 
 def _mass_loop_tables(eom, equations, mass: sympy.Matrix):
