@@ -442,3 +442,34 @@ def test_a_driver_law_with_a_saturated_output_is_refused_by_name():
     with pytest.raises(ModelError) as info:
         flexkane.derive(flexkane.loads_model(text))
     assert info.value.path == "joints.sb.driver.coordinate" and "steps or impulses" in str(info.value)
+
+
+def test_the_drivers_reduction_is_a_value_the_equations_take_once():
+    """The reduction by a gear's law (kane.driver_laws.reduce_by_drivers) leaves its inputs unchanged,
+    gives the same value twice, and every attribute of the equations is set once."""
+    import dataclasses
+
+    from flexkane.kane.driver_laws import DriverReduction, reduce_by_drivers
+    from reduction_recording import derive_recording
+
+    eom, calls = derive_recording(flexkane.loads_model(GEARED.format(law="c*q_sa")), "reduce_by_drivers",
+                                  reduce_by_drivers)
+    assert {name: n for name, n in eom.writes.items() if n > 1} == {}
+    assert eom.writes["mass_matrix"] == eom.writes["forcing"] == eom.writes["u"] == 1
+    [(args, kwargs, before, result)] = calls
+    for given, copy in zip(args, before):
+        if copy is not None:
+            assert given == copy
+    assert reduce_by_drivers(*args, **kwargs) == result
+    assert isinstance(result, DriverReduction)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        result.forcing = None
+    assert eom.compact.mass_matrix == result.mass_matrix and eom.compact.forcing == result.forcing
+    # P^T M P over the one free speed is the second derivative of the kinetic energy with u_sb = c u_sa
+    [u] = eom.u
+    values = {k: sp.Float(v) for k, v in eom.constant_values().items()}
+    mass = eom.expand(result.mass_matrix[0, 0]).xreplace(values)
+    kinetic = sp.diff(eom.expand(eom.compact.outputs["kinetic"]), u, 2).xreplace(values)
+    for q in (-1.1, 0.3, 2.0):
+        at = {eom.q[0]: q, eom.t: 0.0}
+        assert abs(float(mass.subs(at)) - float(kinetic.subs(at))) <= 1e-12

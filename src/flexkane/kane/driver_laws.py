@@ -39,12 +39,16 @@ models with closed loops.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from typing import Callable
+
 import sympy as sp
 
 from ..errors import ModelError
 from ..expression_syntax import NeedsSymbolic, expression_names
 
-__all__ = ["reads_state", "parse_state_laws", "state_driver_substitutions", "speed_coupling"]
+__all__ = ["reads_state", "parse_state_laws", "state_driver_substitutions", "speed_coupling", "DriverReduction",
+           "reduce_by_drivers"]
 
 
 def reads_state(text, parameters) -> bool:
@@ -190,3 +194,72 @@ def speed_coupling(chain, subs: dict, free: list) -> dict:
             accel = subs[chain.ud[c.u]]
             out[c.u] = ([sp.diff(accel, a) for a in rates], accel.xreplace({a: 0 for a in rates}))
     return out
+
+
+@dataclass(frozen=True)
+class DriverReduction:
+    """Kane's equations over the free speeds of a chain with drivers of the state.
+
+    Attributes
+    ----------
+    mass_matrix : sympy.Matrix, shape (nf, nf)
+        ``P^T M P`` over the nf free speeds (symmetric positive definite).
+    forcing : sympy.Matrix, shape (nf, 1)
+        ``P^T (f - M e)``.
+    """
+
+    mass_matrix: sp.Matrix
+    forcing: sp.Matrix
+
+
+def reduce_by_drivers(chain, mass_matrix, forcing: list, remainder: list, free: list, driven: list,
+                      ud_driven: list, coupling: dict, sub: Callable) -> DriverReduction:
+    """Kane's equations with the speeds of drivers of the state dependent: ``P^T M P u_f' = P^T (f - M e)``
+    over the free speeds and those driven speeds, ``P = [I; C]``, ``e = [0; e_d]``
+    (:func:`speed_coupling`; :func:`flexkane.kane.constraints.dependent_speed_reduction`).
+
+    The inputs are not modified.
+
+    Parameters
+    ----------
+    chain : Chain
+    mass_matrix : sympy.Matrix, shape (n, n)
+        M of every speed of the chain (rows and columns numbered as ``chain.speed_coordinates``),
+        drivers not substituted.
+    forcing : list of sympy.Expr, length n
+        The generalized active forces ``F_r`` summed over their sources.
+    remainder : list of sympy.Expr, length n
+        The part of ``-F*_r`` free of u' (:class:`~flexkane.kane.inertia.InertiaForces`).
+    free : list of int
+        Indices of the free speeds.
+    driven : list of int
+        Indices of the driven speeds.
+    ud_driven : list of sympy.Expr
+        The driven accelerations (their laws' derivatives), one per ``driven``.
+    coupling : dict
+        :func:`speed_coupling`: driven speed of a law of the state -> (C, e_d).
+    sub : callable
+        Substitution of the drivers' laws (expression -> expression).
+
+    Returns
+    -------
+    DriverReduction
+    """
+    from .constraints import dependent_speed_reduction   # not at the top: kane.chain imports this module
+
+    speed_coords = chain.speed_coordinates
+    state = [d for d in driven if speed_coords[d].u in coupling]
+    keep = free + state
+    time_laws = [(d, a) for d, a in zip(driven, ud_driven) if d not in state]
+    M = sp.Matrix(len(keep), len(keep), lambda i, j: sub(mass_matrix[keep[i], keep[j]]))
+    f = sp.Matrix([sub(forcing[r] - remainder[r] - sp.Add(*[mass_matrix[r, d] * a for d, a in time_laws]))
+                   for r in keep])
+    P = sp.zeros(len(keep), len(free))
+    e = sp.zeros(len(keep), 1)
+    for k in range(len(free)):
+        P[k, k] = 1
+    for k, d in enumerate(state):
+        C, e_d = coupling[speed_coords[d].u]
+        P[len(free) + k, :] = sp.Matrix([C])
+        e[len(free) + k] = e_d
+    return DriverReduction(*dependent_speed_reduction(M, f, P, e))

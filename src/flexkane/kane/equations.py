@@ -13,18 +13,20 @@ from types import SimpleNamespace
 import numpy as np
 import sympy as sp
 
-from ..expressions import bounded_expand, time_derivative
+from ..expressions import time_derivative
 from ..model import Model
 from ..model.values import symbol_order
 from . import numeric
 from .active import generalized_active_forces
 from .budget import DerivationBudget
-from .chain import BEAM_ROLES, Chain, build_chain
+from .chain import Chain, build_chain
 from .compact import CompactEquations, LazyMassMatrix
+from .constraints import loop_constraints
 from .controllers import control_signals
-from .driver_laws import parse_state_laws, speed_coupling, state_driver_substitutions
+from .driver_laws import parse_state_laws, reduce_by_drivers, speed_coupling, state_driver_substitutions
 from .inertia import LAZY_MASS_MIN_SPEEDS, InertiaForces, generalized_inertia_forces
 from .kinematics import Kinematics
+from .loop_reduction import reduce_by_loops
 from .outputs import output_expressions
 from .spatial_active import spatial_active_forces
 from .spatial_inertia import spatial_inertia_forces
@@ -158,11 +160,10 @@ class EquationsOfMotion:
         free = [r for r, c in enumerate(speed_coords) if c.driver is None]
         driven = [r for r, c in enumerate(speed_coords) if c.driver is not None]
         self.q = [c.q for c in coords if c.driver != "coordinate"]
-        self.u = [speed_coords[r].u for r in free]
-        self.ud = [chain.ud[u] for u in self.u]
-        self.qdot = sp.Matrix([sub(chain.qdot[q]) for q in self.q])
+        u_free = [speed_coords[r].u for r in free]
+        qdot = sp.Matrix([sub(chain.qdot[q]) for q in self.q])
         self.z = list(chain.controller_states)
-        self.zdot = sp.Matrix(len(self.z), 1, [sub(chain.controller_rates[z]) for z in self.z])
+        zdot = sp.Matrix(len(self.z), 1, [sub(chain.controller_rates[z]) for z in self.z])
         # M's entries formed when read where nothing here needs them (no drivers, no closed loops)
         lazy = getattr(inertia, "lazy", False) and inertia.assembly is not None and not subs \
             and not driven and not chain.model.constraints
@@ -170,39 +171,51 @@ class EquationsOfMotion:
         self.F_r_star = LazyForces(inertia, chain.ud) if lazy else inertia.F_r_star(chain.ud)
         F_total = [sp.Add(*[part[r] for part in active.values()]) for r in range(len(speed_coords))]
         ud_driven = [sub(chain.ud[speed_coords[d].u]) for d in driven]
-        coupling = speed_coupling(chain, subs, self.u)
-        if lazy:
-            self.mass_matrix = LazyMassMatrix(inertia, free, chain.intermediates)
-        if not coupling:
-            if not lazy:
-                self.mass_matrix = sp.Matrix(len(free), len(free),
-                                             lambda i, j: sub(Mfull[free[i], free[j]]))
-            self.forcing = sp.Matrix([sub(F_total[r] - inertia.remainder[r]
-                                          - sp.Add(*[Mfull[r, d] * a for d, a in zip(driven, ud_driven)]))
-                                      for r in free])
+        coupling = speed_coupling(chain, subs, u_free)
+        if coupling:    # drivers of the state: their speeds dependent (kane.driver_laws)
+            drivers = reduce_by_drivers(chain, Mfull, F_total, inertia.remainder, free, driven, ud_driven,
+                                        coupling, sub)
+            M, forcing = drivers.mass_matrix, drivers.forcing
         else:
-            self._reduce_by_drivers(Mfull, F_total, free, driven, ud_driven, coupling, sub)
-        #: generalized force each driver supplies [N m or N], as expressions of q, u, u', t
-        self.driver_efforts = {}
+            M = LazyMassMatrix(inertia, free, chain.intermediates) if lazy else \
+                sp.Matrix(len(free), len(free), lambda i, j: sub(Mfull[free[i], free[j]]))
+            forcing = sp.Matrix([sub(F_total[r] - inertia.remainder[r]
+                                     - sp.Add(*[Mfull[r, d] * a for d, a in zip(driven, ud_driven)]))
+                                 for r in free])
+        efforts = {}    # generalized force each driver supplies
         for d, a_d in zip(driven, ud_driven):
             expr = (sp.Add(*[Mfull[d, s] * chain.ud[speed_coords[s].u] for s in free]) + Mfull[d, d] * a_d
                     + sum((Mfull[d, e] * a for e, a in zip(driven, ud_driven) if e != d), sp.Integer(0))
                     + inertia.remainder[d] - F_total[d])
-            self.driver_efforts[speed_coords[d].owner] = sub(expr)
-        #: dependent speeds and their expressions in the state (loop constraints)
-        self.dependent_speeds: dict = {}
-        self.constraint_set = None
-        outputs = spatial_output_expressions if chain.dimensions == 3 else output_expressions
-        self.outputs = {k: sub(v) for k, v in outputs(self).items()}
+            efforts[speed_coords[d].owner] = sub(expr)
+        outputs = {k: sub(v) for k, v in self._output_expressions(efforts).items()}
         for u_d, (C, _) in coupling.items():    # the driver's force on the speeds its law reads
-            effort = self.driver_efforts[next(c.owner for c in speed_coords if c.u == u_d)]
-            self.outputs["power_nonconservative"] -= effort * sp.Add(*[c * u for c, u in zip(C, self.u)])
-        dependent_subs: dict = {}
-        if chain.model.constraints:
-            dependent_subs = self._reduce_by_constraints(sub)
+            effort = efforts[next(c.owner for c in speed_coords if c.u == u_d)]
+            outputs["power_nonconservative"] -= effort * sp.Add(*[c * u for c, u in zip(C, u_free)])
+        loops = None
+        if chain.model.constraints:     # closed loops: dependent speeds (kane.loop_reduction)
+            cons = loop_constraints(kin)    # before the numbers: it names the constants of its ends
+            at = {**numeric.constant_values(self), **numeric.initial_guess(self), self.t: 0.0}
+            loops = reduce_by_loops(
+                chain, cons, M, forcing, qdot, zdot, u_free, self.q, efforts, outputs, sub, at,
+                power=lambda e: sub(self._output_expressions(e)["power_nonconservative"]))
+            M, forcing, qdot, zdot = loops.mass_matrix, loops.forcing, loops.qdot, loops.zdot
+            efforts, outputs = loops.driver_efforts, loops.outputs
+        # each attribute set once, from the equations over the free speeds or the loops' reduction
+        self.mass_matrix, self.forcing, self.qdot, self.zdot, self.outputs = M, forcing, qdot, zdot, outputs
+        self.u = list(loops.u) if loops else u_free
+        self.ud = [chain.ud[u] for u in self.u]
+        #: generalized force each driver supplies [N m or N], as expressions of q, u, u', t
+        self.driver_efforts = efforts
+        #: dependent speeds and their expressions in the state (loop constraints)
+        self.dependent_speeds = loops.dependent_speeds if loops else {}
+        #: the coordinates of the dependent speeds, which the constraints decide in the initial state
+        self.dependent_coordinates = list(loops.dependent_coordinates) if loops else []
+        self._phi = list(loops.phi) if loops else []     # Phi(q, t), intermediates written out
+        self.constraint_set = loops.constraint_set if loops else None
         assembly = getattr(inertia, "assembly", None)
         assembly = assembly.reduced(free, sub) if assembly is not None else None
-        self.compact = CompactEquations.collect(self, chain.intermediates, sub, dependent_subs, assembly)
+        self.compact = CompactEquations.collect(self, chain.intermediates, sub, self.dependent_speeds, assembly)
         self._expanded = None
         known = set(self.q) | set(self.u) | set(self.ud) | set(self.z) | {self.t}
         symbols = set()
@@ -261,137 +274,13 @@ class EquationsOfMotion:
     def __setstate__(self, state):
         self.__dict__.update(state)
 
-    # ------------------------------------------------------------------ drivers of the state
-    def _reduce_by_drivers(self, Mfull, F_total, free, driven, ud_driven, coupling, sub) -> None:
-        """Kane's equations with the speeds of drivers of the state dependent (see
-        :mod:`flexkane.kane.driver_laws`): ``P^T M P u_f' = P^T (f - M e)`` over the free speeds and
-        those driven speeds, ``P = [I; C]``."""
-        from .constraints import dependent_speed_reduction
-
-        speed_coords = self.chain.speed_coordinates
-        state = [d for d in driven if speed_coords[d].u in coupling]
-        keep = free + state
-        time_laws = [(d, a) for d, a in zip(driven, ud_driven) if d not in state]
-        M = sp.Matrix(len(keep), len(keep), lambda i, j: sub(Mfull[keep[i], keep[j]]))
-        f = sp.Matrix([sub(F_total[r] - self._inertia.remainder[r] - sp.Add(*[Mfull[r, d] * a for d, a in time_laws]))
-                       for r in keep])
-        P = sp.zeros(len(keep), len(free))
-        e = sp.zeros(len(keep), 1)
-        for k in range(len(free)):
-            P[k, k] = 1
-        for k, d in enumerate(state):
-            C, e_d = coupling[speed_coords[d].u]
-            P[len(free) + k, :] = sp.Matrix([C])
-            e[len(free) + k] = e_d
-        self.mass_matrix, self.forcing = dependent_speed_reduction(M, f, P, e)
-
-    # ------------------------------------------------------------------ loop constraints
-    def _reduce_by_constraints(self, sub) -> None:
-        """Kane's equations with dependent speeds (see :mod:`flexkane.kane.constraints`)."""
-        from .constraints import choose_dependent, dependent_speed_reduction, loop_constraints
-
-        chain = self.chain
-        cons = loop_constraints(self.kinematics)
-        self.constraint_set = cons
-        u_free = list(self.u)
-        ud_free = [chain.ud[u] for u in u_free]
-        phi = [sub(e) for e in cons.phi]
-        g_raw = [chain.dt(e) for e in cons.phi]
-        # Phi' = A u + a: g_raw is linear and homogeneous in all the speeds (drivers not yet
-        # substituted), so A is its partial derivatives with respect to the free speeds and a the part
-        # of the driven ones, whose speeds become the drivers' laws
-        driven = [c_.u for c_ in chain.coordinates if c_.driver is not None]
-        simplified = lambda e: (expanded if (expanded := bounded_expand(e, [*u_free, *self.q], self.t))  # noqa: E731
-                                is not None else e)
-        A = sp.Matrix([[simplified(sub(chain.partial(gi, u))) for u in u_free] for gi in g_raw])
-        a = sp.Matrix([simplified(sub(sp.Add(*[chain.partial(gi, u) * u for u in driven]))) + rate * ph
-                       for gi, ph, rate in zip(g_raw, phi, cons.rates)])
-        gd = [sub(chain.dt(e, with_ud=True)) for e in g_raw]
-        c = sp.Matrix([e.xreplace({ud: 0 for ud in ud_free}) for e in gd])
-        # choose the dependent speeds at the initial configuration
-        values = self.constant_values()
-        guess = self._initial_guess(self.model, values)
-        numeric = {**values, **guess, self.t: 0.0}
-        A_full = sub(chain.intermediates.expand(A))
-        A0 = np.array(A_full.xreplace({k: sp.Float(v) for k, v in numeric.items()}).evalf(), dtype=float)
-        roles = {c_.u: c_.role for c_ in chain.coordinates}
-        preferred = [roles[u] not in BEAM_ROLES for u in u_free]
-        dep = choose_dependent(A0, u_free, preferred, cons.dependent)
-        ind = [j for j in range(len(u_free)) if j not in dep]
-        Ad = A[:, dep]
-        Ai = A[:, ind]
-        # A_d^-1 as adjugate / determinant: no symbolic pivot that could vanish at some configuration
-        spatial = chain.dimensions == 3    # the loops' solution, named: it enters every equation
-        named = (lambda m, label: m.applyfunc(lambda x: chain.name(x, label))) if spatial \
-            else (lambda m, label: m)  # noqa: E731
-        if spatial:
-            from .spatial_constraints import named_det_adjugate
-
-            det, adj = named_det_adjugate(Ad, chain)
-        else:
-            det = sp.factor_terms(Ad.det(method="berkowitz"))
-            adj = Ad.adjugate(method="berkowitz")
-        solve = lambda rhs: (adj * rhs) / det  # noqa: E731
-        X = named(solve(Ai), "C_loops")
-        y = solve(a)
-        ui = sp.Matrix([u_free[j] for j in ind])
-        u_dep = named(-X * ui - y, "u_loops")
-        dep_subs = {u_free[j]: u_dep[k] for k, j in enumerate(dep)}
-        e_dep = named(-solve(c.xreplace(dep_subs)), "ud_loops")
-        n, ni = len(u_free), len(ind)
-        P = sp.zeros(n, ni)
-        e = sp.zeros(n, 1)
-        for k, j in enumerate(ind):
-            P[j, k] = 1
-        for k, j in enumerate(dep):
-            P[j, :] = -X[k, :]
-            e[j] = e_dep[k]
-        M = self.mass_matrix
-        # u' of the dependent speeds in terms of the independent ones (for outputs)
-        udi = sp.Matrix([ud_free[j] for j in ind])
-        ud_dep = -X * udi + e_dep
-        ud_subs = {ud_free[j]: ud_dep[k] for k, j in enumerate(dep)}
-        # constraint forces: the dependent rows of M u' - f are A_d^T lambda; drivers also work against
-        # them, through their own columns of the constraint matrix
-        residual = (M * sp.Matrix(ud_free) - self.forcing)
-        lam = (adj.T * sp.Matrix([residual[j] for j in dep])) / det
-        for owner, effort in list(self.driver_efforts.items()):
-            coord = chain.of(owner)[0]
-            column = sp.Matrix([sub(chain.partial(e, coord.u)) for e in g_raw])
-            self.driver_efforts[owner] = effort - (column.T * lam)[0]
-        M_reduced, f_reduced = dependent_speed_reduction(M, self.forcing, P, e)
-        self.mass_matrix = M_reduced.applyfunc(lambda x: x.xreplace(dep_subs))
-        self.forcing = f_reduced.applyfunc(lambda x: x.xreplace(dep_subs))
-        self.qdot = self.qdot.applyfunc(lambda x: x.xreplace(dep_subs))
-        self.zdot = self.zdot.applyfunc(lambda x: x.xreplace(dep_subs))
-        self.dependent_speeds = dep_subs
-        self.u = [u_free[j] for j in ind]
-        self.ud = [chain.ud[u] for u in self.u]
-        for owner, effort in self.driver_efforts.items():
-            self.outputs[f"effort_{owner}"] = effort
-        self.outputs["power_nonconservative"] = self._power_with_efforts(sub)
-        self.driver_efforts = {k: v.xreplace(ud_subs).xreplace(dep_subs) for k, v in self.driver_efforts.items()}
-        self.outputs = {k: v.xreplace(ud_subs).xreplace(dep_subs) for k, v in self.outputs.items()}
-        for name, ph in zip(cons.names, phi):
-            self.outputs[f"constraint_{name}"] = ph
-        for u, expr in dep_subs.items():
-            self.outputs[u.name] = expr
-        # the constraints decide the dependent coordinates of the initial state
-        self.dependent_coordinates = [c_.q for c_ in chain.coordinates if c_.u in dep_subs]
-        self._phi = [sub(chain.intermediates.expand(e)) for e in phi]
-        return dep_subs
-
-    def _power_with_efforts(self, sub) -> sp.Expr:
-        """Power of non-conservative forces with the drivers' efforts corrected for constraint forces."""
-        from .outputs import output_expressions
-
+    # ------------------------------------------------------------------ outputs
+    def _output_expressions(self, efforts: dict) -> dict:
+        """Output expressions (drivers not substituted) with the drivers' efforts ``efforts``
+        (:func:`.outputs.output_expressions`, :func:`.spatial_outputs.spatial_output_expressions`)."""
         outputs = spatial_output_expressions if self.chain.dimensions == 3 else output_expressions
-        return sub(outputs(self)["power_nonconservative"])
-
-    def _initial_guess(self, model, values) -> dict:
-        """Coordinates and speeds from the model's [initial] table (others 0), as numbers
-        (:func:`flexkane.kane.numeric.initial_guess`; ``values`` is not needed)."""
-        return numeric.initial_guess(self, model)
+        return outputs(SimpleNamespace(chain=self.chain, kinematics=self.kinematics, F_r=self.F_r,
+                                       driver_efforts=efforts))
 
     def project_coordinates(self, q: np.ndarray, p_values: dict, t: float = 0.0) -> np.ndarray:
         """Solve the loop constraints for the dependent coordinates (:func:`.numeric.project_coordinates`)."""
