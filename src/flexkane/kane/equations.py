@@ -102,7 +102,7 @@ class EquationsOfMotion:
     q : list of sympy.Symbol
         State coordinates (coordinates prescribed by a driver are not among them).
     u : list of sympy.Symbol
-        Free generalized speeds.
+        Independent generalized speeds (neither prescribed by a driver nor dependent by a loop).
     ud : list of sympy.Symbol
         Symbols of u'.
     qdot : sympy.Matrix, shape (len(q), 1)
@@ -130,6 +130,16 @@ class EquationsOfMotion:
         chain without intermediates, the same objects).
     intermediates : list of (sympy.Symbol, sympy.Expr)
         ``compact.intermediates``: definitions in evaluation order.
+    driver_efforts : dict of str to sympy.Expr
+        Joint -> the generalized force its driver supplies [N m or N] (q, u, u', t).
+    dependent_speeds : dict of sympy.Symbol to sympy.Expr
+        Speeds made dependent by loop constraints -> their expressions (empty without loops;
+        :func:`flexkane.kane.loop_reduction.reduce_by_loops` decides these, the reduced equations
+        and the two attributes below).
+    dependent_coordinates : list of sympy.Symbol
+        Their coordinates, which the constraints decide in the initial state.
+    constraint_set : ConstraintSet or None
+        The loop joints' constraints.
     """
 
     def __init__(self, chain: Chain, kin: Kinematics, inertia: InertiaForces, active: dict):
@@ -139,7 +149,6 @@ class EquationsOfMotion:
         self.t = chain.t
         self.all_speeds = list(chain.u)
         self.F_r = active
-        self._inertia = inertia
         coords = chain.coordinates
         speed_coords = chain.speed_coordinates     # rows and columns of M (a 3D chain's e0 has none)
         subs = {}
