@@ -133,3 +133,68 @@ def test_the_design_document_draws_these_layers():
     section = text.split("## The package as layers", 1)[1].split("```")[1]
     drawn = [m.group(2) for m in re.finditer(r"^\s*(\d+)  (\S.*?)\s{2,}", section, re.MULTILINE)]
     assert drawn[::-1] == [name for name, _ in LAYERS]
+
+
+def import_circles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The circles of a directed graph: its strongly connected components of two nodes or more, and the
+    nodes that import themselves, each sorted, in sorted order (Tarjan's algorithm, without recursion)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    circles = []
+    for root in sorted(graph):
+        if root in index:
+            continue
+        work = [(root, iter(sorted(graph.get(root, ()))))]
+        index[root] = low[root] = len(index)
+        stack.append(root)
+        on_stack.add(root)
+        while work:
+            node, successors = work[-1]
+            for succ in successors:
+                if succ not in index:
+                    index[succ] = low[succ] = len(index)
+                    stack.append(succ)
+                    on_stack.add(succ)
+                    work.append((succ, iter(sorted(graph.get(succ, ())))))
+                    break
+                if succ in on_stack:
+                    low[node] = min(low[node], index[succ])
+            else:
+                work.pop()
+                if work:
+                    parent = work[-1][0]
+                    low[parent] = min(low[parent], low[node])
+                if low[node] == index[node]:
+                    component = []
+                    while True:
+                        member = stack.pop()
+                        on_stack.discard(member)
+                        component.append(member)
+                        if member == node:
+                            break
+                    if len(component) > 1 or node in graph.get(node, ()):
+                        circles.append(sorted(component))
+    return sorted(circles)
+
+
+def test_the_circle_finder_finds_a_circle():
+    graph = {"a": {"b"}, "b": {"c"}, "c": {"a", "d"}, "d": {"e"}, "e": {"d"}, "f": {"a"}, "g": {"g"}}
+    assert import_circles(graph) == [["a", "b", "c"], ["d", "e"], ["g"]]
+    assert import_circles({"a": {"b"}, "b": {"c"}, "c": set()}) == []
+
+
+def test_no_module_takes_part_in_an_import_circle():
+    """The modules import each other one way only, also inside the package of a layer: no module imports
+    one that (at any depth) imports it back. Every import counts, at module level, in a function or under
+    ``if TYPE_CHECKING:``; a package (its ``__init__``) is a module like the others."""
+    graph = {module: {target for target, _ in imported_modules(module, path) if target in MODULES}
+             for module, path in MODULES.items()}
+    circles = import_circles(graph)
+    listing = ["\n".join([f"circle of {len(circle)} modules:"]
+                         + [f"  {MODULES[m].relative_to(SRC)} -> "
+                            + ", ".join(sorted(t.rpartition('.')[2] for t in graph[m] if t in circle))
+                            for m in circle])
+               for circle in circles]
+    assert not circles, "import circles:\n" + "\n".join(listing)
