@@ -155,7 +155,8 @@ class Signals:
         what : str
             What the field is, with its unit (``"actuator torque [N m]"``).
         """
-        from ..expression_syntax import NeedsSymbolic, expression_names, field_value
+        from ..expression_syntax import NeedsSymbolic, expression_names
+        from ..expression_values import field_value
 
         if isinstance(value, bool) or not isinstance(value, (int, float, str)):
             raise ModelError(path, f"a number or an expression ({what})", value)
