@@ -9,6 +9,7 @@ module must be given a layer here.
 from __future__ import annotations
 
 import ast
+import functools
 import pathlib
 
 import pytest
@@ -61,6 +62,7 @@ def layer_of(module: str) -> int | None:
     return index
 
 
+@functools.lru_cache(maxsize=None)   # each module is read once for all the tests of this file
 def imported_modules(module: str, path: pathlib.Path) -> list[tuple[str, int]]:
     """The flexkane modules ``module`` imports, with the line of each import."""
     is_package = path.name == "__init__.py"
