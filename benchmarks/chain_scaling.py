@@ -45,10 +45,10 @@ from scaling import chain_model
 import numpy as np
 import flexkane
 from flexkane._version import __version__
+from flexkane.derivation_cache import model_source
 from flexkane.numerics.code_budget import compiled_operations
 from flexkane.numerics.integrate import compile_integrators
 from flexkane.numerics.jit_module import build_module, structure_key
-from flexkane.simulation import model_source
 
 def cpu():
     r = resource.getrusage(resource.RUSAGE_SELF)

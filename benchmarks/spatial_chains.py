@@ -112,7 +112,8 @@ _CHILD = r"""
 import json, resource, time
 import flexkane
 from flexkane.model import loads_model
-from flexkane.simulation import compile_model, model_source
+from flexkane.derivation_cache import model_source
+from flexkane.simulation import compile_model
 
 def cpu():
     r = resource.getrusage(resource.RUSAGE_SELF)

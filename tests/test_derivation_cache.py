@@ -7,9 +7,9 @@ import pytest
 
 import flexkane
 import flexkane.kane
-from flexkane.derivation_cache import cache_path, cached_derive, cached_rhs_source, structure_signature
+from flexkane.derivation_cache import cache_path, cached_derive, cached_rhs_source, model_source, structure_signature
 from flexkane.model.parts import ShapeSpec
-from flexkane.simulation import compile_model, model_source
+from flexkane.simulation import compile_model
 
 
 @pytest.fixture
@@ -135,14 +135,14 @@ def test_generated_source_is_cached_with_the_equations(tmp_path):
 
 def test_compiling_cached_equations_does_not_generate_their_code_again(tmp_path, monkeypatch):
     """A sweep's workers compile the equations they receive: the generated code comes from the cache."""
-    import flexkane.simulation
+    import flexkane.derivation_cache
 
     compiled = compile_model(cached_derive(beam(1), tmp_path), tmp_path)
 
     def refuse(eom):
         raise AssertionError("code generated again")
 
-    monkeypatch.setattr(flexkane.simulation, "model_source", refuse)
+    monkeypatch.setattr(flexkane.derivation_cache, "model_source", refuse)
     again = compile_model(cached_derive(beam(1), tmp_path), tmp_path)
     assert again.key == compiled.key
     with pytest.raises(AssertionError, match="code generated again"):

@@ -9,7 +9,8 @@ import pytest
 import sympy
 
 from flexkane.errors import ModelError
-from flexkane.expression_syntax import NeedsSymbolic, field_value, simple_value
+from flexkane.expression_syntax import NeedsSymbolic, simple_value
+from flexkane.expression_values import field_value
 from flexkane.expressions import parse_expression, to_float
 
 VALUES = {"x": 0.7, "y": -1.3, "z": 0.0, "L": 2.0, "t": 0.0}

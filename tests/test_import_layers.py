@@ -9,6 +9,7 @@ module must be given a layer here.
 from __future__ import annotations
 
 import ast
+import functools
 import pathlib
 
 import pytest
@@ -21,7 +22,7 @@ LAYERS = [
     ("foundation", ["flexkane.errors", "flexkane._version", "flexkane.interruption", "flexkane.natural_order",
                     "flexkane.atomic", "flexkane.progress", "flexkane.extras"]),
     # the expression language of model files: parsing and evaluating user text, without a model
-    ("expression language", ["flexkane.expression_syntax", "flexkane.expressions"]),
+    ("expression language", ["flexkane.expression_syntax", "flexkane.expressions", "flexkane.expression_values"]),
     # shape functions of beams: mathematics that knows no model (the model's validation asks them)
     ("modes", ["flexkane.modes"]),
     # parts, model files, field values (numbers), validation, built-in models
@@ -61,6 +62,7 @@ def layer_of(module: str) -> int | None:
     return index
 
 
+@functools.lru_cache(maxsize=None)   # each module is read once for all the tests of this file
 def imported_modules(module: str, path: pathlib.Path) -> list[tuple[str, int]]:
     """The flexkane modules ``module`` imports, with the line of each import."""
     is_package = path.name == "__init__.py"
@@ -133,3 +135,68 @@ def test_the_design_document_draws_these_layers():
     section = text.split("## The package as layers", 1)[1].split("```")[1]
     drawn = [m.group(2) for m in re.finditer(r"^\s*(\d+)  (\S.*?)\s{2,}", section, re.MULTILINE)]
     assert drawn[::-1] == [name for name, _ in LAYERS]
+
+
+def import_circles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The circles of a directed graph: its strongly connected components of two nodes or more, and the
+    nodes that import themselves, each sorted, in sorted order (Tarjan's algorithm, without recursion)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    circles = []
+    for root in sorted(graph):
+        if root in index:
+            continue
+        work = [(root, iter(sorted(graph.get(root, ()))))]
+        index[root] = low[root] = len(index)
+        stack.append(root)
+        on_stack.add(root)
+        while work:
+            node, successors = work[-1]
+            for succ in successors:
+                if succ not in index:
+                    index[succ] = low[succ] = len(index)
+                    stack.append(succ)
+                    on_stack.add(succ)
+                    work.append((succ, iter(sorted(graph.get(succ, ())))))
+                    break
+                if succ in on_stack:
+                    low[node] = min(low[node], index[succ])
+            else:
+                work.pop()
+                if work:
+                    parent = work[-1][0]
+                    low[parent] = min(low[parent], low[node])
+                if low[node] == index[node]:
+                    component = []
+                    while True:
+                        member = stack.pop()
+                        on_stack.discard(member)
+                        component.append(member)
+                        if member == node:
+                            break
+                    if len(component) > 1 or node in graph.get(node, ()):
+                        circles.append(sorted(component))
+    return sorted(circles)
+
+
+def test_the_circle_finder_finds_a_circle():
+    graph = {"a": {"b"}, "b": {"c"}, "c": {"a", "d"}, "d": {"e"}, "e": {"d"}, "f": {"a"}, "g": {"g"}}
+    assert import_circles(graph) == [["a", "b", "c"], ["d", "e"], ["g"]]
+    assert import_circles({"a": {"b"}, "b": {"c"}, "c": set()}) == []
+
+
+def test_no_module_takes_part_in_an_import_circle():
+    """The modules import each other one way only, also inside the package of a layer: no module imports
+    one that (at any depth) imports it back. Every import counts, at module level, in a function or under
+    ``if TYPE_CHECKING:``; a package (its ``__init__``) is a module like the others."""
+    graph = {module: {target for target, _ in imported_modules(module, path) if target in MODULES}
+             for module, path in MODULES.items()}
+    circles = import_circles(graph)
+    listing = ["\n".join([f"circle of {len(circle)} modules:"]
+                         + [f"  {MODULES[m].relative_to(SRC)} -> "
+                            + ", ".join(sorted(t.rpartition('.')[2] for t in graph[m] if t in circle))
+                            for m in circle])
+               for circle in circles]
+    assert not circles, "import circles:\n" + "\n".join(listing)

@@ -4,7 +4,8 @@ The derivation keeps every number of a model as a symbol (:mod:`flexkane.model.v
 models that differ only in numbers have the same equations. :func:`structure_signature` hashes
 what the equations depend on; :func:`cached_derive` stores each
 :class:`~flexkane.kane.EquationsOfMotion` under that hash (with the versions of the derivation
-code) and returns the stored one, bound to the model given, when the hash is known.
+code) and returns the stored one, bound to the model given, when the hash is known. The source of the
+generated module of the equations (:func:`model_source`) is cached beside them (:func:`cached_rhs_source`).
 
 What belongs to the structure
 -----------------------------
@@ -54,7 +55,7 @@ from .atomic import atomic_write_bytes, atomic_write_text
 from .model import Model
 
 __all__ = ["VALUE_FIELDS", "Derivation", "cache_path", "cached_derive", "cached_rhs_source", "derive",
-           "structure_signature"]
+           "model_source", "structure_signature", "work_integrands"]
 
 # Key paths of the constant fields that the derivation turns into a symbol, a parameter's symbol or
 # a zero (``FieldSymbols.value``): only that class is structure. A field missing here is compared by
@@ -89,8 +90,8 @@ _BEAM_LENGTH = re.compile(r"beams\.[^.]+\.L")
 _FORMAT = 1  # layout of the cache files
 # Sources that compute a run's numbers, its manifest and its generated module beside the equations.
 _RUN_SOURCES = ("modes/*.py", "report.py", "validity.py", "run_manifest.py", "plots.py", "natural_order.py",
-                "expression_syntax.py", "simulation.py", "numerics/codegen.py", "numerics/large_rhs.py",
-                "numerics/code_budget.py")
+                "expression_syntax.py", "expression_values.py", "simulation.py", "derivation_cache.py",
+                "numerics/codegen.py", "numerics/large_rhs.py", "numerics/code_budget.py")
 
 
 # ---------------------------------------------------------------------- structure signature
@@ -381,6 +382,46 @@ def _source_path(root: Path, key: str) -> Path:
     return root / "derived" / f"{key}-{_run_digest()[:16]}.module.py"
 
 
+def work_integrands(eom) -> dict:
+    """Integrands of the quadrature states of a run: ``{"work": power}`` [W], or ``{}``.
+
+    The power of the non-conservative forces (drivers with their efforts, applied loads, actuator
+    torques, dampers; :mod:`flexkane.kane.outputs`) is integrated with the motion, so the work
+    ``W`` and the balance ``E - E0 - W`` are exact to the solver's tolerance. A model without such
+    forces (power identically 0) gets none.
+    """
+    outputs = eom.compact.outputs if hasattr(eom, "compact") else eom.outputs   # named intermediates kept
+    power = outputs.get("power_nonconservative", 0)
+    return {} if power == 0 else {"work": power}
+
+
+def model_source(eom) -> str:
+    """Source of the generated module of ``eom`` (before :func:`~flexkane.numerics.jit_module.build_module`).
+
+    Parameters
+    ----------
+    eom : EquationsOfMotion
+
+    Returns
+    -------
+    str
+        ``rhs`` and ``system_rhs`` (:func:`flexkane.numerics.generate_rhs_source`, with the
+        quadratures of :func:`work_integrands`), ``outputs`` (every output of ``eom.outputs``,
+        :func:`flexkane.numerics.generate_outputs_source`; outputs that contain u' call ``rhs``)
+        and, when a beam's spin is checked, ``spin_rates`` (the angular velocities of
+        :func:`flexkane.validity.spin_expressions`).
+    """
+    from .numerics.codegen import generate_outputs_source, generate_rhs_source
+    from .validity import spin_expressions
+
+    parts = [generate_rhs_source(eom, quadratures=work_integrands(eom)),
+             generate_outputs_source(eom.compact.outputs if hasattr(eom, "compact") else eom.outputs, eom)]
+    spins = spin_expressions(eom)
+    if spins:
+        parts.append(generate_outputs_source(spins, eom, name="spin_rates"))
+    return "\n\n".join(parts)
+
+
 def cached_rhs_source(eom, cache_dir=None) -> str:
     """Generated code of ``eom`` (right-hand side, quadratures, outputs), from the cache when it has it.
 
@@ -396,10 +437,8 @@ def cached_rhs_source(eom, cache_dir=None) -> str:
     Returns
     -------
     str
-        :func:`flexkane.simulation.model_source` of ``eom``.
+        :func:`model_source` of ``eom``.
     """
-    from .simulation import model_source
-
     key = getattr(eom, "derivation_key", None)
     if not key:
         return model_source(eom)
@@ -512,8 +551,6 @@ class Derivation:
     def source(self) -> str:
         """Source of the generated module (:func:`cached_rhs_source`)."""
         if not self.key:
-            from .simulation import model_source
-
             return model_source(self.eom)
         if self._eom is None:
             try:

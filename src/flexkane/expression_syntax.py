@@ -34,7 +34,7 @@ from .errors import ModelError
 
 __all__ = ["FUNCTIONS", "MAX_DEPTH", "MAX_EXPONENT", "MAX_INTEGER", "MAX_LENGTH", "MAX_NODES",
            "NeedsSymbolic", "RESERVED_NAMES", "check_parameter_name", "dependency_order",
-           "expression_names", "field_value", "rename_names", "simple_names", "simple_value"]
+           "expression_names", "rename_names", "simple_names", "simple_value"]
 
 MAX_LENGTH = 2000  #: Maximum number of characters of an expression.
 MAX_NODES = 500  #: Maximum number of syntax elements (numbers, names, operations, calls).
@@ -571,47 +571,3 @@ def simple_value(text, values: Mapping[str, float]) -> float:
         return _finite(_evaluate(tree, values))
     except (ArithmeticError, ValueError, TypeError, KeyError, RecursionError):
         raise NeedsSymbolic from None
-
-
-def field_value(text, values: Mapping[str, float], *, path: str, what: str | None = None) -> float:
-    """The value of a field: :func:`simple_value`, else through the SymPy conversion (same errors).
-
-    Parameters
-    ----------
-    text : int, float or str
-        A number or the text of an expression.
-    values : Mapping[str, float]
-        Values of the names it may use.
-    path : str
-        Key path of the field, for error messages.
-    what : str, optional
-        What the field is, with its unit (``"length [m]"``): an error then says that a field of this
-        kind was expected (written in the language, with a finite real value at the given ``t``).
-
-    Raises
-    ------
-    ModelError
-        As :func:`flexkane.expressions.parse_expression` and :func:`flexkane.expressions.to_float` do.
-    """
-    try:
-        return simple_value(text, values)
-    except NeedsSymbolic:
-        pass
-    import sympy
-
-    from .expressions import parse_expression, to_float
-
-    symbols = {name: sympy.Symbol(name, real=True) for name in values}
-    try:
-        expr = parse_expression(text, symbols, path=path)
-    except ModelError as exc:
-        if what is None:
-            raise
-        raise ModelError(exc.path, f"{what}, written as {exc.expected}", exc.given, exc.hint) from None
-    try:
-        return to_float(expr, {symbols[name]: float(value) for name, value in values.items()}, path=path)
-    except ModelError as exc:
-        if what is None:
-            raise
-        where = f" at t = {float(values['t']):g}" if "t" in symbols and expr.has(symbols["t"]) else ""
-        raise ModelError(path, f"{what} with a finite real value{where}", text, exc.hint) from None

@@ -1,6 +1,7 @@
 """Simulation: compile the equations of motion once, integrate them, evaluate the outputs.
 
-``compile_model(eom)`` generates the Numba module of the equations (:func:`model_source`: the
+``compile_model(eom)`` generates the Numba module of the equations
+(:func:`~flexkane.derivation_cache.model_source`: the
 right-hand side of ``M u' = f`` with ``q' = qdot``, the quadratures of the work, and the outputs)
 and loads (or builds) it from the on-disk cache; ``simulate(compiled, ...)`` integrates it on an
 output grid with dense output, evaluates the outputs with the module's compiled ``outputs``
@@ -25,7 +26,7 @@ from .model.validate import MAX_OUTPUT_ROWS, check_output_grid
 from .results import Results
 
 __all__ = ["COMPILING_MESSAGE", "CompiledModel", "compile_model", "simulate", "output_grid", "output_times",
-           "INTEGRATORS_MESSAGE", "initial_state_vector", "model_source", "work_integrands"]
+           "INTEGRATORS_MESSAGE", "initial_state_vector"]
 
 
 def output_grid(t_end: float, dt_out: float) -> np.ndarray:
@@ -186,46 +187,6 @@ class CompiledModel:
 COMPILING_MESSAGE = "compiling the right-hand side of this model structure (once)"
 #: Message of :func:`compile_model` while Numba compiles the integrators (once per installation).
 INTEGRATORS_MESSAGE = "compiling the integrators DOP853 and Radau IIA (once per installation)"
-
-
-def work_integrands(eom) -> dict:
-    """Integrands of the quadrature states of a run: ``{"work": power}`` [W], or ``{}``.
-
-    The power of the non-conservative forces (drivers with their efforts, applied loads, actuator
-    torques, dampers; :mod:`flexkane.kane.outputs`) is integrated with the motion, so the work
-    ``W`` and the balance ``E - E0 - W`` are exact to the solver's tolerance. A model without such
-    forces (power identically 0) gets none.
-    """
-    outputs = eom.compact.outputs if hasattr(eom, "compact") else eom.outputs   # named intermediates kept
-    power = outputs.get("power_nonconservative", 0)
-    return {} if power == 0 else {"work": power}
-
-
-def model_source(eom) -> str:
-    """Source of the generated module of ``eom`` (before :func:`~flexkane.numerics.jit_module.build_module`).
-
-    Parameters
-    ----------
-    eom : EquationsOfMotion
-
-    Returns
-    -------
-    str
-        ``rhs`` and ``system_rhs`` (:func:`flexkane.numerics.generate_rhs_source`, with the
-        quadratures of :func:`work_integrands`), ``outputs`` (every output of ``eom.outputs``,
-        :func:`flexkane.numerics.generate_outputs_source`; outputs that contain u' call ``rhs``)
-        and, when a beam's spin is checked, ``spin_rates`` (the angular velocities of
-        :func:`flexkane.validity.spin_expressions`).
-    """
-    from .numerics.codegen import generate_outputs_source, generate_rhs_source
-    from .validity import spin_expressions
-
-    parts = [generate_rhs_source(eom, quadratures=work_integrands(eom)),
-             generate_outputs_source(eom.compact.outputs if hasattr(eom, "compact") else eom.outputs, eom)]
-    spins = spin_expressions(eom)
-    if spins:
-        parts.append(generate_outputs_source(spins, eom, name="spin_rates"))
-    return "\n\n".join(parts)
 
 
 def compile_model(eom, cache_dir=None, *, announce=None, outputs: bool = True) -> CompiledModel:

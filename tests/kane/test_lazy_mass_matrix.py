@@ -14,11 +14,11 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
+from flexkane.derivation_cache import model_source
 from flexkane.kane import equations
 from flexkane.kane.compact import LazyMassMatrix
 from flexkane.kane.inertia import LAZY_MASS_MIN_SPEEDS
 from flexkane.numerics import codegen
-from flexkane.simulation import model_source
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
 from scaling import chain_model  # noqa: E402

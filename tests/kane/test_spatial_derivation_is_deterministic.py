@@ -11,8 +11,8 @@ from child_env import child_env
 CHILD = """
 import hashlib
 import flexkane
+from flexkane.derivation_cache import model_source
 from flexkane.model import loads_model
-from flexkane.simulation import model_source
 
 lines = ["dimensions = 3", "[gravity]", "g = 9.81", "direction = [0, 0, -1]"]
 for i in range(2):

@@ -10,11 +10,10 @@ import numpy as np
 import pytest
 
 import flexkane
-from flexkane.derivation_cache import derive
+from flexkane.derivation_cache import derive, model_source
 from flexkane.numerics import codegen
 from flexkane.numerics.constant_block import prepared_parameters
 from flexkane.numerics.jit_module import build_module, structure_key
-from flexkane.simulation import model_source
 
 
 def _outputs_both_ways(model, cache, monkeypatch):

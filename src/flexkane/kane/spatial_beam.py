@@ -37,6 +37,7 @@ from .chain import BEAM_ROLES
 from .modal_field import ONE, X, Field, cross3, dfs, dphi, phi, psi, rigid, theta, vec3, vec3_map
 from .spatial_beam_constants import SpatialBeamConstants
 from .spatial_frame import SpatialFrame, add, cross
+from .spatial_rigid_properties import SpatialRigidProperties
 
 __all__ = ["SpatialBeamMotion", "beam_motion", "beam_own_properties", "add_beam_rows", "beam_active_forces",
            "beam_outputs", "tip_outputs"]
@@ -151,9 +152,8 @@ def acceleration_remainder(bm: SpatialBeamMotion, chain) -> tuple:
 
 def beam_own_properties(kin, name: str, a_rem: tuple):
     """Mass, first moment, inertia tensor about the root, resultant and moment of the inertia
-    forces without u' of a spatial beam, B's axes (:class:`SpatialRigidProperties`)."""
-    from .spatial_inertia import SpatialRigidProperties
-
+    forces without u' of a spatial beam, B's axes
+    (:class:`~flexkane.kane.spatial_rigid_properties.SpatialRigidProperties`)."""
     bm = kin.beams[name]
     k = bm.constants
     X, Y, Z = bm.r

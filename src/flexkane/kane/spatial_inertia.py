@@ -16,12 +16,10 @@ inertia forces without u' (``rho x m a_rem`` and each body's ``I alpha_rem + w x
 
 at the frame of the deeper of the two speeds. Composites are formed from the tips inwards, each
 child's moved to its parent's frame by the parallel-axis theorem with the rotation ``Lambda`` and
-offset ``s`` of the child's frame in the parent's (:meth:`SpatialRigidProperties.moved`), and named.
+offset ``s`` of the child's frame in the parent's (:meth:`~flexkane.kane.spatial_rigid_properties.SpatialRigidProperties.moved`), and named.
 """
 
 from __future__ import annotations
-
-from dataclasses import dataclass
 
 import sympy as sp
 
@@ -30,54 +28,9 @@ from .spatial_beam import acceleration_remainder as beam_acceleration_remainder
 from .chain import BEAM_ROLES
 from .spatial_beam import add_beam_rows, beam_own_properties
 from .spatial_frame import acceleration_remainder, add, cross, dot
+from .spatial_rigid_properties import SpatialRigidProperties, matvec
 
-__all__ = ["SpatialRigidProperties", "spatial_inertia_forces"]
-
-
-def _matvec(A: sp.Matrix, v) -> tuple:
-    return tuple(sum((A[i, j] * v[j] for j in range(3)), sp.Integer(0)) for i in range(3))
-
-
-@dataclass
-class SpatialRigidProperties:
-    """Rigid-body properties about a frame's origin, components along its axes.
-
-    ``m`` mass [kg], ``S`` first moment (3,) [kg m], ``J`` inertia tensor about the origin (3, 3)
-    [kg m^2], ``R`` resultant of ``m a_rem`` (3,) [N], ``K`` moment about the origin of the inertia
-    forces without u' (3,) [N m].
-    """
-
-    m: sp.Expr
-    S: tuple
-    J: sp.Matrix
-    R: tuple
-    K: tuple
-
-    def __add__(self, other: "SpatialRigidProperties") -> "SpatialRigidProperties":
-        return SpatialRigidProperties(self.m + other.m, add(self.S, other.S), self.J + other.J,
-                                      add(self.R, other.R), add(self.K, other.K))
-
-    def moved(self, s: tuple, rotation) -> "SpatialRigidProperties":
-        """The same properties about a frame in which this one's origin is at ``s`` and this one's
-        orientation is ``rotation`` (parallel-axis theorem with a rotation)."""
-        L = rotation.matrix
-        S = _matvec(L, self.S)
-        R = _matvec(L, self.R)
-        J = L * self.J * L.T if not rotation.is_identity() else self.J
-        ss, sS = dot(s, s), dot(s, S)
-        J = J + sp.Matrix(3, 3, lambda i, j: (self.m * ss + 2 * sS if i == j else 0)
-                          - self.m * s[i] * s[j] - s[i] * S[j] - S[i] * s[j])
-        return SpatialRigidProperties(self.m, add(tuple(self.m * c for c in s), S), J, R,
-                                      add(_matvec(L, self.K), cross(s, R)))
-
-    def named(self, chain, label: str) -> "SpatialRigidProperties":
-        J = sp.zeros(3, 3)
-        for i in range(3):
-            for j in range(i, 3):
-                J[i, j] = J[j, i] = chain.name(self.J[i, j], f"J{'xyz'[i]}{'xyz'[j]}_{label}")
-        return SpatialRigidProperties(self.m, tuple(chain.name(c, f"S{a}_{label}") for c, a in zip(self.S, "xyz")),
-                                      J, tuple(chain.name(c, f"R{a}_{label}") for c, a in zip(self.R, "xyz")),
-                                      tuple(chain.name(c, f"K{a}_{label}") for c, a in zip(self.K, "xyz")))
+__all__ = ["spatial_inertia_forces"]
 
 
 def own_properties(kin, body: str) -> SpatialRigidProperties:
@@ -90,7 +43,7 @@ def own_properties(kin, body: str) -> SpatialRigidProperties:
     a = acceleration_remainder(frame, chain)
     w = frame.omega
     alpha = tuple(chain.dt(x) for x in w)
-    euler = add(_matvec(I, alpha), cross(w, _matvec(I, w)))
+    euler = add(matvec(I, alpha), cross(w, matvec(I, w)))
     cc = dot(c, c)
     J = I + sp.Matrix(3, 3, lambda i, j: (m * cc if i == j else 0) - m * c[i] * c[j])
     ma = tuple(m * x for x in a)
@@ -154,7 +107,7 @@ def spatial_inertia_forces(kin) -> InertiaForces:
                 As, Ws = twist_at(speeds[s], F)
                 P = composite[F]
                 M[r][s] += (P.m * dot(Ar, As) + dot(Ar, cross(Ws, P.S)) + dot(As, cross(Wr, P.S))
-                            + dot(Wr, _matvec(P.J, Ws)))
+                            + dot(Wr, matvec(P.J, Ws)))
     add_beam_rows(kin, M, rem, a_rems)
     for r in range(n):
         for s in range(r):

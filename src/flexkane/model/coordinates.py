@@ -21,7 +21,6 @@ import difflib
 from dataclasses import dataclass
 
 from ..errors import ModelError
-from .model import Model
 from .parts import JOINT_DOFS_BY_DIMENSION, Joint
 
 __all__ = ["CoordinateName", "coordinate_names", "tree_order", "coordinate_unit", "speed_unit",
@@ -137,7 +136,7 @@ def _spatial_beam_names(beam) -> list[tuple]:
     return out
 
 
-def tree_order(model: Model) -> list[Joint]:
+def tree_order(model) -> list[Joint]:
     """The joints from the ground outwards (breadth first, siblings by name)."""
     by_parent: dict[str, list[Joint]] = {}
     for joint in model.joints.values():
@@ -152,7 +151,7 @@ def tree_order(model: Model) -> list[Joint]:
     return order
 
 
-def coordinate_names(model: Model) -> list[CoordinateName]:
+def coordinate_names(model) -> list[CoordinateName]:
     """Name the coordinates of a model's chain, in state order; check names and initial conditions.
 
     Parameters

@@ -7,7 +7,7 @@ them; validation, the derivation's constants and initial state, the linearizatio
 the animation's outlines and the validity checks all use it, so a field has one value and one error
 message wherever it is read.
 
-The value is computed by :func:`flexkane.expression_syntax.field_value`: straight from the syntax
+The value is computed by :func:`flexkane.expression_values.field_value`: straight from the syntax
 tree in floating point where that gives the SymPy conversion's answer, else through
 :func:`flexkane.expressions.parse_expression` and :func:`flexkane.expressions.to_float` (the same
 value and the same messages, which name the field's key path).
@@ -18,8 +18,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from ..errors import ModelError
-from ..expression_syntax import (NeedsSymbolic, check_parameter_name, dependency_order, field_value,
-                                 simple_names, simple_value)
+from ..expression_syntax import NeedsSymbolic, check_parameter_name, dependency_order, simple_names, simple_value
+from ..expression_values import field_value
 
 __all__ = ["FieldValues", "parameter_values"]
 

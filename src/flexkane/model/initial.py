@@ -18,9 +18,8 @@ import numpy as np
 from ..errors import ModelError
 from .coordinates import coordinate_names, orientation_key
 from .field_values import FieldValues
-from .model import Model
+from .file_layout import ORIENTATION_FORMS
 from .orientation import normalized, orientation_quaternion
-from .toml_io import ORIENTATION_FORMS
 
 __all__ = ["InitialValues", "initial_values", "NORM_TOLERANCE"]
 
@@ -44,7 +43,7 @@ class InitialValues:
     warnings: list[str] = field(default_factory=list)
 
 
-def initial_values(model: Model, fields: FieldValues | None = None) -> InitialValues:
+def initial_values(model, fields: FieldValues | None = None) -> InitialValues:
     """Every coordinate and speed's initial value, orientations converted to Euler parameters.
 
     Parameters

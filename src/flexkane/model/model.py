@@ -7,14 +7,10 @@ import copy
 from dataclasses import dataclass, field
 
 from ..errors import ModelError
-from .parts import (DIMENSIONS, Beam, Controller, DistributedLoad, Gravity, Joint, Load, LoopConstraint,
-                    PointSpring, RigidBody, Sensor, Simulation, Value)
+from .parts import (DIMENSIONS, NAMING_STYLES, Beam, Controller, DistributedLoad, Gravity, Joint, Load,
+                    LoopConstraint, PointSpring, RigidBody, Sensor, Simulation, Value)
 
 __all__ = ["Model", "NAMING_STYLES", "DIMENSIONS"]
-
-#: ``joint``: coordinates named after their joint and beam (``q_shoulder``, ``q_arm_1``);
-#: ``sequential``: q1, q2, ... and u1, u2, ... in tree order (the chapter's naming).
-NAMING_STYLES = ("joint", "sequential")
 
 
 @dataclass

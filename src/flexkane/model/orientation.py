@@ -23,8 +23,8 @@ import numbers
 import numpy as np
 
 from ..errors import ModelError
+from .file_layout import ORIENTATION_FORMS, orientation_from_table
 from .parts import SEQUENCE_AXES
-from .toml_io import ORIENTATION_FORMS, orientation_from_table
 
 __all__ = ["unit_vector", "axis_angle_matrix", "sequence_matrix", "sequence_matrices", "quaternion_matrix",
            "quaternion_matrices", "matrix_quaternion",

@@ -39,6 +39,9 @@ JOINT_TYPES_BY_DIMENSION = {2: JOINT_TYPES, 3: SPATIAL_JOINT_TYPES}
 JOINT_DOFS_BY_DIMENSION = {2: JOINT_DOFS, 3: SPATIAL_JOINT_DOFS}
 #: Numbers of dimensions a model may have (2: planar chains, 3: spatial chains).
 DIMENSIONS = (2, 3)
+#: ``joint``: coordinates named after their joint and beam (``q_shoulder``, ``q_arm_1``);
+#: ``sequential``: q1, q2, ... and u1, u2, ... in tree order (the chapter's naming).
+NAMING_STYLES = ("joint", "sequential")
 #: Letters of the body-fixed axes in an orientation's ``sequence``.
 SEQUENCE_AXES = "xyz"
 GRAVITY_MODELS = ("distributed", "midpoint")

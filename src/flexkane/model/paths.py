@@ -13,7 +13,7 @@ import difflib
 import re
 
 from ..errors import ModelError
-from .model import Model
+from .file_layout import BEAM_KEYS, SPATIAL_BEAM_KEYS
 from .parts import Beam, ShapeSpec
 
 __all__ = ["get_value", "set_value", "parse_path"]
@@ -36,10 +36,8 @@ def _keys(obj) -> list[str]:
         return [str(k) for k in obj]
     keys = [f.name for f in dataclasses.fields(obj)]
     if isinstance(obj, Beam):     # the keys of a planar or of a spatial beam, not both
-        from .toml_io import _BEAM_KEYS, _SPATIAL_BEAM_KEYS
-
-        own, other = (_SPATIAL_BEAM_KEYS, _BEAM_KEYS) if obj.EI_y is not None or obj.EI_z is not None \
-            else (_BEAM_KEYS, _SPATIAL_BEAM_KEYS)
+        own, other = (SPATIAL_BEAM_KEYS, BEAM_KEYS) if obj.EI_y is not None or obj.EI_z is not None \
+            else (BEAM_KEYS, SPATIAL_BEAM_KEYS)
         other = set(other) - set(own)
         keys = [k for k in keys if k not in other]
     if isinstance(obj, ShapeSpec):
@@ -77,7 +75,7 @@ def _child(obj, key, path):
     raise _missing(path, obj, key)
 
 
-def get_value(model: Model, path: str):
+def get_value(model, path: str):
     """The value at a key path.
 
     Parameters
@@ -116,7 +114,7 @@ def _assign(container, key, value, path: str):
     return container
 
 
-def set_value(model: Model, path: str, value) -> None:
+def set_value(model, path: str, value) -> None:
     """Set the value at a key path (in place).
 
     A bare name sets a parameter if the model has one of that name, else the model's ``name``,

@@ -155,7 +155,8 @@ class Signals:
         what : str
             What the field is, with its unit (``"actuator torque [N m]"``).
         """
-        from ..expression_syntax import NeedsSymbolic, expression_names, field_value
+        from ..expression_syntax import NeedsSymbolic, expression_names
+        from ..expression_values import field_value
 
         if isinstance(value, bool) or not isinstance(value, (int, float, str)):
             raise ModelError(path, f"a number or an expression ({what})", value)
@@ -334,8 +335,6 @@ def _is_function(name: str) -> bool:
 
 def check_sensor(model, sensor, values, lengths: dict) -> None:
     """Check one sensor's fields and references (see :class:`~flexkane.model.parts.Sensor`)."""
-    from .validate import _station
-
     path = f"sensors.{sensor.name}"
     if not isinstance(sensor.type, str) or sensor.type not in SENSOR_TYPES:
         raise ModelError(f"{path}.type", "one of " + ", ".join(repr(t) for t in SENSOR_TYPES), sensor.type)
@@ -369,7 +368,7 @@ def check_sensor(model, sensor, values, lengths: dict) -> None:
             raise ModelError(f"{path}.beam", f"the name of a beam ({', '.join(beams) or 'the model has none'})",
                              sensor.beam)
         if sensor.station is not None:
-            _station(f"{path}.station", sensor.station, sensor.beam, lengths, values)
+            values.station(f"{path}.station", sensor.station, sensor.beam, lengths)
         if sensor.distance is not None:
             values.number(f"{path}.distance", sensor.distance, "distance from the neutral axis", "m")
         if spatial and kind != "twist" and sensor.component not in BEAM_COMPONENTS:
@@ -393,7 +392,7 @@ def check_sensor(model, sensor, values, lengths: dict) -> None:
             if sensor.station is None:
                 raise ModelError(f"{path}.station", f"the station x on beam {sensor.body!r} [m]", None,
                                  show_given=False)
-            _station(f"{path}.station", sensor.station, sensor.body, lengths, values)
+            values.station(f"{path}.station", sensor.station, sensor.body, lengths)
         if sensor.frame not in FRAMES:
             raise ModelError(f"{path}.frame", "one of " + ", ".join(repr(f) for f in FRAMES), sensor.frame)
         components = SPATIAL_COMPONENTS if spatial else COMPONENTS

@@ -20,7 +20,7 @@ The file has one table per kind of part, keyed by name::
 
 In a spatial model vectors have three components, a body's ``inertia`` is three principal values or
 a 3 x 3 tensor, a joint has ``axis = [ax, ay, az]`` (or ``axes`` for a universal joint) and
-``orientation`` / ``child_orientation`` tables (:func:`flexkane.model.orientation.orientation_from_table`),
+``orientation`` / ``child_orientation`` tables (:func:`flexkane.model.file_layout.orientation_from_table`),
 a load's ``torque`` is a vector.
 
 Reading checks the layout of the file: tables where tables belong, no unknown key (a typo is
@@ -41,48 +41,17 @@ from pathlib import Path
 import tomli_w
 
 from ..errors import ModelError
+from .file_layout import (BEAM_KEYS, BODY_KEYS, CONSTRAINT_KEYS, CONTROLLER_KEYS, DISTRIBUTED_KEYS, DRIVER_KEYS,
+                          GRAVITY_KEYS, JOINT_KEYS, LOAD_KEYS, SENSOR_KEYS, SHAPE_KEYS, SIM_KEYS, SPATIAL_BEAM_KEYS,
+                          SPRING_KEYS, TOP_KEYS, orientation_from_table)
 from .model import Model
 from .parts import (SENSOR_TYPES, Beam, Controller, DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint,
-                    Orientation, PointSpring, RigidBody, Sensor, ShapeSpec, Simulation)
+                    PointSpring, RigidBody, Sensor, ShapeSpec, Simulation)
 
-__all__ = ["load_model", "loads_model", "dumps_model", "save_model", "model_to_dict", "orientation_from_table",
-           "MAX_FILE_BYTES", "ORIENTATION_KEYS", "ORIENTATION_FORMS"]
+__all__ = ["load_model", "loads_model", "dumps_model", "save_model", "model_to_dict", "MAX_FILE_BYTES"]
 
 #: Largest model file accepted [bytes].
 MAX_FILE_BYTES = 1_000_000
-
-_TOP_KEYS = ("name", "dimensions", "description", "naming", "parameters", "bodies", "beams", "joints", "gravity",
-             "loads", "distributed_loads", "springs", "constraints", "sensors", "controllers", "initial", "simulation",
-             "sweep")
-_BODY_KEYS = ("mass", "inertia", "points", "outline")
-_BEAM_KEYS = ("L", "EI", "rho", "n_modes", "shape", "damping", "gravity", "elastic_forces",
-              "geometric_stiffening", "EA", "n_axial", "axial_shape", "rotary_inertia")
-#: Keys of a beam in a spatial model (dimensions = 3): two bending planes, torsion, axial stretch.
-_SPATIAL_BEAM_KEYS = ("L", "rho", "EI_y", "EI_z", "n_modes_y", "n_modes_z", "shape_y", "shape_z", "GJ",
-                      "rho_Ip", "n_torsion", "torsion_shape", "EA", "n_axial", "axial_shape",
-                      "principal_angle", "damping", "gravity", "geometric_stiffening", "rotary_inertia",
-                      "rho_Iy", "rho_Iz", "damping_y", "damping_z", "torsion_damping", "axial_damping")
-_SHAPE_KEYS = ("family", "roots")  # plus the options of the family, checked by the family
-_JOINT_KEYS = ("type", "parent", "child", "parent_point", "parent_position", "station", "child_point",
-               "angle", "axis", "axes", "orientation", "child_orientation", "coordinates", "speeds", "stiffness",
-               "damping", "rest", "torque", "driver")
-_DRIVER_KEYS = ("coordinate", "speed")
-_GRAVITY_KEYS = ("g", "direction")
-_LOAD_KEYS = ("body", "point", "station", "force", "torque", "frame")
-_DISTRIBUTED_KEYS = ("beam", "fx", "fy", "frame", "quadrature_nodes")
-_SPRING_KEYS = ("body_a", "point_a", "station_a", "position_a", "body_b", "point_b", "station_b", "position_b",
-                "stiffness", "damping", "rest_length")
-_CONSTRAINT_KEYS = ("type", "body_a", "point_a", "station_a", "position_a", "body_b", "point_b", "station_b",
-                    "position_b", "axis", "angle", "dependent", "stabilization", "orientation")
-_SENSOR_KEYS = ("type", "beam", "body", "point", "joint", "station", "distance", "frame", "component")
-_CONTROLLER_KEYS = ("states", "initial", "output", "min", "max")
-_SIM_KEYS = ("t_end", "dt_out", "rtol", "atol", "method", "max_steps", "deflection_warning", "spin_warning")
-
-#: Keys of an orientation table.
-ORIENTATION_KEYS = ("axis", "angle", "sequence", "angles")
-#: What an orientation table looks like, for messages.
-ORIENTATION_FORMS = ("a table { axis = [ax, ay, az], angle = a } or { sequence = \"zyx\", angles = [a1, a2, a3] }"
-                     " (sequence: 1 to 3 letters among x, y, z; angles [rad])")
 
 _MISSING = object()
 
@@ -146,7 +115,7 @@ def _shape(table: dict, key: str, path: str, default_family: str | None):
     roots = spec.get("roots")
     if isinstance(roots, list) and all(isinstance(r, numbers.Real) and not isinstance(r, bool) for r in roots):
         roots = [float(r) for r in roots]
-    options = {k: v for k, v in spec.items() if k not in _SHAPE_KEYS}
+    options = {k: v for k, v in spec.items() if k not in SHAPE_KEYS}
     return ShapeSpec(family, roots, options)
 
 
@@ -184,36 +153,6 @@ def _vectors(value):
     return value
 
 
-def orientation_from_table(table, path: str) -> Orientation:
-    """An :class:`~flexkane.model.parts.Orientation` from a model file's table (keys checked; values
-    kept as given for the validation).
-
-    Parameters
-    ----------
-    table : dict or Orientation
-        ``{ axis = [...], angle = ... }`` or ``{ sequence = "...", angles = [...] }``.
-    path : str
-        Key path of the table, for messages.
-
-    Raises
-    ------
-    ModelError
-        For a value that is not a table, an unknown key, or keys of both forms.
-    """
-    if isinstance(table, Orientation):
-        return table
-    if not isinstance(table, dict):
-        raise ModelError(path, ORIENTATION_FORMS, table)
-    for key in table:
-        if key not in ORIENTATION_KEYS:
-            close = difflib.get_close_matches(str(key), ORIENTATION_KEYS, n=1, cutoff=0.5)
-            raise ModelError(f"{path}.{key}", "a known key of an orientation (axis, angle or sequence, angles)",
-                             key, f"did you mean {close[0]!r}?" if close else None)
-    axis, angles = table.get("axis"), table.get("angles")
-    return Orientation(axis=tuple(axis) if isinstance(axis, list) else axis, angle=table.get("angle"),
-                       sequence=table.get("sequence"), angles=list(angles) if isinstance(angles, tuple) else angles)
-
-
 def _float(table: dict, key: str, default=None):
     value = table.get(key, default)
     if isinstance(value, numbers.Real) and not isinstance(value, bool):
@@ -222,14 +161,14 @@ def _float(table: dict, key: str, default=None):
 
 
 def _model_from_dict(data: dict) -> Model:
-    _check_keys(data, _TOP_KEYS, "")
+    _check_keys(data, TOP_KEYS, "")
     model = Model(name=_get(data, "name", "", default="model"),
                   description=_get(data, "description", "", default=""),
                   naming=_get(data, "naming", "", default="joint"),
                   dimensions=_get(data, "dimensions", "", default=2))
     spatial = model.dimensions == 3
     model.parameters.update(_table(data, "parameters", "", "a table of parameters { name = value }"))
-    for name, body in _parts(data, "bodies", _BODY_KEYS).items():
+    for name, body in _parts(data, "bodies", BODY_KEYS).items():
         path = f"bodies.{name}"
         points = {pname: _pair(body["points"], pname, f"{path}.points")
                   for pname in _table(body, "points", path, "a table of named points { P = [x, y] } [m]")}
@@ -241,7 +180,7 @@ def _model_from_dict(data: dict) -> Model:
                        "the moment of inertia about the mass centre [kg m^2]")
         model.bodies[name] = RigidBody(name, _get(body, "mass", path, "the mass [kg]"), _vectors(inertia),
                                        points, outline)
-    for name, beam in _parts(data, "beams", _SPATIAL_BEAM_KEYS if spatial else _BEAM_KEYS).items():
+    for name, beam in _parts(data, "beams", SPATIAL_BEAM_KEYS if spatial else BEAM_KEYS).items():
         path = f"beams.{name}"
         if spatial:
             model.beams[name] = _spatial_beam(name, beam, path)
@@ -258,12 +197,12 @@ def _model_from_dict(data: dict) -> Model:
             geometric_stiffening=beam.get("geometric_stiffening", False), EA=beam.get("EA"), n_axial=n_axial,
             axial_shape=_shape(beam, "axial_shape", path, "axial-fixed-free" if n_axial else None),
             rotary_inertia=beam.get("rotary_inertia"))
-    for name, joint in _parts(data, "joints", _JOINT_KEYS).items():
+    for name, joint in _parts(data, "joints", JOINT_KEYS).items():
         path = f"joints.{name}"
         driver = None
         if "driver" in joint:
             table = _table(joint, "driver", path, "a table { coordinate = ... } or { speed = ... }")
-            _check_keys(table, _DRIVER_KEYS, f"{path}.driver")
+            _check_keys(table, DRIVER_KEYS, f"{path}.driver")
             driver = Driver(table.get("coordinate"), table.get("speed"))
         axes = joint.get("axes")
         orientations = {key: orientation_from_table(joint[key], f"{path}.{key}") if key in joint else None
@@ -281,22 +220,22 @@ def _model_from_dict(data: dict) -> Model:
             axes=[_vectors(a) for a in axes] if isinstance(axes, list) else axes, **orientations)
     if "gravity" in data:
         grav = _table(data, "gravity", "", "a table { g = ..., direction = [x, y] }")
-        _check_keys(grav, _GRAVITY_KEYS, "gravity")
+        _check_keys(grav, GRAVITY_KEYS, "gravity")
         model.gravity = Gravity(_get(grav, "g", "gravity", "the gravitational acceleration [m/s^2]"),
                                 _pair(grav, "direction", "gravity", "a direction [x, y] in the ground frame"))
-    for name, load in _parts(data, "loads", _LOAD_KEYS).items():
+    for name, load in _parts(data, "loads", LOAD_KEYS).items():
         path = f"loads.{name}"
         model.loads[name] = Load(name, _get(load, "body", path, "the name of a body or a beam"),
                                  point=load.get("point"), station=load.get("station"),
                                  force=_pair(load, "force", path), torque=_vectors(load.get("torque")),
                                  frame=load.get("frame", "ground"))
-    for name, table in _parts(data, "distributed_loads", _DISTRIBUTED_KEYS + (("fz",) if spatial else ())).items():
+    for name, table in _parts(data, "distributed_loads", DISTRIBUTED_KEYS + (("fz",) if spatial else ())).items():
         path = f"distributed_loads.{name}"
         model.distributed_loads[name] = DistributedLoad(
             name, _get(table, "beam", path, "the name of the loaded beam"), fx=table.get("fx", 0),
             fy=table.get("fy", 0), fz=table.get("fz", 0), frame=table.get("frame", "beam"),
             quadrature_nodes=table.get("quadrature_nodes", DistributedLoad.quadrature_nodes))
-    for name, spring in _parts(data, "springs", _SPRING_KEYS).items():
+    for name, spring in _parts(data, "springs", SPRING_KEYS).items():
         path = f"springs.{name}"
         model.springs[name] = PointSpring(
             name, _get(spring, "body_a", path, "'ground', a body or a beam"),
@@ -306,7 +245,7 @@ def _model_from_dict(data: dict) -> Model:
             stiffness=spring.get("stiffness", 0), damping=spring.get("damping", 0),
             rest_length=spring.get("rest_length", 0),
             station_a=spring.get("station_a"), station_b=spring.get("station_b"))
-    for name, con in _parts(data, "constraints", _CONSTRAINT_KEYS).items():
+    for name, con in _parts(data, "constraints", CONSTRAINT_KEYS).items():
         path = f"constraints.{name}"
         model.constraints[name] = LoopConstraint(
             name, _get(con, "type", path, "the loop joint type (revolute or prismatic)"),
@@ -318,12 +257,12 @@ def _model_from_dict(data: dict) -> Model:
             stabilization=_float(con, "stabilization", 0.0),
             orientation=(orientation_from_table(con["orientation"], f"{path}.orientation")
                          if "orientation" in con else None))
-    for name, table in _parts(data, "sensors", _SENSOR_KEYS).items():
+    for name, table in _parts(data, "sensors", SENSOR_KEYS).items():
         model.sensors[name] = Sensor(
             name, _get(table, "type", f"sensors.{name}", "the kind of sensor (" + ", ".join(SENSOR_TYPES) + ")"),
-            **{key: table.get(key) for key in _SENSOR_KEYS if key not in ("type", "frame")},
+            **{key: table.get(key) for key in SENSOR_KEYS if key not in ("type", "frame")},
             frame=table.get("frame", "ground"))
-    for name, table in _parts(data, "controllers", _CONTROLLER_KEYS).items():
+    for name, table in _parts(data, "controllers", CONTROLLER_KEYS).items():
         path = f"controllers.{name}"
         model.controllers[name] = Controller(
             name, states=_table(table, "states", path, "a table of state rates { z = \"expression\" }"),
@@ -331,7 +270,7 @@ def _model_from_dict(data: dict) -> Model:
             output=table.get("output"), min=table.get("min"), max=table.get("max"))
     model.initial.update(_table(data, "initial", "", "a table of initial values { q_name = value }"))
     sim = _table(data, "simulation", "", "a table of run settings")
-    _check_keys(sim, _SIM_KEYS, "simulation")
+    _check_keys(sim, SIM_KEYS, "simulation")
     model.simulation = Simulation(_float(sim, "t_end"), _float(sim, "dt_out"), _float(sim, "rtol", 1e-8),
                                   _float(sim, "atol", 1e-10), sim.get("method", "auto"), sim.get("max_steps"),
                                   _float(sim, "deflection_warning", Simulation.deflection_warning),

@@ -31,10 +31,10 @@ import re
 
 from ..errors import ModelError, ModelErrors
 from .field_values import FieldValues
-from .model import NAMING_STYLES, Model
 from .parts import (DIMENSIONS, DISTRIBUTED_FRAMES, ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES,
-                    JOINT_TYPES_BY_DIMENSION, METHODS, SPATIAL_JOINT_TYPES, Beam, Controller, DistributedLoad, Driver,
-                    Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody, Sensor, ShapeSpec, Simulation)
+                    JOINT_TYPES_BY_DIMENSION, METHODS, NAMING_STYLES, SPATIAL_JOINT_TYPES, Beam, Controller,
+                    DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody, Sensor,
+                    ShapeSpec, Simulation)
 
 __all__ = ["validate_model", "validate_run_arguments", "check_output_grid", "RUN_SETTINGS", "MAX_MODES",
            "MAX_ELASTIC_COORDINATES", "MAX_STIFFENED_MODES", "MAX_OUTPUT_ROWS", "METHODS", "is_name"]
@@ -137,6 +137,14 @@ class _Values(FieldValues):
             raise ModelError(path, f"a non-negative value [{unit}] ({what})", self.shown(value, number))
         return number
 
+    def station(self, path: str, value, beam: str, lengths: dict) -> None:
+        """Check a station on ``beam``: 0 <= x <= L [m] (``lengths``: the beams' lengths by name)."""
+        x = self.number(path, value, f"station on beam {beam!r}", "m")
+        length = lengths[beam]
+        if not 0 <= x <= length * (1 + 1e-12):
+            raise ModelError(path, f"a station 0 <= x <= L = {length:g} [m] on beam {beam!r}",
+                             self.shown(value, x))
+
     def pair(self, path, value, what, unit, *, time=False) -> tuple[float, float]:
         if not _is_pair(value):
             raise ModelError(path, f"a pair [x, y] of {what} [{unit}]", value)
@@ -192,7 +200,7 @@ def _names_list(path: str, value, count: int, what: str) -> None:
                              "Python keywords)", item)
 
 
-def _table(model: Model, kind: str, cls) -> dict:
+def _table(model, kind: str, cls) -> dict:
     table = getattr(model, kind)
     if not isinstance(table, dict):
         raise ModelError(kind, f"a table of {cls.__name__} parts by name", table)
@@ -239,7 +247,7 @@ class _Problems:
         raise ModelErrors(everything)
 
 
-def validate_model(model: Model, *, units: dict | None = None) -> None:
+def validate_model(model, *, units: dict | None = None) -> None:
     """Check a model; raise :class:`~flexkane.errors.ModelError` naming every problem found.
 
     Checks whose parts are independent (each body, beam, joint, load, spring, constraint, the
@@ -250,13 +258,13 @@ def validate_model(model: Model, *, units: dict | None = None) -> None:
     Parameters
     ----------
     model : Model
-        The model, from a file or built in Python.
+        The model, from a file or built in Python. Called through :meth:`Model.validate
+        <flexkane.model.Model.validate>` (this module does not import the class: the model imports
+        its validation), or by a caller that checked the type.
     units : dict, optional
         Filled with the unit of every numeric field checked, by key path (``"bodies.crank.mass"``:
         ``"kg"``).
     """
-    if not isinstance(model, Model):
-        raise ModelError("model", "a flexkane Model", type(model).__name__)
     problems = _Problems()
     with problems.part():
         if not isinstance(model.name, str) or not model.name.strip():
@@ -485,15 +493,7 @@ def _check_spatial_beam(beam: Beam, values: _Values) -> float:
     return length
 
 
-def _station(path: str, value, beam: str, lengths: dict, values: _Values) -> None:
-    x = values.number(path, value, f"station on beam {beam!r}", "m")
-    length = lengths[beam]
-    if not 0 <= x <= length * (1 + 1e-12):
-        raise ModelError(path, f"a station 0 <= x <= L = {length:g} [m] on beam {beam!r}",
-                         values.shown(value, x))
-
-
-def _point(path: str, model: Model, body: str, point) -> None:
+def _point(path: str, model, body: str, point) -> None:
     if point is None:
         return
     points = model.bodies[body].points
@@ -502,7 +502,7 @@ def _point(path: str, model: Model, body: str, point) -> None:
                          _suggest(point, points))
 
 
-def _link(path: str, model: Model, name, *, ground: bool) -> None:
+def _link(path: str, model, name, *, ground: bool) -> None:
     links = model.link_names()
     if isinstance(name, str) and (name in links or (ground and name == "ground")):
         return
@@ -512,7 +512,7 @@ def _link(path: str, model: Model, name, *, ground: bool) -> None:
                      _suggest(name, options) if isinstance(name, str) else None)
 
 
-def _check_joint(model: Model, joint: Joint, values: _Values, lengths: dict) -> None:
+def _check_joint(model, joint: Joint, values: _Values, lengths: dict) -> None:
     path = f"joints.{joint.name}"
     dimensions = model.dimensions
     if dimensions == 2 and isinstance(joint.type, str) and joint.type in SPATIAL_JOINT_TYPES \
@@ -537,7 +537,7 @@ def _check_joint(model: Model, joint: Joint, values: _Values, lengths: dict) -> 
         if joint.station is None:
             raise ModelError(f"{path}.station", f"the station x on parent beam {joint.parent!r} [m]", None,
                              show_given=False)
-        _station(f"{path}.station", joint.station, joint.parent, lengths, values)
+        values.station(f"{path}.station", joint.station, joint.parent, lengths)
     elif joint.parent_position is not None and dimensions == 2:
         values.pair(f"{path}.parent_position", joint.parent_position, "ground coordinates", "m")
     if joint.child in model.bodies:
@@ -599,7 +599,7 @@ def _check_joint(model: Model, joint: Joint, values: _Values, lengths: dict) -> 
             values.law(f"{path}.driver.speed", driver.speed, "prescribed speed", f"{unit}/s")
 
 
-def _check_tree(model: Model) -> None:
+def _check_tree(model) -> None:
     children: dict[str, str] = {}
     for joint in model.joints.values():
         if joint.child in children:
@@ -625,7 +625,7 @@ def _check_tree(model: Model) -> None:
             node = parent_of[node]
 
 
-def _check_load(model: Model, load: Load, values: _Values, lengths: dict) -> None:
+def _check_load(model, load: Load, values: _Values, lengths: dict) -> None:
     path = f"loads.{load.name}"
     _link(f"{path}.body", model, load.body, ground=False)
     if load.body in model.bodies:
@@ -637,7 +637,7 @@ def _check_load(model: Model, load: Load, values: _Values, lengths: dict) -> Non
             raise ModelError(f"{path}.point", f"a station (not a point) on beam {load.body!r}", load.point)
         if load.station is None:
             raise ModelError(f"{path}.station", f"the station x on beam {load.body!r} [m]", None, show_given=False)
-        _station(f"{path}.station", load.station, load.body, lengths, values)
+        values.station(f"{path}.station", load.station, load.body, lengths)
     if load.force is None and load.torque is None:
         raise ModelError(path, "a force, a torque or both", None, show_given=False)
     if model.dimensions == 3:
@@ -655,7 +655,7 @@ def _check_load(model: Model, load: Load, values: _Values, lengths: dict) -> Non
     _choice(f"{path}.frame", load.frame, FRAMES)
 
 
-def _check_distributed_load(model: Model, load: DistributedLoad, values: _Values, lengths: dict) -> None:
+def _check_distributed_load(model, load: DistributedLoad, values: _Values, lengths: dict) -> None:
     path = f"distributed_loads.{load.name}"
     beams = list(model.beams)
     if not isinstance(load.beam, str) or load.beam not in model.beams:
@@ -702,7 +702,7 @@ def _parses(path: str, value, values: _Values, names: tuple[str, ...]) -> None:
     parse_expression(value, {name: sp.Symbol(name, real=True) for name in [*values.parameters, *names]}, path=path)
 
 
-def _check_end(model: Model, path: str, part, end: str, values: _Values, lengths: dict) -> None:
+def _check_end(model, path: str, part, end: str, values: _Values, lengths: dict) -> None:
     """One end of a spring or of a loop constraint."""
     body = getattr(part, f"body_{end}")
     given = {key: getattr(part, f"{key}_{end}", None) for key in ("point", "station", "position")}
@@ -725,7 +725,7 @@ def _check_end(model: Model, path: str, part, end: str, values: _Values, lengths
         if given["station"] is None:
             raise ModelError(f"{path}.station_{end}", f"the station x on beam {body!r} [m]", None,
                              show_given=False)
-        _station(f"{path}.station_{end}", given["station"], body, lengths, values)
+        values.station(f"{path}.station_{end}", given["station"], body, lengths)
     elif given["position"] is not None and model.dimensions == 3:
         from . import validate_spatial as spatial
 
@@ -734,7 +734,7 @@ def _check_end(model: Model, path: str, part, end: str, values: _Values, lengths
         values.pair(f"{path}.position_{end}", given["position"], "ground coordinates", "m")
 
 
-def _check_spring(model: Model, spring: PointSpring, values: _Values, lengths: dict) -> None:
+def _check_spring(model, spring: PointSpring, values: _Values, lengths: dict) -> None:
     path = f"springs.{spring.name}"
     for end in ("a", "b"):
         _check_end(model, path, spring, end, values, lengths)
@@ -745,7 +745,7 @@ def _check_spring(model: Model, spring: PointSpring, values: _Values, lengths: d
     values.non_negative(f"{path}.rest_length", spring.rest_length, "rest length", "m")
 
 
-def _check_constraint(model: Model, con: LoopConstraint, values: _Values, lengths: dict) -> None:
+def _check_constraint(model, con: LoopConstraint, values: _Values, lengths: dict) -> None:
     path = f"constraints.{con.name}"
     if con.name in model.joints:
         raise ModelError(path, "a name different from every joint's", con.name)
@@ -900,7 +900,7 @@ def validate_run_arguments(*, t_end, dt_out, rtol, atol, method="auto", max_step
 
 
 # ------------------------------------------------------------------------------------ structure
-def _check_parameter_names(model: Model) -> None:
+def _check_parameter_names(model) -> None:
     """Refuse a parameter printed like a constant the derivation generates (E_1, H_11, m_<beam>).
 
     The symbols are distinct whatever the names (see :class:`~flexkane.model.values.GeneratedSymbol`);
@@ -945,7 +945,7 @@ def _family(spec: ShapeSpec, path: str, n: int, kind: str, values: _Values) -> N
                          f"{spec.family!r} provides as specified", n)
 
 
-def _check_structure(model: Model, values: _Values) -> list:
+def _check_structure(model, values: _Values) -> list:
     """Shape families, the chain's coordinates, initial conditions and dependent speeds."""
     from .coordinates import coordinate_names, coordinate_unit, speed_unit
 
@@ -988,7 +988,7 @@ def _check_structure(model: Model, values: _Values) -> list:
     return coordinates
 
 
-def _check_signals(model: Model, values: _Values, lengths: dict, coordinates) -> None:
+def _check_signals(model, values: _Values, lengths: dict, coordinates) -> None:
     """Sensors, controllers and every effort that uses them (:mod:`flexkane.model.signals`)."""
     from .signals import Signals, check_controller, check_sensor, effort_fields
 

@@ -6,7 +6,7 @@ Needs no SymPy, except for the family ``expression`` whose functions are SymPy e
 from __future__ import annotations
 
 from ..errors import ModelError
-from ..expression_syntax import field_value
+from ..expression_values import field_value
 from . import get_family, numeric_option_names
 
 __all__ = ["shape_family"]

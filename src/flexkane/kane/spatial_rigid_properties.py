@@ -1,0 +1,62 @@
+"""Rigid-body properties of a spatial chain's links about a frame's origin: mass, first moment, inertia
+tensor, and the resultant and moment of the inertia forces without u', moved between frames by the
+parallel-axis theorem with a rotation. The composite bodies of :mod:`flexkane.kane.spatial_inertia` are
+sums of these, of rigid bodies and of spatial beams (:func:`flexkane.kane.spatial_beam.beam_own_properties`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from .spatial_frame import add, cross, dot
+
+__all__ = ["SpatialRigidProperties", "matvec"]
+
+
+def matvec(A: sp.Matrix, v) -> tuple:
+    """``A v`` for a (3, 3) matrix and a 3-vector given as a tuple."""
+    return tuple(sum((A[i, j] * v[j] for j in range(3)), sp.Integer(0)) for i in range(3))
+
+
+@dataclass
+class SpatialRigidProperties:
+    """Rigid-body properties about a frame's origin, components along its axes.
+
+    ``m`` mass [kg], ``S`` first moment (3,) [kg m], ``J`` inertia tensor about the origin (3, 3)
+    [kg m^2], ``R`` resultant of ``m a_rem`` (3,) [N], ``K`` moment about the origin of the inertia
+    forces without u' (3,) [N m].
+    """
+
+    m: sp.Expr
+    S: tuple
+    J: sp.Matrix
+    R: tuple
+    K: tuple
+
+    def __add__(self, other: "SpatialRigidProperties") -> "SpatialRigidProperties":
+        return SpatialRigidProperties(self.m + other.m, add(self.S, other.S), self.J + other.J,
+                                      add(self.R, other.R), add(self.K, other.K))
+
+    def moved(self, s: tuple, rotation) -> "SpatialRigidProperties":
+        """The same properties about a frame in which this one's origin is at ``s`` and this one's
+        orientation is ``rotation`` (parallel-axis theorem with a rotation)."""
+        L = rotation.matrix
+        S = matvec(L, self.S)
+        R = matvec(L, self.R)
+        J = L * self.J * L.T if not rotation.is_identity() else self.J
+        ss, sS = dot(s, s), dot(s, S)
+        J = J + sp.Matrix(3, 3, lambda i, j: (self.m * ss + 2 * sS if i == j else 0)
+                          - self.m * s[i] * s[j] - s[i] * S[j] - S[i] * s[j])
+        return SpatialRigidProperties(self.m, add(tuple(self.m * c for c in s), S), J, R,
+                                      add(matvec(L, self.K), cross(s, R)))
+
+    def named(self, chain, label: str) -> "SpatialRigidProperties":
+        J = sp.zeros(3, 3)
+        for i in range(3):
+            for j in range(i, 3):
+                J[i, j] = J[j, i] = chain.name(self.J[i, j], f"J{'xyz'[i]}{'xyz'[j]}_{label}")
+        return SpatialRigidProperties(self.m, tuple(chain.name(c, f"S{a}_{label}") for c, a in zip(self.S, "xyz")),
+                                      J, tuple(chain.name(c, f"R{a}_{label}") for c, a in zip(self.R, "xyz")),
+                                      tuple(chain.name(c, f"K{a}_{label}") for c, a in zip(self.K, "xyz")))
