@@ -25,7 +25,7 @@ import sympy as sp
 from ..errors import ModelError
 from .kinematics import Kinematics, rot
 
-__all__ = ["ConstraintSet", "loop_constraints", "choose_dependent", "dependent_speed_reduction"]
+__all__ = ["ConstraintSet", "loop_constraints", "choose_dependent"]
 
 
 @dataclass
@@ -126,26 +126,3 @@ def choose_dependent(A: np.ndarray, speeds: list, preferred: list[bool], given: 
         v = work[:, j] / np.linalg.norm(work[:, j])
         work = work - np.outer(v, v @ work)
     return chosen
-
-
-def dependent_speed_reduction(M: sp.Matrix, f: sp.Matrix, P: sp.Matrix, e: sp.Matrix) -> tuple:
-    """Kane's equations in the independent speeds: ``P^T M P u_i' = P^T (f - M e)``.
-
-    With ``u = P u_i + p`` and ``u' = P u_i' + e``, the columns of ``P`` are the partial velocities
-    of the independent speeds in the speeds of ``M u' = f``; the forces that keep the dependent speeds
-    dependent do no work in them (ideal constraints: closed loops, drivers of the state).
-
-    Parameters
-    ----------
-    M : sympy.Matrix, shape (n, n)
-    f : sympy.Matrix, shape (n, 1)
-    P : sympy.Matrix, shape (n, ni)
-    e : sympy.Matrix, shape (n, 1)
-
-    Returns
-    -------
-    (sympy.Matrix, sympy.Matrix)
-        The mass matrix (ni, ni) and the forcing (ni, 1).
-    """
-    PT = P.T
-    return PT * M * P, PT * (f - M * e)

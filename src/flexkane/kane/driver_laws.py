@@ -19,7 +19,7 @@ constraint ``q_d - L(t, q, z) = 0`` between the driven coordinate and those it r
 The constraint is enforced by ideal forces, as a gear or a cam enforces it: the driver's effort
 ``lambda`` acts on the driven joint, and ``-C_i lambda`` on each speed the law reads, so Kane's
 equations are formed with the partial velocities of the dependent-speed reduction
-(:func:`flexkane.kane.constraints.dependent_speed_reduction`, the one closed loops use):
+(:func:`flexkane.kane.speed_reduction.dependent_speed_reduction`, the one closed loops use):
 ``P^T M P u_f' = P^T (f - M e)`` with ``P = [I; C]``, and the mass matrix stays symmetric positive
 definite. The power of the constraint forces is ``lambda (u_d - sum_i C_i u_i) = lambda (L_z z' + L_t)``:
 a gear does no work, a law that moves with time or with a controller state does.
@@ -46,6 +46,7 @@ import sympy as sp
 
 from ..errors import ModelError
 from ..expression_syntax import NeedsSymbolic, expression_names
+from .speed_reduction import dependent_speed_reduction
 
 __all__ = ["reads_state", "parse_state_laws", "state_driver_substitutions", "speed_coupling", "DriverReduction",
            "reduce_by_drivers"]
@@ -216,7 +217,7 @@ def reduce_by_drivers(chain, mass_matrix, forcing: list, remainder: list, free: 
                       ud_driven: list, coupling: dict, sub: Callable) -> DriverReduction:
     """Kane's equations with the speeds of drivers of the state dependent: ``P^T M P u_f' = P^T (f - M e)``
     over the free speeds and those driven speeds, ``P = [I; C]``, ``e = [0; e_d]``
-    (:func:`speed_coupling`; :func:`flexkane.kane.constraints.dependent_speed_reduction`).
+    (:func:`speed_coupling`; :func:`flexkane.kane.speed_reduction.dependent_speed_reduction`).
 
     The inputs are not modified.
 
@@ -245,7 +246,6 @@ def reduce_by_drivers(chain, mass_matrix, forcing: list, remainder: list, free: 
     -------
     DriverReduction
     """
-    from .constraints import dependent_speed_reduction   # not at the top: kane.chain imports this module
 
     speed_coords = chain.speed_coordinates
     state = [d for d in driven if speed_coords[d].u in coupling]

@@ -25,7 +25,8 @@ import sympy as sp
 
 from ..expressions import bounded_expand
 from .chain import BEAM_ROLES
-from .constraints import ConstraintSet, choose_dependent, dependent_speed_reduction
+from .constraints import ConstraintSet, choose_dependent
+from .speed_reduction import dependent_speed_reduction
 
 __all__ = ["LoopReduction", "reduce_by_loops"]
 
