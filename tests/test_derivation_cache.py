@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import pathlib
+
 import numpy as np
 import pytest
 
@@ -157,3 +159,26 @@ def test_the_package_derive_uses_the_cache_unless_told_not_to(tmp_path, count_de
     fresh = flexkane.derive(beam(1), cache=False, cache_dir=tmp_path)
     assert count_derivations == ["falling-beam-exact"] * 2 and not hasattr(fresh, "derivation_key")
     assert_same_equations(second, fresh)
+
+
+def test_every_module_a_derivation_reads_keys_the_cache():
+    """A change to any source the derivation runs must invalidate the cached equations: every flexkane
+    module loaded by a derivation is among the digested sources, or produces no part of the equations
+    (errors and messages, the version, which keys the cache itself, and the cache module)."""
+    import subprocess
+    import sys
+
+    code = ("import sys, flexkane\n"
+            "from flexkane.kane.equations import derive\n"
+            "derive(flexkane.builtin_model('falling-beam'))\n"
+            "print('\\n'.join(m.__file__ for n, m in sorted(sys.modules.items())\n"
+            "                 if n.startswith('flexkane') and getattr(m, '__file__', None)))\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    loaded = {pathlib.Path(line).resolve() for line in done.stdout.split()}
+    from flexkane.derivation_cache import equation_sources
+
+    digested = {path.resolve() for path in equation_sources()}
+    allowed = {"__init__.py", "errors.py", "_version.py", "natural_order.py", "derivation_cache.py", "atomic.py",
+               "extras.py", "interruption.py", "progress.py", "builtin.py"}
+    missing = sorted(str(p) for p in loaded - digested if p.name not in allowed or p.parent.name != "flexkane")
+    assert not missing, f"modules the derivation loads but the cache key does not read: {missing}"

@@ -194,6 +194,22 @@ def _run_digest() -> str:
     return digest.hexdigest()
 
 
+def equation_sources() -> list[Path]:
+    """The package's source files that produce the equations, whose contents key the cache.
+
+    Everything the derivation reads: the engine (``kane/``), the model layer, the shape functions
+    and the expression language that parses and evaluates the fields.
+
+    Returns
+    -------
+    list of pathlib.Path
+        Sorted paths of the files.
+    """
+    root = Path(__file__).resolve().parent
+    return sorted([*root.glob("kane/*.py"), *root.glob("model/*.py"), *root.glob("modes/*.py"),
+                   *root.glob("expression*.py")])
+
+
 @lru_cache(maxsize=1)
 def _code_digest() -> str:
     """Digest of the versions and sources that produce the equations (invalidates old files)."""
@@ -201,10 +217,8 @@ def _code_digest() -> str:
     digest = hashlib.sha256()
     for text in (__version__, _sympy_version(), sys.version.split()[0], str(_FORMAT)):
         digest.update(text.encode() + b"\0")
-    sources = sorted([*root.glob("kane/*.py"), *root.glob("model/*.py"), root / "expressions.py"])
-    for path in sources:
-        if path.exists():
-            digest.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
+    for path in equation_sources():
+        digest.update(str(path.relative_to(root)).encode() + b"\0" + path.read_bytes() + b"\0")
     return digest.hexdigest()
 
 
