@@ -8,8 +8,9 @@ files are the same bytes as when one process draws them all.
 
 An exception in the fork (a figure that cannot be drawn) is sent back through a pipe and raised
 here as :class:`PlotWorkerError`, with the fork's traceback, after this process has finished its
-own figures: the files both completed stay. A signal (Ctrl-C, SIGTERM) stops both: the fork's
-atomic writes remove their temporary files as this process's do.
+own figures: the files both completed stay. A signal (Ctrl-C, SIGTERM) stops both, whichever of
+them receives it (:class:`KeyboardInterrupt` here): the fork's atomic writes remove their
+temporary files as this process's do.
 """
 
 from __future__ import annotations
@@ -24,6 +25,8 @@ __all__ = ["PlotWorkerError", "draw_in_two"]
 
 #: Longest traceback text [bytes] the fork sends back.
 _MAX_REPORT = 16000
+#: Exit status of a fork stopped by a signal (SIGINT, SIGTERM).
+_STOPPED = 130
 
 
 class PlotWorkerError(RuntimeError):
@@ -45,6 +48,8 @@ def _worker(jobs: list, shared, report: int) -> None:
         for _, draw in jobs:
             draw(figure)
         status = 0
+    except KeyboardInterrupt:   # a signal: the parent stops as if it had received it
+        status = _STOPPED
     except BaseException:   # noqa: BLE001 - everything goes back to the parent, which raises it
         try:
             os.write(report, traceback.format_exc().encode("utf-8", "replace")[-_MAX_REPORT:])
@@ -106,6 +111,8 @@ def draw_in_two(jobs: list, shared) -> list[Path]:
             except ProcessLookupError:
                 pass
             os.waitpid(pid, 0)
+    if os.waitstatus_to_exitcode(code) == _STOPPED:
+        raise KeyboardInterrupt   # the fork was stopped (by a signal sent to it alone): so is this process
     if os.waitstatus_to_exitcode(code) != 0:
         text = report.decode("utf-8", "replace").strip() or f"exit status {os.waitstatus_to_exitcode(code)}"
         raise PlotWorkerError(f"a figure could not be drawn in the second plotting process; {len(mine)} of "
