@@ -20,7 +20,8 @@ PACKAGE = "flexkane"
 #: The layers, earliest first: (name, modules or packages in it).
 LAYERS = [
     ("foundation", ["flexkane.errors", "flexkane._version", "flexkane.interruption", "flexkane.natural_order",
-                    "flexkane.atomic", "flexkane.progress", "flexkane.extras"]),
+                    "flexkane.atomic", "flexkane.progress", "flexkane.extras", "flexkane.forking",
+                    "flexkane.garbage_collection"]),
     # the expression language of model files: parsing and evaluating user text, without a model
     ("expression language", ["flexkane.expression_syntax", "flexkane.expressions", "flexkane.expression_values"]),
     # shape functions of beams: mathematics that knows no model (the model's validation asks them)
@@ -32,7 +33,7 @@ LAYERS = [
     ("simulate / linearize", ["flexkane.simulation", "flexkane.results", "flexkane.validity",
                               "flexkane.derivation_cache", "flexkane.run_manifest", "flexkane.report",
                               "flexkane.linearize", "flexkane.c_export"]),
-    ("sweep / post", ["flexkane.sweep", "flexkane.plots", "flexkane.animation"]),
+    ("sweep / post", ["flexkane.sweep", "flexkane.plots", "flexkane.plot_workers", "flexkane.animation"]),
     # the command line and the package root, which re-exports the public names on first use
     ("cli", ["flexkane.cli", "flexkane.commands", "flexkane.__main__", "flexkane"]),
 ]

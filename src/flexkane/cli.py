@@ -57,10 +57,11 @@ def main(argv: list[str] | None = None) -> int:
     if not getattr(args, "handler", None):
         parser.print_help()
         return EXIT_USAGE
+    from .garbage_collection import long_lived_objects
     from .interruption import StopRequest
 
     try:
-        with StopRequest():  # SIGTERM as Ctrl-C in every phase of every command (exit 130)
+        with StopRequest(), long_lived_objects():  # SIGTERM as Ctrl-C in every phase of every command (exit 130)
             try:
                 return int(args.handler(args) or EXIT_OK)
             except BaseException:

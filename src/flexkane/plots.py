@@ -188,7 +188,48 @@ def plot_runs(runs: dict, names: list[str], path: Path, *, units: dict | None = 
     return Path(path)
 
 
-def write_plots(results: Results, unit: dict, directory: Path, title: str) -> list[Path]:
+def _plot_jobs(results: Results, unit: dict, directory: Path, title: str) -> list:
+    """The figures of :func:`write_plots`, in its order: each its file and a function of a
+    :class:`_SeriesFigure` (the figure that the single-column plots of one process share) that draws
+    and writes it."""
+    jobs = []
+    for name in results.state_names:
+        path = directory / f"{name}.png"
+        jobs.append((path, lambda single, name=name, path=path: single.draw(results, name, unit.get(name, "-"),
+                                                                           path, title)))
+    tips = [k for k in results.outputs if k.startswith("tip_")]
+    if tips:
+        spatial = any(k.endswith("_y") and k[:-2] + "_z" in tips for k in tips)   # a spatial beam's pair
+        where = "along the sections' principal axes" if spatial else "in the beam frame"
+        path = directory / "tip_deflection.png"
+        jobs.append((path, lambda single, path=path: plot_series(results, tips, "m", path,
+                                                                 f"{title}: tip deflection {where}")))
+    twists = [k for k in results.outputs if k.startswith(("twist_", "slope_"))]
+    if twists:
+        path = directory / "tip_twist.png"
+        jobs.append((path, lambda single, path=path: plot_series(results, twists, "rad", path,
+                                                                 f"{title}: twist and slopes of the beams' tips")))
+    for name in (k for k in results.outputs if k.startswith("effort_")):
+        path = directory / f"{name}.png"
+        jobs.append((path, lambda single, name=name, path=path: single.draw(results, name, unit.get(name, "-"),
+                                                                           path, f"{title}: driver effort")))
+    if "energy" in results.outputs and len(results.t) > 1:
+        path = directory / "energy.png"
+        jobs.append((path, lambda single, path=path: plot_energy(results, path, title)))
+    momentum = [k for k in ("H_x", "H_y", "H_z") if k in results.outputs]
+    if momentum:
+        path = directory / "angular_momentum.png"
+        jobs.append((path, lambda single, path=path: plot_series(
+            results, momentum, "kg m^2/s", path, f"{title}: angular momentum about the mass centre, ground axes")))
+    norms = [k for k in results.outputs if k.startswith("quaternion_norm_")]
+    if norms:
+        path = directory / "quaternion_norm.png"
+        jobs.append((path, lambda single, path=path: plot_series(results, norms, "-", path,
+                                                                 f"{title}: norm of the Euler parameters minus 1")))
+    return jobs
+
+
+def write_plots(results: Results, unit: dict, directory: Path, title: str, *, workers: int = 1) -> list[Path]:
     """Write a PNG per state variable, one of tip deflections (if any), and the energy plot.
 
     Parameters
@@ -199,34 +240,23 @@ def write_plots(results: Results, unit: dict, directory: Path, title: str) -> li
     directory : pathlib.Path
     title : str
         Title of the figures (the model's name).
+    workers : int
+        Processes that draw: 1 draws here; 2 (or more) draws every other figure in a fork of this
+        process (:func:`~flexkane.plot_workers.draw_in_two`), on a second core, where forking is
+        allowed (:func:`~flexkane.forking.fork_allowed`), else here. The files are the same bytes.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written, in the same order whatever ``workers``.
     """
-    directory = Path(directory)
-    paths = []
+    jobs = _plot_jobs(results, unit, Path(directory), title)
+    if workers > 1 and len(jobs) > 1:
+        from .forking import fork_allowed
+
+        if fork_allowed():
+            from .plot_workers import draw_in_two
+
+            return draw_in_two(jobs, _SeriesFigure)
     single = _SeriesFigure()
-    for name in results.state_names:
-        paths.append(single.draw(results, name, unit.get(name, "-"), directory / f"{name}.png", title))
-    tips = [k for k in results.outputs if k.startswith("tip_")]
-    if tips:
-        spatial = any(k.endswith("_y") and k[:-2] + "_z" in tips for k in tips)   # a spatial beam's pair
-        where = "along the sections' principal axes" if spatial else "in the beam frame"
-        paths.append(plot_series(results, tips, "m", directory / "tip_deflection.png",
-                                 f"{title}: tip deflection {where}"))
-    twists = [k for k in results.outputs if k.startswith(("twist_", "slope_"))]
-    if twists:
-        paths.append(plot_series(results, twists, "rad", directory / "tip_twist.png",
-                                 f"{title}: twist and slopes of the beams' tips"))
-    efforts = [k for k in results.outputs if k.startswith("effort_")]
-    for name in efforts:
-        paths.append(single.draw(results, name, unit.get(name, "-"), directory / f"{name}.png",
-                                 f"{title}: driver effort"))
-    if "energy" in results.outputs and len(results.t) > 1:
-        paths.append(plot_energy(results, directory / "energy.png", title))
-    momentum = [k for k in ("H_x", "H_y", "H_z") if k in results.outputs]
-    if momentum:
-        paths.append(plot_series(results, momentum, "kg m^2/s", directory / "angular_momentum.png",
-                                 f"{title}: angular momentum about the mass centre, ground axes"))
-    norms = [k for k in results.outputs if k.startswith("quaternion_norm_")]
-    if norms:
-        paths.append(plot_series(results, norms, "-", directory / "quaternion_norm.png",
-                                 f"{title}: norm of the Euler parameters minus 1"))
-    return paths
+    return [draw(single) for _, draw in jobs]

@@ -177,7 +177,7 @@ def _run_phases(model, out: Path, stop, *, t_end, dt_out, rtol, atol, method, ma
         if plots and len(results.t) > 1:
             from ..plots import write_plots
 
-            written += write_plots(results, derivation.manifest["units"], out, model.name)
+            written += write_plots(results, derivation.manifest["units"], out, model.name, workers=2)
         if animation is not None and len(results.t) > 0:
             from .animate import animate_run
 

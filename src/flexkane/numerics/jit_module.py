@@ -42,7 +42,6 @@ import signal
 import subprocess
 import sys
 import tempfile
-import threading
 import time
 import warnings
 from pathlib import Path
@@ -52,6 +51,7 @@ import numba
 
 from flexkane._version import __version__
 from flexkane.atomic import atomic_write_text
+from flexkane.forking import fork_allowed as _fork_allowed   # may a compiling child be a fork
 from flexkane.numerics import linear_algebra, scalar_typing
 from flexkane.numerics.system_function import SIGNATURE
 
@@ -229,12 +229,6 @@ def _compile_file(path: str, loops: bool = True) -> None:
     spec.loader.exec_module(module)
     compile_integrators(module, loops=loops)
     atomic_write_text(_compiled_marker(path), _text_digest(path.read_text(encoding="utf-8")))
-
-
-def _fork_allowed() -> bool:
-    """Whether a compiling child may be a fork of this process: Linux, and no other Python thread."""
-    return (sys.platform.startswith("linux") and hasattr(os, "fork") and threading.active_count() == 1
-            and threading.current_thread() is threading.main_thread())
 
 
 def _compile_in_fork(path: Path, meanwhile=None, loops: bool = True) -> bool:
