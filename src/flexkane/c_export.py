@@ -117,7 +117,7 @@ def export_c(model, directory, *, prefix: str | None = None, force: bool = False
         For a model that is not a Model, a prefix that is not a C identifier, a directory that
         holds files (without ``force``) or cannot be created, or equations C cannot express.
     """
-    from .atomic import atomic_write_text, prepare_output_dir
+    from .atomic import atomic_write_text, directory_syncs_batched, prepare_output_dir
     from .derivation_cache import Derivation
     from .numerics.c_source import C_RESERVED, CModelInfo, c_identifier, c_sources, check_prefix
 
@@ -152,4 +152,5 @@ def export_c(model, directory, *, prefix: str | None = None, force: bool = False
         out = prepare_output_dir(directory, force=force)
     except ModelError as exc:
         raise ModelError(flag, exc.expected, exc.given, exc.hint) from None
-    return [atomic_write_text(out / f"{prefix}.h", header), atomic_write_text(out / f"{prefix}.c", source)]
+    with directory_syncs_batched():
+        return [atomic_write_text(out / f"{prefix}.h", header), atomic_write_text(out / f"{prefix}.c", source)]
