@@ -12,6 +12,7 @@ part of those equations.
 
 from __future__ import annotations
 
+import contextlib
 from pathlib import Path
 
 from ._version import __version__
@@ -40,6 +41,8 @@ def constant_descriptions(eom, model: Model) -> tuple[list[str], list[str]]:
         What the constant is: ``beam B: <definition>``, ``parameter`` (with its expression when it
         has one, and the fields that name it) or the key path of the field it stands for.
     """
+    from .expression_syntax import NeedsSymbolic, expression_names
+    from .model.parameter_units import inferred_units
     from .model.paths import get_value
     from .model.validate import validate_model
     from .report import _definition
@@ -54,6 +57,14 @@ def constant_descriptions(eom, model: Model) -> tuple[list[str], list[str]]:
             continue
         if isinstance(value, str) and value.strip() in model.parameters:
             named.setdefault(value.strip(), {})[path] = unit
+    fields, used_in = {}, {}   # path -> (value, unit); parameter -> {path: unit} of the expressions using it
+    for path, unit in field_units.items():
+        with contextlib.suppress(ModelError):
+            fields[path] = (get_value(model, path), unit)
+            with contextlib.suppress(NeedsSymbolic):
+                for name in expression_names(fields[path][0]) & set(model.parameters):
+                    used_in.setdefault(name, {})[path] = unit
+    inferred = inferred_units(fields, model.parameters)
     modal = eom.beam_constant_symbols()
     defined = eom.chain.symbols.definitions
     units, notes = [], []
@@ -67,9 +78,13 @@ def constant_descriptions(eom, model: Model) -> tuple[list[str], list[str]]:
             given = model.parameters[s.name]
             uses = named.get(s.name, {})
             kinds = set(uses.values())
-            units.append(kinds.pop() if len(kinds) == 1 else "")
+            unit = kinds.pop() if len(kinds) == 1 else "" if kinds else inferred.get(s.name, "")
+            units.append(unit)
+            laws = sorted(path for path in used_in.get(s.name, ()) if path not in uses)
             notes.append("parameter" + ("" if isinstance(given, (int, float)) else f" = {given}")
-                         + (f", the value of {_listed(sorted(uses))}" if uses else ""))
+                         + (f", the value of {_listed(sorted(uses))}" if uses else "")
+                         + (f", in {_listed(laws)}" if laws and not uses else "")
+                         + ("" if unit else "; " + _no_unit(s.name, kinds, used_in.get(s.name, {}))))
         elif s in defined:
             path, given = defined[s]
             units.append(field_units.get(path, ""))
@@ -78,6 +93,16 @@ def constant_descriptions(eom, model: Model) -> tuple[list[str], list[str]]:
             units.append("")
             notes.append("constant")
     return units, notes
+
+
+def _no_unit(name: str, kinds: set, used_in: dict) -> str:
+    """Why a parameter has no unit in the header."""
+    if kinds:
+        return "no unit: the fields that name it have different units"
+    if not used_in:
+        return "no unit: no field of the model uses it"
+    return ("no unit: its uses do not fix one (" + _listed([f"{p} [{u}]" for p, u in sorted(used_in.items())])
+            + " leave it free or disagree)")
 
 
 def _listed(paths: list, limit: int = 3) -> str:
