@@ -42,28 +42,19 @@ def constant_descriptions(eom, model: Model) -> tuple[list[str], list[str]]:
         has one, and the fields that name it) or the key path of the field it stands for.
     """
     from .expression_syntax import NeedsSymbolic, expression_names
-    from .model.parameter_units import inferred_units
-    from .model.paths import get_value
-    from .model.validate import validate_model
+    from .model.parameter_units import field_values, inferred_units
     from .report import _definition
 
-    field_units: dict = {}
-    validate_model(model, units=field_units)
-    named: dict = {}   # parameter -> {path: unit} of the fields that name it
-    for path, unit in field_units.items():
-        try:
-            value = get_value(model, path)
-        except ModelError:
-            continue
+    fields = field_values(model)   # path -> (value, unit)
+    field_units = {path: unit for path, (_, unit) in fields.items()}
+    named: dict = {}     # parameter -> {path: unit} of the fields that name it
+    used_in: dict = {}   # parameter -> {path: unit} of the expressions using it
+    for path, (value, unit) in fields.items():
         if isinstance(value, str) and value.strip() in model.parameters:
             named.setdefault(value.strip(), {})[path] = unit
-    fields, used_in = {}, {}   # path -> (value, unit); parameter -> {path: unit} of the expressions using it
-    for path, unit in field_units.items():
-        with contextlib.suppress(ModelError):
-            fields[path] = (get_value(model, path), unit)
-            with contextlib.suppress(NeedsSymbolic):
-                for name in expression_names(fields[path][0]) & set(model.parameters):
-                    used_in.setdefault(name, {})[path] = unit
+        with contextlib.suppress(NeedsSymbolic):
+            for name in expression_names(value) & set(model.parameters):
+                used_in.setdefault(name, {})[path] = unit
     inferred = inferred_units(fields, model.parameters)
     modal = eom.beam_constant_symbols()
     defined = eom.chain.symbols.definitions

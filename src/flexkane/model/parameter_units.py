@@ -10,7 +10,9 @@ cos, exp ... are dimensionless, t is in s and x in m. From ``Omega*t`` [rad]: Om
 agrees; a parameter whose unit no use fixes, or whose uses disagree, gets none.
 
 Units are products of powers of the unit names as the fields write them (``N m``, ``rad/s``,
-``kg m^2``, ``-`` for none); N is not reduced to kg m/s^2.
+``kg m^2``, ``-`` for none); N is not reduced to kg m/s^2. The same rules give the units of
+controller states and outputs (:func:`flexkane.run_manifest.units`): an output has the unit of its
+expression and of the efforts it feeds, a state the unit of its rate times s.
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ from fractions import Fraction
 
 from ..expression_syntax import NeedsSymbolic, _checked_tree
 
-__all__ = ["parse_unit", "format_unit", "inferred_units"]
+__all__ = ["parse_unit", "format_unit", "field_values", "inferred_units"]
 
 _DIMENSIONLESS = ("sin", "cos", "tan", "exp", "log", "sinh", "cosh", "tanh")
 _SAME = ("abs", "min", "max")
@@ -193,7 +195,25 @@ def _number(node) -> Fraction | None:
     return None
 
 
-def inferred_units(fields: dict, parameters) -> dict[str, str]:
+def field_values(model) -> dict:
+    """Key path -> ``(value, unit)`` of every field of ``model`` that validation checks in a unit
+    (the ``fields`` of :func:`inferred_units`)."""
+    from ..errors import ModelError
+    from .paths import get_value
+    from .validate import validate_model
+
+    field_units: dict = {}
+    validate_model(model, units=field_units)
+    out = {}
+    for path, unit in field_units.items():
+        try:
+            out[path] = (get_value(model, path), unit)
+        except ModelError:
+            continue
+    return out
+
+
+def inferred_units(fields: dict, parameters, *, known: dict | None = None, equal=()) -> dict[str, str]:
     """The unit of every parameter that the fields' expressions fix without contradiction.
 
     Parameters
@@ -202,14 +222,34 @@ def inferred_units(fields: dict, parameters) -> dict[str, str]:
         Key path -> ``(value, unit)``: a field's value (a number or an expression) and its unit as
         validation checks it (``"N m"``; a text :func:`parse_unit` cannot read is ignored).
     parameters : collection of str
-        The model's parameter names (other names are coordinates, speeds, signals: not inferred).
+        The names whose units are sought: the model's parameters, and the signals of ``equal``
+        (other names, such as coordinates, are not inferred).
+    known : dict of str to str, optional
+        Names of known unit (coordinates, speeds, sensors), unit texts.
+    equal : sequence of tuple
+        ``(name, expression, rate)``: the name has the unit of the expression (a controller's output,
+        its saturation), or with ``rate`` true the expression is the name's rate (a controller
+        state: the name's unit is the expression's times s).
 
     Returns
     -------
     dict of str to str
-        Parameter -> unit text (:func:`format_unit`), for those whose every use agrees.
+        Name of ``parameters`` -> unit text (:func:`format_unit`), for those whose every use agrees.
     """
+    seeds = {}
+    for name, text in (known or {}).items():
+        unit = parse_unit(text) if isinstance(text, str) else None
+        if unit is not None:
+            seeds[name] = unit
     trees = []
+    for name, text, rate in equal:
+        try:
+            right = _checked_tree(text).body if isinstance(text, str) else ast.Constant(text)
+        except NeedsSymbolic:
+            continue
+        if rate:
+            right = ast.BinOp(right, ast.Mult(), ast.Name("t", ast.Load()))
+        trees.append((ast.Compare(ast.Name(name, ast.Load()), [ast.Eq()], [right]), None))
     for value, unit_text in fields.values():
         unit = parse_unit(unit_text) if isinstance(unit_text, str) else None
         if unit is None or not isinstance(value, str):
@@ -218,10 +258,10 @@ def inferred_units(fields: dict, parameters) -> dict[str, str]:
             trees.append((_checked_tree(value).body, unit))
         except NeedsSymbolic:
             continue
-    known: dict = {}
+    known: dict = dict(seeds)
     refused: set = set()
     while True:   # each pass may fix units that the next pass uses (t1 [s], then T0 in T0*sin(t/t1))
-        inference = _Inference(set(parameters) - refused, known)
+        inference = _Inference(set(parameters) - refused - set(seeds), known)
         for tree, unit in trees:
             inference.expect(tree, unit)
         new = False
@@ -235,4 +275,4 @@ def inferred_units(fields: dict, parameters) -> dict[str, str]:
                 known[name] = units[0]
                 new = True
         if not new:
-            return {name: format_unit(unit) for name, unit in sorted(known.items())}
+            return {name: format_unit(unit) for name, unit in sorted(known.items()) if name not in seeds}
