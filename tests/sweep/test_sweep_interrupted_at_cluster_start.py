@@ -33,14 +33,19 @@ from flexkane.cli import main
 
 delay, sig = float(sys.argv[1]), getattr(signal, sys.argv[2])
 start = distributed.LocalCluster.__init__
+timers = []
 
 def start_then_signal(self, *args, **kwargs):
     print("FK: cluster starting", file=sys.stderr, flush=True)
-    threading.Timer(delay, os.kill, (os.getpid(), sig)).start()
+    timers.append(threading.Timer(delay, os.kill, (os.getpid(), sig)))
+    timers[-1].start()
     start(self, *args, **kwargs)
 
 distributed.LocalCluster.__init__ = start_then_signal
-sys.exit(main(sys.argv[3:]))
+code = main(sys.argv[3:])
+for timer in timers:   # a sweep done before the delay: no signal into the interpreter's exit
+    timer.cancel()
+sys.exit(code)
 """
 
 
