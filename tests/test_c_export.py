@@ -259,7 +259,8 @@ def test_header_documents_the_orders_of_the_run_manifest(tmp_path):
     unit = {n: u for _, n, u in constants}
     # a modal constant (as the report), a parameter a field names, a field's own constant
     # and a parameter of a time law only: the driver coordinate Omega*t [rad] makes Omega [rad/s]
-    assert (unit["H_11"], unit["m1"], unit["L2"], unit["x_crank_pin"], unit["Omega"]) == ("N/m", "kg", "m", "m", "rad/s")
+    assert (unit["H_11"], unit["m1"], unit["L2"], unit["x_crank_pin"], unit["Omega"]) \
+        == ("N/m", "kg", "m", "m", "rad/s")
     assert not [line for line in header.splitlines() if line.startswith(" *   p[") and "[?]" in line]
     assert f"#define SLIDER_CRANK_NY {len(manifest['state_names'])}" in header
     assert f"#define SLIDER_CRANK_NP {len(manifest['constant_names'])}" in header
