@@ -209,3 +209,55 @@ def test_derivation_cache_files_are_written_whole(tmp_path):
     umask = os.umask(0o022)
     os.umask(umask)
     assert all(p.stat().st_mode & 0o777 == 0o666 & ~umask for p in written)
+
+
+def _count_syncs(monkeypatch):
+    """Record the fsyncs of atomic: ('file', name) for a file's data, ('dir', path) for a directory."""
+    synced = []
+    real = os.fsync
+
+    def fsync(fd):
+        path = os.readlink(f"/proc/self/fd/{fd}") if os.path.exists("/proc/self/fd") else str(fd)
+        synced.append(("dir" if os.path.isdir(path) else "file", path))
+        real(fd)
+
+    monkeypatch.setattr(atomic.os, "fsync", fsync)
+    return synced
+
+
+@pytest.mark.skipif(not os.path.exists("/proc/self/fd"), reason="names of open files from /proc")
+def test_each_file_syncs_its_data_once_and_its_directory_after_the_rename(tmp_path, monkeypatch):
+    synced = _count_syncs(monkeypatch)
+    atomic_write_text(tmp_path / "a.csv", "a\n")
+    assert [kind for kind, _ in synced] == ["file", "dir"] and synced[1][1] == str(tmp_path)
+    assert ".a.csv." in synced[0][1]   # the temporary file's data, before the rename
+    synced.clear()
+    with atomic_writer(tmp_path / "b.png", "path") as path:
+        path.write_bytes(b"png")
+    assert [kind for kind, _ in synced] == ["file", "dir"]
+
+
+@pytest.mark.skipif(not os.path.exists("/proc/self/fd"), reason="names of open files from /proc")
+def test_a_batch_syncs_every_file_and_each_directory_once_at_its_end(tmp_path, monkeypatch):
+    synced = _count_syncs(monkeypatch)
+    other = tmp_path / "cache"
+    other.mkdir()
+    (tmp_path / "c.csv").write_text("previous")
+    with pytest.raises(RuntimeError, match="disk on fire"):
+        with atomic.directory_syncs_batched():
+            atomic_write_text(tmp_path / "a.csv", "a\n")
+            with atomic.directory_syncs_batched():   # nested: the outer batch syncs
+                atomic_write_text(tmp_path / "b.csv", "b\n")
+            atomic_write_text(other / "x.json", "{}")
+            assert [kind for kind, _ in synced] == ["file"] * 3   # no directory yet
+            with atomic_writer(tmp_path / "c.csv", "w") as handle:
+                handle.write("half")
+                raise RuntimeError("disk on fire")
+    assert [kind for kind, _ in synced] == ["file"] * 3 + ["dir"] * 2
+    assert sorted(path for kind, path in synced if kind == "dir") == sorted([str(tmp_path), str(other)])
+    assert (tmp_path / "a.csv").read_text() == "a\n" and (tmp_path / "b.csv").read_text() == "b\n"
+    assert (tmp_path / "c.csv").read_text() == "previous"
+    assert sorted(os.listdir(tmp_path)) == ["a.csv", "b.csv", "c.csv", "cache"]
+    synced.clear()
+    atomic_write_text(tmp_path / "d.csv", "d\n")     # after the batch: synced at once again
+    assert [kind for kind, _ in synced] == ["file", "dir"]

@@ -258,7 +258,10 @@ def test_header_documents_the_orders_of_the_run_manifest(tmp_path):
     assert [n for _, n, _ in constants] == manifest["constant_names"]
     unit = {n: u for _, n, u in constants}
     # a modal constant (as the report), a parameter a field names, a field's own constant
-    assert (unit["H_11"], unit["m1"], unit["L2"], unit["x_crank_pin"], unit["Omega"]) == ("N/m", "kg", "m", "m", "?")
+    # and a parameter of a time law only: the driver coordinate Omega*t [rad] makes Omega [rad/s]
+    assert (unit["H_11"], unit["m1"], unit["L2"], unit["x_crank_pin"], unit["Omega"]) \
+        == ("N/m", "kg", "m", "m", "rad/s")
+    assert not [line for line in header.splitlines() if line.startswith(" *   p[") and "[?]" in line]
     assert f"#define SLIDER_CRANK_NY {len(manifest['state_names'])}" in header
     assert f"#define SLIDER_CRANK_NP {len(manifest['constant_names'])}" in header
     outputs = [n for _, n, _ in _documented(header, "out")]
@@ -266,6 +269,20 @@ def test_header_documents_the_orders_of_the_run_manifest(tmp_path):
     source = source_path.read_text()
     assert re.findall(r"#include\s*[<\"]([^>\"]+)", source) == ["math.h", "slider_crank.h"]
     assert re.findall(r"#include\s*[<\"]([^>\"]+)", header) == []
+
+
+def test_a_parameter_whose_uses_fix_no_unit_is_said_to_have_none_and_why():
+    """Omega*k*t [rad] with k a parameter too: neither Omega nor k has a unit of its own."""
+    from flexkane.c_export import constant_descriptions
+
+    model = flexkane.builtin_model("slider-crank")
+    eom = Derivation(model).eom
+    free = model.with_values({"parameters.k": 1.0, "joints.crank.driver.coordinate": "Omega*k*t"})
+    units, notes = constant_descriptions(eom, free)
+    omega = [s.name for s in eom.constants].index("Omega")
+    assert units[omega] == ""
+    assert notes[omega] == ("parameter, in joints.crank.driver.coordinate; no unit: its uses do not fix one "
+                            "(joints.crank.driver.coordinate [rad] leave it free or disagree)")
 
 
 def test_names_are_sanitized_and_never_collide(tmp_path):

@@ -7,6 +7,11 @@ before the rename, the temporary file is removed and a previous version of the t
 untouched. A symbolic link at the target is replaced by a regular file. Under a command's
 :class:`~flexkane.interruption.StopRequest`, a signal cannot cut the creation or the removal of the
 temporary file or the rename: an interruption leaves no temporary file behind.
+
+Durability takes two syncs and no more: the file's data before the rename (else a crash could
+leave the new name on an empty or partial file) and the directory after it (else a crash could
+lose the rename itself). A batch of files (:func:`directory_syncs_batched`, a run's outputs) syncs
+each file's data as it is written and each directory once, at the end of the batch.
 """
 
 from __future__ import annotations
@@ -23,10 +28,11 @@ from .errors import ModelError
 from .interruption import held_signals
 
 __all__ = ["OutputExistsError", "atomic_write_bytes", "atomic_write_text", "atomic_writer",
-           "prepare_output_dir"]
+           "directory_syncs_batched", "prepare_output_dir"]
 
 _MODES = ("wb", "w", "path")
 _UMASK_LOCK = threading.Lock()
+_BATCH = threading.local()   # .directories: the directories of the open batch whose sync is due
 
 
 class OutputExistsError(ModelError):
@@ -59,6 +65,36 @@ def _sync_directory(directory: pathlib.Path) -> None:
             os.fsync(handle)
         finally:
             os.close(handle)
+
+
+def _renamed_in(directory: pathlib.Path) -> None:
+    """A file was renamed into ``directory``: sync it now, or at the end of the open batch."""
+    pending = getattr(_BATCH, "directories", None)
+    if pending is None:
+        _sync_directory(directory)
+    else:
+        pending.setdefault(os.path.abspath(directory), directory)
+
+
+@contextlib.contextmanager
+def directory_syncs_batched() -> Iterator[None]:
+    """Sync each directory written into once, when the block ends, instead of after every file.
+
+    Each file's data are still synced before its rename (a file appears complete or not at all);
+    only the durability of the renames waits for the end of the block, which syncs every directory
+    a file was renamed into, also when the block ends by an exception. A nested block belongs to
+    the outermost one.
+    """
+    if getattr(_BATCH, "directories", None) is not None:
+        yield
+        return
+    _BATCH.directories = directories = {}
+    try:
+        yield
+    finally:
+        _BATCH.directories = None
+        for directory in directories.values():
+            _sync_directory(directory)
 
 
 @contextlib.contextmanager
@@ -120,7 +156,7 @@ def atomic_writer(path: str | os.PathLike, mode: str = "wb", *,
                 with contextlib.suppress(OSError):
                     temporary.unlink()
         raise
-    _sync_directory(target.parent)
+    _renamed_in(target.parent)
 
 
 def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> pathlib.Path:

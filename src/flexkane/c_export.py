@@ -12,6 +12,7 @@ part of those equations.
 
 from __future__ import annotations
 
+import contextlib
 from pathlib import Path
 
 from ._version import __version__
@@ -40,20 +41,21 @@ def constant_descriptions(eom, model: Model) -> tuple[list[str], list[str]]:
         What the constant is: ``beam B: <definition>``, ``parameter`` (with its expression when it
         has one, and the fields that name it) or the key path of the field it stands for.
     """
-    from .model.paths import get_value
-    from .model.validate import validate_model
+    from .expression_syntax import NeedsSymbolic, expression_names
+    from .model.parameter_units import field_values, inferred_units
     from .report import _definition
 
-    field_units: dict = {}
-    validate_model(model, units=field_units)
-    named: dict = {}   # parameter -> {path: unit} of the fields that name it
-    for path, unit in field_units.items():
-        try:
-            value = get_value(model, path)
-        except ModelError:
-            continue
+    fields = field_values(model)   # path -> (value, unit)
+    field_units = {path: unit for path, (_, unit) in fields.items()}
+    named: dict = {}     # parameter -> {path: unit} of the fields that name it
+    used_in: dict = {}   # parameter -> {path: unit} of the expressions using it
+    for path, (value, unit) in fields.items():
         if isinstance(value, str) and value.strip() in model.parameters:
             named.setdefault(value.strip(), {})[path] = unit
+        with contextlib.suppress(NeedsSymbolic):
+            for name in expression_names(value) & set(model.parameters):
+                used_in.setdefault(name, {})[path] = unit
+    inferred = inferred_units(fields, model.parameters)
     modal = eom.beam_constant_symbols()
     defined = eom.chain.symbols.definitions
     units, notes = [], []
@@ -67,9 +69,13 @@ def constant_descriptions(eom, model: Model) -> tuple[list[str], list[str]]:
             given = model.parameters[s.name]
             uses = named.get(s.name, {})
             kinds = set(uses.values())
-            units.append(kinds.pop() if len(kinds) == 1 else "")
+            unit = kinds.pop() if len(kinds) == 1 else "" if kinds else inferred.get(s.name, "")
+            units.append(unit)
+            laws = sorted(path for path in used_in.get(s.name, ()) if path not in uses)
             notes.append("parameter" + ("" if isinstance(given, (int, float)) else f" = {given}")
-                         + (f", the value of {_listed(sorted(uses))}" if uses else ""))
+                         + (f", the value of {_listed(sorted(uses))}" if uses else "")
+                         + (f", in {_listed(laws)}" if laws and not uses else "")
+                         + ("" if unit else "; " + _no_unit(s.name, kinds, used_in.get(s.name, {}))))
         elif s in defined:
             path, given = defined[s]
             units.append(field_units.get(path, ""))
@@ -78,6 +84,16 @@ def constant_descriptions(eom, model: Model) -> tuple[list[str], list[str]]:
             units.append("")
             notes.append("constant")
     return units, notes
+
+
+def _no_unit(name: str, kinds: set, used_in: dict) -> str:
+    """Why a parameter has no unit in the header."""
+    if kinds:
+        return "no unit: the fields that name it have different units"
+    if not used_in:
+        return "no unit: no field of the model uses it"
+    return ("no unit: its uses do not fix one (" + _listed([f"{p} [{u}]" for p, u in sorted(used_in.items())])
+            + " leave it free or disagree)")
 
 
 def _listed(paths: list, limit: int = 3) -> str:
@@ -117,7 +133,7 @@ def export_c(model, directory, *, prefix: str | None = None, force: bool = False
         For a model that is not a Model, a prefix that is not a C identifier, a directory that
         holds files (without ``force``) or cannot be created, or equations C cannot express.
     """
-    from .atomic import atomic_write_text, prepare_output_dir
+    from .atomic import atomic_write_text, directory_syncs_batched, prepare_output_dir
     from .derivation_cache import Derivation
     from .numerics.c_source import C_RESERVED, CModelInfo, c_identifier, c_sources, check_prefix
 
@@ -152,4 +168,5 @@ def export_c(model, directory, *, prefix: str | None = None, force: bool = False
         out = prepare_output_dir(directory, force=force)
     except ModelError as exc:
         raise ModelError(flag, exc.expected, exc.given, exc.hint) from None
-    return [atomic_write_text(out / f"{prefix}.h", header), atomic_write_text(out / f"{prefix}.c", source)]
+    with directory_syncs_batched():
+        return [atomic_write_text(out / f"{prefix}.h", header), atomic_write_text(out / f"{prefix}.c", source)]

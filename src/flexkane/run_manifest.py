@@ -19,6 +19,8 @@ Everything here is plain JSON data (lists, dicts, str, float): loading it import
 
 from __future__ import annotations
 
+import contextlib
+
 __all__ = ["MANIFEST_FORMAT", "NUMBER_FIELDS", "manifest_of", "numbers_of", "units"]
 
 #: Layout of the stored manifests and numbers (a change invalidates the stored files).
@@ -116,8 +118,48 @@ def _sensor_unit(eom, name: str) -> str:
     return SENSOR_UNITS[sensor.type]
 
 
+def _controller_units(eom, known: dict) -> dict[str, str]:
+    """Units of the controller states and outputs (by name), where the model fixes them.
+
+    A controller state has the unit of its rate times s, an output the unit of its expression and
+    of the efforts it feeds (:func:`flexkane.model.parameter_units.inferred_units`,
+    from the units of the coordinates, speeds and sensors in ``known``): the integral of an angle
+    error [rad] is in rad s. A state or output whose unit no expression fixes is left out.
+    """
+    from .expression_syntax import NeedsSymbolic, expression_names
+    from .model.parameter_units import field_values, inferred_units
+    from .model.signals import effort_fields
+
+    model = eom.model
+    equal, names = [], set(model.parameters)
+    for ctrl in model.controllers.values():
+        names.update(ctrl.states)
+        equal += [(state, rate, True) for state, rate in ctrl.states.items()]
+        if ctrl.output is not None:
+            names.add(ctrl.name)
+            equal.append((ctrl.name, ctrl.output, False))   # not its bounds: numbers of one model, not structure
+    if not equal:
+        return {}
+    # the efforts that use signals: their texts are structure, as are the controllers' (a manifest
+    # serves every model of a structure, so no number of one model may decide a unit)
+    efforts = set()
+    for path, value in effort_fields(model):
+        with contextlib.suppress(NeedsSymbolic):
+            if isinstance(value, str) and expression_names(value) - set(model.parameters) - {"t"}:
+                efforts.add(path)
+    fields = {path: field for path, field in field_values(model).items() if path in efforts}
+    found = inferred_units(fields, names, known=known, equal=equal)
+    out = {}
+    for ctrl in model.controllers.values():
+        out.update({state: found[state] for state in ctrl.states if state in found})
+        if ctrl.output is not None and ctrl.name in found:
+            out[f"controller_{ctrl.name}"] = found[ctrl.name]
+    return out
+
+
 def units(eom) -> dict[str, str]:
-    """Unit of every state variable and output, by name."""
+    """Unit of every state variable and output, by name (a controller's state or output only where
+    the model fixes it, :func:`_controller_units`)."""
     out = {}
     for c in eom.chain.coordinates:
         unit = _UNITS[c.role]
@@ -145,5 +187,13 @@ def units(eom) -> dict[str, str]:
             out[name] = "N m" if name.endswith(("_torque", "_tx", "_ty", "_tz")) else "N"   # 3D: _tx .. _tz
         elif name.startswith("sensor_"):
             out[name] = _sensor_unit(eom, name[len("sensor_"):])
+        elif name in ("p_x", "p_y", "p_z"):
+            out[name] = "kg m/s"
+        elif name in ("h_o", "h_cm"):
+            out[name] = "kg m^2/s"
     out["work"] = out["energy_balance"] = "J"
+    if eom.model.controllers:
+        known = {name: unit for name, unit in out.items() if not name.startswith("sensor_")}
+        known.update({name[len("sensor_"):]: unit for name, unit in out.items() if name.startswith("sensor_")})
+        out.update(_controller_units(eom, known))
     return out

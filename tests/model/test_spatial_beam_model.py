@@ -64,3 +64,22 @@ def test_as_spatial_maps_a_planar_beam_to_one_bending_in_its_frames_x_y_plane():
     assert spatial.EI_z == beam.EI and spatial.n_modes_y == beam.n_modes and spatial.shape_y == beam.shape
     assert spatial.n_modes_z == 0 and spatial.n_torsion == 0 and spatial.EI is None
     assert as_spatial(planar).initial["q_rod_y2"] == 0.01 and "q_rod_2" not in as_spatial(planar).initial
+
+
+def test_modes_text_names_the_rayleigh_option_of_spatial_beams_as_of_planar_ones():
+    planar = builtin_model("pendulum-beam")
+    assert not planar.beams["rod"].rayleigh and "Rayleigh" not in planar.beams["rod"].modes_text()
+    rayleigh = planar.with_values({"beams.rod.rotary_inertia": 1e-4}).beams["rod"]
+    assert rayleigh.rayleigh and rayleigh.modes_text().endswith(", Rayleigh")
+    spatial = loads_model(BLADE)
+    beam = spatial.beams["blade"]
+    assert beam.modes_text() == "2 y clamped-free + 3 z clamped-free + 1 torsion + 1 axial"
+    assert not beam.rayleigh
+    both = loads_model(BLADE.replace("geometric_stiffening = true", "geometric_stiffening = true\n"
+                                     "rho_Iy = 1e-4\nrho_Iz = 2e-4")).beams["blade"]
+    assert both.rayleigh and both.modes_text().endswith("1 axial, Rayleigh")
+    only_v = loads_model(BLADE.replace("geometric_stiffening = true", "geometric_stiffening = true\n"
+                                       "rho_Iz = 2e-4\nrho_Iy = 0")).beams["blade"]
+    assert only_v.rayleigh_planes() == ["y"] and only_v.modes_text().endswith(", Rayleigh in y")
+    as_3d = as_spatial(planar.with_values({"beams.rod.rotary_inertia": 1e-4})).beams["rod"]
+    assert as_3d.modes_text().endswith(", Rayleigh in y")   # the planar beam's sections turn about z

@@ -97,7 +97,9 @@ def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None
 
         check_animation_options(model, animation.magnify, animation.trace, getattr(animation, "view", None))
     out = prepare_out(out, force=force)
-    with StopRequest() as stop:
+    from ..atomic import directory_syncs_batched
+
+    with StopRequest() as stop, directory_syncs_batched():   # out/ (and the cache) synced once each
         return _run_phases(model, out, stop, t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol, method=method,
                            max_steps=max_steps, quiet=quiet, animation=animation, pdf=pdf, plots=plots,
                            cache=cache)

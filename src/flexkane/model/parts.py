@@ -273,23 +273,37 @@ class Beam:
     axial_damping: list[Value] = field(default_factory=list)
 
     def modes_text(self) -> str:
-        """The beam's shape functions in words (``3 clamped-free + 1 axial``; in 3D
-        ``2 y clamped-free + 2 z clamped-free + 1 torsion``)."""
+        """The beam's shape functions in words (``3 clamped-free + 1 axial, Rayleigh``; in 3D
+        ``2 y clamped-free + 2 z clamped-free + 1 torsion, Rayleigh``, or ``Rayleigh in y`` when
+        only the turns of one bending plane carry kinetic energy)."""
         if self.EI is None:    # a spatial beam (dimensions = 3)
             parts = [f"{n} {key} {shape.family}" for key, n, shape in (("y", self.n_modes_y, self.shape_y),
                                                                        ("z", self.n_modes_z, self.shape_z)) if n]
             parts += [f"{n} {what}" for n, what in ((self.n_torsion, "torsion"), (self.n_axial, "axial")) if n]
-            return " + ".join(parts)
+            planes = self.rayleigh_planes()
+            rayleigh = "" if not planes else ", Rayleigh" if len(planes) == 2 else f", Rayleigh in {planes[0]}"
+            return " + ".join(parts) + rayleigh
         return (f"{self.n_modes} {self.shape.family}" + (f" + {self.n_axial} axial" if self.n_axial else "")
                 + (", Rayleigh" if self.rayleigh else ""))
 
     @property
     def rayleigh(self) -> bool:
         """Whether the sections' rotation enters the equations: ``rotary_inertia`` given and not a
-        literal zero (a literal zero adds no terms, as every zero field does)."""
-        value = self.rotary_inertia
-        return value is not None and not (isinstance(value, (int, float)) and not isinstance(value, bool)
-                                          and value == 0)
+        literal zero (a literal zero adds no terms, as every zero field does); for a spatial beam
+        ``rho_Iz`` or ``rho_Iy`` so given (:meth:`rayleigh_planes`)."""
+        return _nonzero_field(self.rotary_inertia) or bool(self.rayleigh_planes())
+
+    def rayleigh_planes(self) -> list[str]:
+        """The bending planes of a spatial beam whose sections' turns carry kinetic energy: ``"y"``
+        (v along y_p, the sections turn about z_p) with ``rho_Iz``, ``"z"`` (w along z_p, about
+        y_p) with ``rho_Iy``, each given and not a literal zero; empty for a planar beam."""
+        return [plane for plane, value in (("y", self.rho_Iz), ("z", self.rho_Iy)) if _nonzero_field(value)]
+
+
+def _nonzero_field(value) -> bool:
+    """Whether an optional field adds terms: given and not a literal zero."""
+    return value is not None and not (isinstance(value, (int, float)) and not isinstance(value, bool)
+                                      and value == 0)
 
 
 @dataclass

@@ -117,6 +117,8 @@ class _Values(FieldValues):
             beyond = set()      # not in the language: the evaluation below says why
         if beyond:
             self.deferred.append((path, value))
+            if self.units is not None:
+                self.units[path] = unit   # the field's unit all the same
             return None
         return self.number(path, value, what, unit, time=True)
 

@@ -420,10 +420,11 @@ def c_sources(eom, prefix: str, info: CModelInfo) -> tuple[str, str]:
     header += [f" *   y[{k}] = {_comment(n)} [{_comment(u) or '?'}]"     # [?]: a unit not recorded
                for k, (n, u) in enumerate(zip(state_names, info.state_units))]
     header += [" *",
-               f" * Constants p, {P}_NP = {len(constants)} entries (name [unit]: what it is; [?]: a parameter",
-               f" * whose unit the model does not fix; the model's values are {prefix}_default_p):"]
+               f" * Constants p, {P}_NP = {len(constants)} entries (name [unit]: what it is; [unit unknown]: a",
+               f" * parameter whose unit the model does not fix, the note says why; the model's values are",
+               f" * {prefix}_default_p):"]
     for k, (s, unit, note) in enumerate(zip(constants, info.constant_units, info.constant_notes)):
-        header.append(f" *   p[{k}] = {_comment(s.name)} [{_comment(unit) or '?'}]: {_comment(note)}")
+        header.append(f" *   p[{k}] = {_comment(s.name)} [{_comment(unit) or 'unit unknown'}]: {_comment(note)}")
     header += [" *", f" * Outputs, {P}_NOUT = {len(output_names)} entries (name [unit], [?]: not recorded):"]
     header += [f" *   out[{k}] = {_comment(n)} [{_comment(u) or '?'}]"
                for k, (n, u) in enumerate(zip(output_names, info.output_units))]

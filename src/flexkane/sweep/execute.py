@@ -113,6 +113,7 @@ def dask_client(*, workers: int | None = None, scheduler: str | None = None, scr
         scratch.mkdir(parents=True, exist_ok=True)
         options["local_directory"] = str(scratch)
     cluster = client = None
+    interrupted = False
     try:
         with deferred_signals(), dask.config.set({"temporary-directory": str(scratch)} if scratch is not None else {}):
             cluster = LocalCluster(n_workers=workers or default_worker_count(), threads_per_worker=1,
@@ -122,14 +123,45 @@ def dask_client(*, workers: int | None = None, scheduler: str | None = None, scr
             with contextlib.suppress(Exception):
                 client.run(_ignore_interrupts)
         yield client
+    except BaseException:
+        interrupted = True
+        raise
     finally:
-        with deferred_signals():
+        with deferred_signals(), _unretrieved_cluster_errors_dropped(interrupted):
             for part in (client, cluster):
                 if part is not None:
                     with contextlib.suppress(Exception):
                         part.close()
         if scratch is not None:
             shutil.rmtree(scratch, ignore_errors=True)
+
+
+class _UnretrievedClusterError(logging.Filter):
+    """Drops asyncio's report of a task of Dask's that failed unobserved ("Task exception was never
+    retrieved"): a request the scheduler was serving when an interruption closed the cluster."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        message = record.getMessage()
+        return not (message.startswith("Task exception was never retrieved") and "distributed" in message)
+
+
+@contextlib.contextmanager
+def _unretrieved_cluster_errors_dropped(interrupted: bool):
+    """While a cluster closes after an interruption or an error (``interrupted``), drop the reports
+    of its requests cut short (:class:`_UnretrievedClusterError`), collecting them before the filter
+    goes; the close at the end of a sweep shows everything."""
+    if not interrupted:
+        yield
+        return
+    import gc
+
+    logger, dropped = logging.getLogger("asyncio"), _UnretrievedClusterError()
+    logger.addFilter(dropped)
+    try:
+        yield
+        gc.collect()   # a failed task reports when it is collected: here, not at exit
+    finally:
+        logger.removeFilter(dropped)
 
 
 def _ignore_interrupts() -> None:
@@ -229,7 +261,10 @@ def run_on_dask(client, jobs, on_record, on_lost, *, batch_size: int | None = No
                 break
             tasks.append(pending.popleft()[1])
         if id(structure) not in scattered:
-            scattered[id(structure)] = (structure, client.scatter(structure, broadcast=True, hash=False))
+            # not cut by a signal: the scheduler would go on broadcasting to the workers of a cluster
+            # that closes, and its failure would be printed by asyncio (the signal acts right after)
+            with deferred_signals():
+                scattered[id(structure)] = (structure, client.scatter(structure, broadcast=True, hash=False))
         future = client.submit(run_batch, scattered[id(structure)][1], tasks, pure=False)
         in_flight[future] = tasks
         completed.add(future)
