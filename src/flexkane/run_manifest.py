@@ -102,12 +102,6 @@ def numbers_of(eom, model, fields, spins) -> dict:
     return out
 
 
-_UNITS = {"x": "m", "y": "m", "z": "m", "angle": "rad", "angle_1": "rad", "angle_2": "rad", "slide": "m",
-          "mode": "m", "mode_y": "m", "mode_z": "m", "torsion": "rad", "axial": "m", "e0": "-", "e1": "-",
-          "e2": "-", "e3": "-"}
-_RATE = {"m": "m/s", "rad": "rad/s", "-": "rad/s"}   # an Euler parameter's speed is an angular velocity
-
-
 def _sensor_unit(eom, name: str) -> str:
     """Unit of a sensor (:data:`flexkane.model.signals.SENSOR_UNITS`; m and m/s on a prismatic joint)."""
     from .model.signals import SENSOR_UNITS
@@ -160,12 +154,13 @@ def _controller_units(eom, known: dict) -> dict[str, str]:
 def units(eom) -> dict[str, str]:
     """Unit of every state variable and output, by name (a controller's state or output only where
     the model fixes it, :func:`_controller_units`)."""
+    from .model.coordinates import coordinate_unit, speed_unit
+
     out = {}
     for c in eom.chain.coordinates:
-        unit = _UNITS[c.role]
-        out[c.q.name] = unit
+        out[c.q.name] = coordinate_unit(c.role)
         if c.u is not None:
-            out[c.u.name] = _RATE[unit]
+            out[c.u.name] = speed_unit(c.role)
     for name in eom.output_names:
         if name.startswith(("x_", "y_", "z_", "tip_")):
             out[name] = "m"

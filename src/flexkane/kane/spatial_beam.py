@@ -33,6 +33,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from ..model.parts import nonzero_field
 from .chain import BEAM_ROLES
 from .modal_field import ONE, X, Field, cross3, dfs, dphi, phi, psi, rigid, theta, vec3, vec3_map
 from .spatial_beam_constants import SpatialBeamConstants
@@ -75,10 +76,6 @@ class SpatialBeamMotion:
         return {c.u for c in chain.of(self.beam.name) if c.role in BEAM_ROLES}
 
 
-def _nonzero(value) -> bool:
-    return value is not None and not (isinstance(value, (int, float)) and not isinstance(value, bool) and value == 0)
-
-
 def beam_motion(kin, beam, frame: SpatialFrame, constants: SpatialBeamConstants) -> SpatialBeamMotion:
     """The fields of a spatial beam whose frame is ``frame`` (module docstring)."""
     chain = kin.chain
@@ -97,18 +94,18 @@ def beam_motion(kin, beam, frame: SpatialFrame, constants: SpatialBeamConstants)
                     factor = sp.Rational(-1, 2) if ca is cb else sp.Integer(-1)
                     Xterms[dfs(ca.index, cb.index, label)] = factor * ca.q * cb.q
     Y, Z = bend["y"], bend["z"]
-    if _nonzero(beam.principal_angle):
+    if nonzero_field(beam.principal_angle):
         beta = kin.value(f"beams.{beam.name}.principal_angle", beam.principal_angle, f"beta_{beam.name}")
         c, s = sp.cos(beta), sp.sin(beta)
         Y, Z = bend["y"].scale(c) - bend["z"].scale(s), bend["y"].scale(s) + bend["z"].scale(c)
     r = (Field(Xterms), Y, Z)
     v = tuple(a + b + c for a, b, c in zip(vec3(*frame.v), cross3(frame.omega, r), vec3_map(r, chain.dt)))
     turns = {}
-    if _nonzero(beam.rho_Ip):
+    if nonzero_field(beam.rho_Ip):
         turns["t"] = ((1, 0, 0), rigid(frame.omega[0]) + Field({theta(c.index): c.u for c in coords["torsion"]}))
-    c, s = (sp.cos(beta), sp.sin(beta)) if _nonzero(beam.principal_angle) else (1, 0)
+    c, s = (sp.cos(beta), sp.sin(beta)) if nonzero_field(beam.principal_angle) else (1, 0)
     for label, key, axis, sign in (("y", "rho_Iz", (0, -s, c), 1), ("z", "rho_Iy", (0, c, s), -1)):
-        if _nonzero(getattr(beam, key)):
+        if nonzero_field(getattr(beam, key)):
             about = sp.Add(*[a * w for a, w in zip(axis, frame.omega)])
             turns[label] = (axis, rigid(about) + Field({dphi(m.index, label): sign * m.u
                                                         for m in coords[f"mode_{label}"]}))

@@ -291,16 +291,16 @@ class Beam:
         """Whether the sections' rotation enters the equations: ``rotary_inertia`` given and not a
         literal zero (a literal zero adds no terms, as every zero field does); for a spatial beam
         ``rho_Iz`` or ``rho_Iy`` so given (:meth:`rayleigh_planes`)."""
-        return _nonzero_field(self.rotary_inertia) or bool(self.rayleigh_planes())
+        return nonzero_field(self.rotary_inertia) or bool(self.rayleigh_planes())
 
     def rayleigh_planes(self) -> list[str]:
         """The bending planes of a spatial beam whose sections' turns carry kinetic energy: ``"y"``
         (v along y_p, the sections turn about z_p) with ``rho_Iz``, ``"z"`` (w along z_p, about
         y_p) with ``rho_Iy``, each given and not a literal zero; empty for a planar beam."""
-        return [plane for plane, value in (("y", self.rho_Iz), ("z", self.rho_Iy)) if _nonzero_field(value)]
+        return [plane for plane, value in (("y", self.rho_Iz), ("z", self.rho_Iy)) if nonzero_field(value)]
 
 
-def _nonzero_field(value) -> bool:
+def nonzero_field(value) -> bool:
     """Whether an optional field adds terms: given and not a literal zero."""
     return value is not None and not (isinstance(value, (int, float)) and not isinstance(value, bool)
                                       and value == 0)
