@@ -16,7 +16,7 @@ import sympy as sp
 from ..expressions import bounded_expand, time_derivative
 from ..model import Model
 from ..model.values import symbol_order
-from . import numeric
+from . import loop_closure, numeric
 from .active import generalized_active_forces
 from .budget import DerivationBudget
 from .chain import BEAM_ROLES, Chain, build_chain
@@ -394,8 +394,9 @@ class EquationsOfMotion:
         return numeric.initial_guess(self, model)
 
     def project_coordinates(self, q: np.ndarray, p_values: dict, t: float = 0.0) -> np.ndarray:
-        """Solve the loop constraints for the dependent coordinates (:func:`.numeric.project_coordinates`)."""
-        return numeric.project_coordinates(self, q, p_values, t)
+        """Solve the loop constraints for the dependent coordinates, the others kept
+        (:func:`.loop_closure.project_coordinates`)."""
+        return loop_closure.project_coordinates(self, q, p_values, t)
 
     # ------------------------------------------------------------------ structure
     @property
