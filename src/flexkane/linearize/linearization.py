@@ -32,8 +32,9 @@ Operating points (``about``):
 
 * ``equilibrium``: q0 solves ``f(q0, 0, t0) = 0`` (and the loop constraints), searched from the
   model's initial coordinates (:mod:`flexkane.linearize.equilibrium`);
-* ``rest``: q0 is the model's initial configuration with every elastic coordinate (modal and axial)
-  set to zero, and must be an equilibrium; for free-floating chains;
+* ``rest``: q0 is the model's initial configuration with every elastic coordinate (modal, planar or
+  along a spatial beam's y and z, torsional and axial: ``model.coordinates.BEAM_ROLES``) set to zero,
+  and must be an equilibrium; for free-floating chains;
 * ``spin``: a revolute hub turns at the constant rate Omega (its driver is replaced by
   ``speed = Omega``); the other coordinates are in equilibrium in the hub's rotating frame.
 
@@ -58,6 +59,7 @@ import sympy as sp
 from ..errors import ModelError
 from ..kane.inputs import input_symbols
 from ..model import Model
+from ..model.coordinates import BEAM_ROLES
 from .equilibrium import EquilibriumCheck, NoEquilibriumError, check_equilibrium, find_equilibrium
 from .jacobian import forward_jacobian
 from .linear_model import LinearModel, linear_outputs
@@ -521,7 +523,7 @@ class Linearization:
             else:
                 raise ModelError("q_start", f"{len(self.q)} or {n_all} coordinates [m or rad]", given.size)
         loads = self._load_accelerations(np.concatenate([start, self.z_initial]), p, u0)
-        elastic = np.array([self._coordinate[q].role in ("mode", "axial") for q in self.q_all], dtype=bool)
+        elastic = np.array([self._coordinate[q].role in BEAM_ROLES for q in self.q_all], dtype=bool)
         origin = None
         if self.reduction is not None:  # searched in rotation coordinates x about the start (q = origin at x = 0)
             origin = self.reduction.normalize(np.where(elastic, 0.0, start) if self.about == "rest" else start)
