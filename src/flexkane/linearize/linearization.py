@@ -70,6 +70,35 @@ from .rotation_reduction import RotationReduction
 __all__ = ["Linearization", "linearize", "ABOUT"]
 
 
+def free_symbols(exprs) -> set:
+    """The free symbols of ``exprs``, each distinct subexpression visited once.
+
+    The same set as the union of ``e.free_symbols``, which walks a subexpression again wherever it
+    occurs: the equations of a closed loop share their minors so often that this takes minutes.
+
+    Parameters
+    ----------
+    exprs : iterable of sympy.Basic
+
+    Returns
+    -------
+    set of sympy.Symbol
+    """
+    out: set = set()
+    seen: set = set()
+    stack = list(exprs)
+    while stack:
+        node = stack.pop()
+        if node in seen:
+            continue
+        seen.add(node)
+        if not node.args or getattr(node, "bound_symbols", ()):    # a symbol; an integral's variables
+            out |= node.free_symbols                                 # are not free
+        else:
+            stack.extend(node.args)
+    return out
+
+
 class Linearization:
     """Symbolic linearization of a model's equations of motion (module docstring).
 
@@ -180,6 +209,7 @@ class Linearization:
         symbols = input_symbols(eom.chain)
         self.inputs = list(self.prepared.inputs)
         self.r = [symbols[ch.name] for ch in self.inputs]
+        self._symbols = None
         self._form_matrices()
         self._check_dropped()
         self._check_drivers()
@@ -250,9 +280,16 @@ class Linearization:
                     "Z_r": zdot.jacobian(self.r).xreplace(at_rest) if m else sp.zeros(len(self.z), 0)})
         return self._symbolic
 
+    def _equation_symbols(self) -> set:
+        """The free symbols of M, the forcing, the rates at rest, the constraints and the
+        controller rates (formed once: :func:`free_symbols`)."""
+        if self._symbols is None:
+            self._symbols = free_symbols(list(self.M) + list(self.eom.forcing) + list(self.qdot0)
+                                         + list(self.phi) + self.zdot)
+        return self._symbols
+
     def _appears(self, symbol) -> bool:
-        exprs = list(self.M) + list(self.eom.forcing) + list(self.qdot0) + list(self.W) + list(self.phi) + self.zdot
-        return any(symbol in e.free_symbols for e in exprs)
+        return symbol in self._equation_symbols() or symbol in free_symbols(self.W)
 
     def _check_dropped(self) -> None:
         for q in self.dropped:
@@ -273,8 +310,7 @@ class Linearization:
             names = [q.name for q in self.dependent] if self.loop_columns is None else \
                 [self.reduction.names[j] for j in self.loop_columns[1]]
             self.notes.append("closed loops: " + ", ".join(names) + " follow the independent coordinates (dq = T dq_i)")
-        exprs = list(self.M) + list(self.eom.forcing) + list(self.qdot0) + list(self.phi) + self.zdot
-        if any(self.t in e.free_symbols for e in exprs):
+        if self.t in self._equation_symbols():
             self.notes.append(f"the equations depend explicitly on time (drivers, loads): frozen at t0 = {self.t0:g} s")
 
     def _check_drivers(self) -> None:
