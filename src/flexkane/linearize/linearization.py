@@ -58,6 +58,7 @@ import sympy as sp
 
 from ..errors import ModelError
 from ..kane.inputs import input_symbols
+from ..kane.loop_closure import closure_unknowns
 from ..model import Model
 from ..model.coordinates import BEAM_ROLES
 from .equilibrium import EquilibriumCheck, NoEquilibriumError, check_equilibrium, find_equilibrium
@@ -528,10 +529,13 @@ class Linearization:
         spin : float, optional
             Spin rate [rad/s] (``about = "spin"``); the one given at construction by default.
         q_start : array_like, optional
-            Starting configuration of the search, shape (n_all,), or (n,) for the independent
-            coordinates only (the loops are then closed from the model's initial guesses); the
-            model's initial coordinates by default. The search finds the equilibrium nearest to it,
-            which may be unstable.
+            Starting configuration of the search [m, rad, -]: all coordinates ``q_all``, shape
+            (n_all,), or, for a chain with closed loops, planar or spatial, only those the loop
+            closure does not solve for (:func:`flexkane.kane.loop_closure.closure_unknowns`: the
+            coordinates of the independent speeds, without the Euler parameters of a joint with a
+            dependent angular speed), in the order of ``q_all``; the loops are then closed from the
+            model's initial guesses. The model's initial coordinates by default. The search finds
+            the equilibrium nearest to it, which may be unstable.
 
         Returns
         -------
@@ -550,14 +554,15 @@ class Linearization:
         start = self.q_initial.copy()
         if q_start is not None:
             given = np.asarray(q_start, dtype=float).ravel()
+            solved = set(closure_unknowns(self.eom))
+            independent = [k for k, q in enumerate(self.q_all) if q not in solved]
             if given.size == n_all:
                 start = given
-            elif given.size == len(self.q):     # independent coordinates: close the loops from there
-                independent = [k for k, q in enumerate(self.q_all) if q not in self.dependent]
+            elif given.size == len(independent):    # independent coordinates: close the loops from there
                 start[independent] = given
                 start = self._project(start)
             else:
-                raise ModelError("q_start", f"{len(self.q)} or {n_all} coordinates [m or rad]", given.size)
+                raise ModelError("q_start", f"{len(independent)} or {n_all} coordinates [m, rad or -]", given.size)
         loads = self._load_accelerations(np.concatenate([start, self.z_initial]), p, u0)
         elastic = np.array([self._coordinate[q].role in BEAM_ROLES for q in self.q_all], dtype=bool)
         origin = None
@@ -611,8 +616,8 @@ class Linearization:
         spin : float, optional
             Spin rate [rad/s] (``about = "spin"``); the one given at construction by default.
         q_start : array_like, optional
-            Starting configuration of the equilibrium search, shape (n_all,) or (n,)
-            (:meth:`operating_point`).
+            Starting configuration of the equilibrium search, all coordinates or the independent
+            ones (:meth:`operating_point`).
         outputs : bool
             Form the output matrices (``False``: a model without outputs, for frequencies only; the
             outputs' Jacobians of a large model take as long as the rest).
@@ -767,7 +772,7 @@ def linearize(model: Model, *, about: str = "equilibrium", spin: float | None = 
     t0 : float
         Time of the operating point [s].
     q_start : array_like, optional
-        Starting configuration of the equilibrium search, shape (n_all,) or (n,) (see
+        Starting configuration of the equilibrium search, all coordinates or the independent ones (see
         :meth:`Linearization.operating_point`).
     spin_axis : sequence of 3 float, optional
         3D models: a free steady spin of the spherical or free joint ``hub`` about this axis of its
