@@ -4,14 +4,17 @@ The unknowns are the coordinates of the dependent speeds (``EquationsOfMotion.de
 every other coordinate keeps the value given, bit for bit (a crank angle the user set stays set).
 A dependent speed moves its coordinate at unit rate (``q' = u``: each dependent coordinate is an
 unknown of its own), except an angular speed of a spherical or free joint, which moves the joint's
-four Euler parameters, ``e' = 1/2 E(e) w``: those four are then unknowns on the unit sphere, moved
-along the rates' directions and renormalized after each step. So the coordinates move along
+four Euler parameters, ``e' = 1/2 E(e) w``: those four then move on the unit sphere along the
+rates' directions. So the coordinates move along
 
     dq = D(q) dx,   D[:, k] = e_{q_k}  or  de/dw_k = 1/2 E(e)[:, k],
 
-one column per dependent speed, and Newton's method solves ``Phi(q + D dx) = 0`` for ``dx`` with the
-exact Jacobian ``A = Phi_q D`` (``Phi_q`` symbolic, of the unknowns only), each step halved while it
-does not decrease the residual, until the residual can decrease no more (round-off).
+one column per dependent speed. The unknowns x are the dependent coordinates themselves and, for
+each dependent angular speed, its turn in the chart ``e(x) = (e_s + D_s x) / |e_s + D_s x|`` about
+the start ``e_s`` (every orientation within half a turn of it); Powell's hybrid method
+(``scipy.optimize.root``, ``hybr``) solves ``Phi(q(x)) = 0`` with the exact Jacobian
+``Phi_q dq/dx`` (``Phi_q`` symbolic, of the unknowns only) to a step of 1e-14. Without Euler
+parameters (planar chains) this is the root of the constraints in the dependent coordinates.
 """
 
 from __future__ import annotations
@@ -43,13 +46,13 @@ def _euler_blocks(eom) -> list:
 
 def _directions(eom) -> tuple:
     """The unknowns (indices into ``eom.q``, ascending) and the symbolic directions ``D`` of the
-    dependent speeds, shape (len(unknowns), number of dependent speeds)."""
+    dependent speeds (in the chain's order), shape (len(unknowns), number of dependent speeds)."""
     chain = eom.chain
     q = list(eom.q)
     blocks = _euler_blocks(eom)
     block_of = {i: b for b in blocks for i in b}
-    dep = list(eom.dependent_speeds)
     coordinate_of = {c.u: c.q for c in chain.coordinates if c.u is not None}
+    dep = [c.u for c in chain.coordinates if c.u in eom.dependent_speeds]     # in the chain's order
     unknowns: set = set()
     columns = []
     for u in dep:
@@ -109,51 +112,55 @@ def project_coordinates(eom, q: np.ndarray, p_values: dict, t: float = 0.0) -> n
     ModelError
         If the constraints cannot be closed from ``q``.
     """
-    q = np.array(q, dtype=float)
+    from scipy.optimize import root
+
+    start = np.array(q, dtype=float)
     if not eom.dependent_speeds:
-        return q
+        return start
     unknowns, D = _directions(eom)
     subs_const = {k: sp.Float(v) for k, v in p_values.items()}
     phi = sp.Matrix([e.xreplace(subs_const) for e in eom._phi])
     args = [eom.t] + list(eom.q)
     f = sp.lambdify(args, phi, "numpy")
-    jac = sp.lambdify(args, phi.jacobian([eom.q[i] for i in unknowns]) * D, "numpy", cse=True)
-    moved_blocks = [b for b in _euler_blocks(eom) if b[0] in unknowns]
+    jac = sp.lambdify(args, phi.jacobian([eom.q[i] for i in unknowns]), "numpy")
+    blocks = [[unknowns.index(i) for i in b] for b in _euler_blocks(eom) if b[0] in unknowns]
+    in_block = {r for b in blocks for r in b}
+    D_start = np.asarray(sp.lambdify(args, D, "numpy")(t, *start), dtype=float)
+    # a dependent coordinate is its own unknown (row of its unit column); an angular speed turns a block
+    plain = {k: int(np.flatnonzero(D_start[:, k])[0]) for k in range(D.shape[1])
+             if not in_block.intersection(np.flatnonzero(D_start[:, k]))}
+    turning = [k for k in range(D.shape[1]) if k not in plain]
+    rows = np.array(unknowns)
+    columns = np.array(list(plain.values()), dtype=int)
+    q_cur = start.copy()
+
+    def coordinates(x):
+        y = start[rows] + D_start[:, turning] @ x[turning]
+        y[columns] = x[list(plain)]
+        for b in blocks:
+            y[b] /= np.linalg.norm(y[b])
+        q_cur[rows] = y
+        return q_cur
 
     def residual(x):
-        return np.asarray(f(t, *x), dtype=float).ravel()
+        return np.asarray(f(t, *coordinates(x)), dtype=float).ravel()
 
-    def moved(x, step):
-        y = x.copy()
-        y[unknowns] = y[unknowns] + step
-        for block in moved_blocks:
-            y[block] /= np.linalg.norm(y[block])
-        return y
+    def jacobian(x):
+        dq = np.zeros((len(unknowns), D.shape[1]))     # dq/dx
+        dq[columns, list(plain)] = 1.0
+        v = start[rows] + D_start[:, turning] @ x[turning]
+        for b in blocks:    # d(v/|v|)/dv = (I - n n^T)/|v|
+            size = np.linalg.norm(v[b])
+            n = v[b] / size
+            dq[np.ix_(b, turning)] = (np.eye(len(b)) - np.outer(n, n)) @ D_start[np.ix_(b, turning)] / size
+        return np.asarray(jac(t, *coordinates(x)), dtype=float) @ dq
 
-    D_num = sp.lambdify(args, D, "numpy")
-    r = residual(q)
-    size = np.linalg.norm(r)
-    for _ in range(100):
-        if not size > 0:      # closed exactly (or not finite: judged below)
-            break
-        try:
-            dx = np.linalg.solve(np.asarray(jac(t, *q), dtype=float), -r)
-        except np.linalg.LinAlgError:
-            break
-        step = np.asarray(D_num(t, *q), dtype=float) @ dx
-        for _halving in range(30):
-            trial = moved(q, step)
-            r_trial = residual(trial)
-            size_trial = np.linalg.norm(r_trial)
-            if size_trial < size:
-                break
-            step = step / 2
-        else:
-            break       # no decrease along the Newton direction: converged to round-off, or stuck
-        q, r, size = trial, r_trial, size_trial
-    worst = float(np.abs(r).max())
+    x0 = np.zeros(D.shape[1])
+    x0[list(plain)] = start[rows][columns]
+    sol = root(residual, x0, jac=jacobian, method="hybr", tol=1e-14)
+    worst = float(np.abs(residual(sol.x)).max())
     if not worst <= CLOSURE_TOLERANCE:
         names = ", ".join(eom.q[i].name for i in unknowns)
         raise ModelError("initial", "initial coordinates from which the loop constraints can be closed "
                          f"(solving for {names})", f"residual {worst:.3g}")
-    return q
+    return coordinates(sol.x).copy()
