@@ -13,7 +13,8 @@ one column per dependent speed. The unknowns x are the dependent coordinates the
 each dependent angular speed, its turn in the chart ``e(x) = (e_s + D_s x) / |e_s + D_s x|`` about
 the start ``e_s`` (every orientation within half a turn of it); Powell's hybrid method
 (``scipy.optimize.root``, ``hybr``) solves ``Phi(q(x)) = 0`` with the exact Jacobian
-``Phi_q dq/dx`` (``Phi_q`` symbolic, of the unknowns only) to a step of 1e-14. Without Euler
+``Phi_q dq/dx`` (``Phi_q`` symbolic, of the unknowns only) to a step of 1e-14, a dependent
+coordinate's move weighing :data:`PLAIN_WEIGHT` times a turn's in its step bound. Without Euler
 parameters (planar chains) this is the root of the constraints in the dependent coordinates.
 """
 
@@ -28,6 +29,11 @@ __all__ = ["closure_unknowns", "project_coordinates"]
 
 # largest residual of the closed constraints [m, rad, -]
 CLOSURE_TOLERANCE = 1e-10
+# with both dependent coordinates and turns among the unknowns, the weight of a coordinate's move
+# against a turn's in the solver's step bound (initial bound 0.01 of the weighted start): the
+# dependent coordinates stay near their guesses and the joints turn (a rocker angle given near one
+# assembly branch of a spatial four-bar keeps it there)
+PLAIN_WEIGHT = 1e3
 
 
 def _euler_blocks(eom) -> list:
@@ -157,7 +163,10 @@ def project_coordinates(eom, q: np.ndarray, p_values: dict, t: float = 0.0) -> n
 
     x0 = np.zeros(D.shape[1])
     x0[list(plain)] = start[rows][columns]
-    sol = root(residual, x0, jac=jacobian, method="hybr", tol=1e-14)
+    options = {}
+    if turning and plain:   # steps measured with a coordinate's move weighing 1000 times a turn's
+        options = {"diag": np.where(np.isin(np.arange(len(x0)), list(plain)), PLAIN_WEIGHT, 1.0), "factor": 0.01}
+    sol = root(residual, x0, jac=jacobian, method="hybr", tol=1e-14, options=options)
     worst = float(np.abs(residual(sol.x)).max())
     if not worst <= CLOSURE_TOLERANCE:
         names = ", ".join(eom.q[i].name for i in unknowns)
