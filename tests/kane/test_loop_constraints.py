@@ -92,6 +92,27 @@ def test_rigid_four_bar_matches_sympy_mechanics_with_dependent_speeds(four_bar):
         assert abs(ours - xdot[3]) < 1e-9 * max(1.0, abs(xdot[3]))
 
 
+def test_loop_closure_keeps_the_crank_angle_the_user_set(four_bar):
+    """The closure solves for the coupler and rocker angles only (kane.loop_closure): the crank
+    angle is returned bit for bit, from near and far guesses of the others, the loop closed."""
+    from flexkane.kane.loop_closure import closure_unknowns
+
+    model, eom, compiled = four_bar
+    names = [q.name for q in eom.q]
+    assert sorted(q.name for q in closure_unknowns(eom)) == ["q_coupler", "q_rocker"]
+    values = eom.constant_values()
+    guess = eom.initial_state(model)[: len(eom.q)]
+    crank = names.index("q_crank")
+    for angle, offset in ((0.1 + 1e-3, 0.0), (2.5, 0.3), (4.0, -0.2)):
+        q = guess.copy()
+        q[crank] = angle
+        q[[names.index("q_coupler"), names.index("q_rocker")]] += offset
+        closed = eom.project_coordinates(q.copy(), values)
+        assert closed[crank].tobytes() == q[crank].tobytes()
+        phi = [float(e.xreplace({**values, **dict(zip(eom.q, closed))})) for e in eom._phi]
+        assert max(abs(v) for v in phi) <= 1e-12, phi
+
+
 def test_four_bar_conserves_energy_and_keeps_its_loop_closed(four_bar):
     model, eom, compiled = four_bar
     res = flexkane.simulate(compiled, t_end=2.0, dt_out=2e-3, rtol=RTOL, atol=ATOL)

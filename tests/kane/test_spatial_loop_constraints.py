@@ -54,6 +54,20 @@ def test_dependent_angular_speeds_close_the_loop_on_the_unit_sphere(axis_pendulu
     assert np.abs(P - [0.3, 0.4, 0.0]).max() <= 1e-12, P
 
 
+def test_closure_turns_the_spherical_joint_only_about_its_dependent_axes(axis_pendulum):
+    """The closure moves the Euler parameters along the dependent angular speeds w_y, w_z only: the
+    turn from the given orientation to the closed one has no component about the body's x axis (the
+    independent speed's), and P lands on the line."""
+    model, eom = axis_pendulum
+    given = np.array([np.cos(0.25), 0.0, 0.0, np.sin(0.25)])    # a guess: 0.5 rad about z
+    e = eom.project_coordinates(given.copy(), eom.constant_values())
+    turn = _product(given * [1, -1, -1, -1], e)
+    assert abs(turn[1]) <= 1e-15 and np.abs(turn[2:]).max() > 0.05, turn
+    assert abs(np.linalg.norm(e) - 1) <= 1e-15
+    P = _quaternion_matrix(e) @ np.array([0.5, 0.0, 0.0])
+    assert np.abs(P - [0.3, 0.4, 0.0]).max() <= 1e-12, P
+
+
 def _closed_states(model, eom, count=3):
     """Closed states: the initial one turned about the fixed axis OP, with several speeds."""
     y0 = eom.initial_state(model)

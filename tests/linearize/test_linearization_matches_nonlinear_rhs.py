@@ -46,6 +46,7 @@ def central_differences(function, x, steps):
 def test_state_space_matrices_match_finite_differences_at_a_bent_equilibrium():
     lin = Linearization(sprung_flexible_pendulum())
     linear = lin.at()
+    assert any("depend explicitly on time" in note for note in lin.notes)    # the load F0 t
     assert linear.input_names == ["input_effort_pivot", "input_load_push_fx", "input_load_push_fy"]
     np.testing.assert_allclose(linear.r0, [0.0, 0.5, 0.0])         # no torque field; F0 and F0 t at t0 = 0
     assert abs(linear.q0[0]) > 0.1 and np.max(np.abs(linear.q0[1:])) > 1e-4   # tilted and bent

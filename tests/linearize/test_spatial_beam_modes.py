@@ -83,6 +83,22 @@ def test_mode_shape_fields_along_a_spatial_beam_are_the_shape_functions(clamped)
     np.testing.assert_allclose(by_label["torsion 1"]["w"], 0.0, atol=1e-12)
 
 
+def test_about_rest_starts_from_the_undeformed_spatial_beam():
+    """About rest the elastic coordinates of the start are zeroed for every role of a spatial beam
+    (bending along y and z, torsion), not only the planar ones: the clamped beam given deflections
+    and a twist at rest is undeformed (q = 0, an equilibrium without gravity) and has its clamped
+    frequencies."""
+    model = loads_model(CLAMPED + "\n[initial]\nq_b_y1 = 0.01\nq_b_z1 = -0.02\nq_b_t1 = 0.03\n")
+    linearization = Linearization(model, about="rest")
+    assert sorted(q.name for q in linearization.q_all) == ["q_b_t1", "q_b_y1", "q_b_z1"]
+    assert np.abs(linearization.q_initial).min() > 0     # the start is deformed
+    check = linearization.operating_point()
+    assert check.ok and np.abs(check.q).max() == 0.0
+    modal = modal_analysis(linearization.at(outputs=False))
+    frequency = {m.label: m.omega for m in modal.modes}
+    assert frequency["torsion 1"] == pytest.approx(np.pi / (2 * L) * np.sqrt(GJ / RHO_IP), rel=1e-9)
+
+
 @pytest.mark.slow
 def test_linearize_command_draws_and_labels_the_modes_of_a_spatial_beam(clamped, tmp_path, capsys):
     from flexkane.cli import main

@@ -73,6 +73,39 @@ def test_axis_pendulum_configuration_keeps_the_loop_closed_and_turns_about_the_a
         np.testing.assert_allclose(turn[1:] / np.linalg.norm(turn[1:]), [1, 0, 0], atol=1e-9)
 
 
+def test_q_start_of_a_spatial_loop_takes_all_coordinates_or_the_independent_ones(axis_pendulum):
+    """As for planar loops, q_start gives all coordinates or only those the loop closure does not
+    solve for: the axis pendulum's four Euler parameters are all closed by the loop, so it has none
+    (the loop closed from the model's guess); any other count is refused, naming both."""
+    lin = axis_pendulum
+    assert len(lin.q_all) == 4
+    default = lin.operating_point().q
+    np.testing.assert_allclose(lin.operating_point(q_start=[]).q, default, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(lin.operating_point(q_start=default).q, default, rtol=0, atol=1e-15)
+    with pytest.raises(flexkane.ModelError, match="q_start: expected 0 or 4 coordinates"):
+        lin.operating_point(q_start=[1.0])
+
+
+@pytest.mark.slow
+def test_q_start_of_independent_coordinates_places_a_free_block_on_its_line():
+    """Without gravity every closed configuration of the block on a line is an equilibrium, so the
+    operating point is the start: the height z and the orientation given (five independent
+    coordinates), x and y closed so that the point P lies on the line."""
+    lin = Linearization(load_model(LOOPS / "block_on_line.toml"))
+    names = [q.name for q in lin.q_all]
+    e = np.array([np.cos(0.3), 0.0, np.sin(0.3), 0.0])         # a turn of 0.6 rad about y
+    check = lin.operating_point(q_start=[0.25, *e])
+    assert check.ok
+    q = dict(zip(names, check.q))
+    assert q["q_float_z"] == 0.25
+    np.testing.assert_allclose([q[f"q_float_e{i}"] for i in range(4)], e, rtol=0, atol=1e-15)
+    turn = _turn([0, 1, 0], 0.6)
+    P = np.array([q["q_float_x"], q["q_float_y"], q["q_float_z"]]) + turn @ np.array([0.05, -0.02, 0.1])
+    np.testing.assert_allclose(P[:2], [0.2, 0.1], rtol=0, atol=1e-13)
+    with pytest.raises(flexkane.ModelError, match="5 or 7 coordinates"):
+        lin.operating_point(q_start=[0.25])
+
+
 def test_loop_columns_pair_reduced_coordinates_with_speeds():
     speeds = ["u_crank", "u_rocker", "u_c_wx", "u_c_wy", "u_c_wz"]
     assert loop_columns(speeds, ["u_crank", "u_c_wx"], ["u_c_wy", "u_rocker", "u_c_wz"]) == ([0, 2], [1, 3, 4])

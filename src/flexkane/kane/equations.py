@@ -16,7 +16,7 @@ import sympy as sp
 from ..expressions import time_derivative
 from ..model import Model
 from ..model.values import symbol_order
-from . import numeric
+from . import loop_closure, numeric
 from .active import generalized_active_forces
 from .budget import DerivationBudget
 from .chain import Chain, build_chain
@@ -292,8 +292,9 @@ class EquationsOfMotion:
                                        driver_efforts=efforts))
 
     def project_coordinates(self, q: np.ndarray, p_values: dict, t: float = 0.0) -> np.ndarray:
-        """Solve the loop constraints for the dependent coordinates (:func:`.numeric.project_coordinates`)."""
-        return numeric.project_coordinates(self, q, p_values, t)
+        """Solve the loop constraints for the dependent coordinates, the others kept
+        (:func:`.loop_closure.project_coordinates`)."""
+        return loop_closure.project_coordinates(self, q, p_values, t)
 
     # ------------------------------------------------------------------ structure
     @property

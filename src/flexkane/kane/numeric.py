@@ -11,7 +11,7 @@ so that one derivation serves every value. Every field is evaluated by the model
 * :func:`parameter_vector`: the same in the order of ``eom.constants`` (the vector p of the
   generated code).
 * :func:`initial_state`: ``[q, u]`` from the model's ``[initial]`` table, the dependent coordinates
-  of loop constraints solved for (:func:`project_coordinates`).
+  of loop constraints solved for (:func:`flexkane.kane.loop_closure.project_coordinates`).
 """
 
 from __future__ import annotations
@@ -29,8 +29,9 @@ from ..model.paths import get_value
 from ..modes.from_spec import shape_family
 from .distributed_loads import load_profile
 from .inputs import input_symbols
+from .loop_closure import project_coordinates
 
-__all__ = ["constant_values", "parameter_vector", "initial_guess", "initial_state", "project_coordinates"]
+__all__ = ["constant_values", "parameter_vector", "initial_guess", "initial_state"]
 
 
 def constant_values(eom, model=None) -> dict:
@@ -131,7 +132,8 @@ def initial_state(eom, model=None) -> np.ndarray:
     identity; :func:`flexkane.model.initial.initial_values`) and the controllers' ``initial`` tables
     (controller states z, others 0), shape (n,).
 
-    With loop constraints the dependent coordinates are solved for (:func:`project_coordinates`)
+    With loop constraints the dependent coordinates are solved for
+    (:func:`flexkane.kane.loop_closure.project_coordinates`; the others kept as given)
     and a dependent speed may not be given.
 
     Parameters
@@ -167,59 +169,3 @@ def controller_initial(eom, model, fields) -> np.ndarray:
         for state in ctrl.states:
             values[state] = fields.value_or(ctrl.initial, state, f"controllers.{ctrl.name}.initial")
     return np.array([values[z.name] for z in getattr(eom, "z", ())], dtype=float)
-
-
-def project_coordinates(eom, q: np.ndarray, p_values: dict, t: float = 0.0) -> np.ndarray:
-    """Solve the loop constraints for the dependent coordinates, the others fixed.
-
-    Parameters
-    ----------
-    eom : EquationsOfMotion
-    q : ndarray, shape (len(eom.q),)
-        Coordinates [m, rad] (dependent ones used as the starting guess).
-    p_values : dict of sympy.Symbol to float
-        Numeric constants (:func:`constant_values`).
-    t : float
-        Time [s].
-
-    Returns
-    -------
-    ndarray, shape (len(eom.q),)
-        The coordinates with the constraints closed to a residual below 1e-10.
-
-    Raises
-    ------
-    ModelError
-        If the constraints cannot be closed from ``q``.
-    """
-    from scipy.optimize import root
-
-    if not eom.dependent_speeds:
-        return q
-    if eom.chain.dimensions == 3:
-        from .spatial_constraints import needs_turning_projection, project_coordinates as along_speeds
-
-        if needs_turning_projection(eom):   # a spherical or free joint's speed is dependent
-            return along_speeds(eom, q, p_values, t)
-    dep = [eom.q.index(s) for s in eom.dependent_coordinates]
-    subs_const = {k: sp.Float(v) for k, v in p_values.items()}
-    phi = [e.xreplace(subs_const) for e in eom._phi]
-    f = sp.lambdify([eom.t] + list(eom.q), phi, "numpy")
-    jac = sp.lambdify([eom.t] + list(eom.q), sp.Matrix(phi).jacobian([eom.q[i] for i in dep]), "numpy")
-    q = np.array(q, dtype=float)
-
-    def residual(x):
-        q[dep] = x
-        return np.array(f(t, *q), dtype=float)
-
-    def jacobian(x):
-        q[dep] = x
-        return np.array(jac(t, *q), dtype=float)
-
-    sol = root(residual, q[dep], jac=jacobian, method="hybr", tol=1e-14)
-    if np.abs(residual(sol.x)).max() > 1e-10:
-        raise ModelError("initial", "initial coordinates from which the loop constraints can be closed "
-                         f"(solving for {', '.join(s.name for s in eom.dependent_coordinates)})",
-                         f"residual {np.abs(residual(sol.x)).max():.3g}")
-    q[dep] = sol.x
-    return q

@@ -21,25 +21,21 @@ They become velocity constraints linear in the speeds and are eliminated by the 
 reduction of :mod:`flexkane.kane.constraints` (the same rule chooses the dependent speeds; a
 drift is driven back by the constraint's ``stabilization`` rate, as in the plane).
 
-A dependent speed of a spherical or free joint moves Euler parameters (``e' = 1/2 E(e) w``), not a
-coordinate of its own; so the initial state is closed (:func:`project_coordinates`) by Newton's
-method along the directions the dependent speeds move the coordinates, ``dq = K_d(q) dx`` with
-``K_d = dq'/du_d``, whose constraint Jacobian is the velocity constraints' ``A_d`` (taken by central
-differences); each step renormalizes the Euler parameters.
+The initial state is closed as a planar one's (:func:`flexkane.kane.loop_closure.project_coordinates`;
+a dependent angular speed of a spherical or free joint moves its joint's Euler parameters).
 """
 
 from __future__ import annotations
 
 from itertools import combinations
 
-import numpy as np
 import sympy as sp
 
 from ..errors import ModelError
 from .spatial_frame import dot
 from .spatial_joints import direction, orientation, plane_axes
 
-__all__ = ["closure_equations", "named_det_adjugate", "needs_turning_projection", "project_coordinates"]
+__all__ = ["closure_equations", "named_det_adjugate"]
 
 
 def _vect(E: sp.Matrix) -> list:
@@ -124,98 +120,3 @@ def named_det_adjugate(A: sp.Matrix, chain, label: str = "loops") -> tuple:
             cofactor[i, j] = (-1) ** (i + j) * minors[tuple(c for c in range(m) if c != j)]
     det = chain.name(sp.Add(*[A[0, j] * cofactor[0, j] for j in range(m)]), f"det_{label}")
     return det, cofactor.T
-
-
-def needs_turning_projection(eom) -> bool:
-    """Whether a dependent speed of ``eom`` moves other than one coordinate at unit rate (a spherical
-    or free joint's), so that the initial state is closed by :func:`project_coordinates`."""
-    chain = eom.chain
-    qdot = chain.qdot
-    for coord in chain.coordinates:
-        if coord.u in eom.dependent_speeds and (coord.q not in qdot or qdot[coord.q] != coord.u):
-            return True
-    return False
-
-
-def _euler_blocks(chain, q: list) -> list:
-    """Index lists (into ``q``) of the four Euler parameters of each spherical or free joint."""
-    blocks = []
-    for joint in chain.joints:
-        if joint.type in ("spherical", "free"):
-            e = [c.q for c in chain.joint_coordinates(joint.name)][-4:]
-            blocks.append([q.index(s) for s in e])
-    return blocks
-
-
-def project_coordinates(eom, q: np.ndarray, p_values: dict, t: float = 0.0) -> np.ndarray:
-    """Close the loop constraints by moving the coordinates along the dependent speeds' directions.
-
-    Parameters
-    ----------
-    eom : EquationsOfMotion
-    q : ndarray, shape (len(eom.q),)
-        Coordinates [m, rad, -] (the starting guess).
-    p_values : dict of sympy.Symbol to float
-        Numeric constants (:func:`flexkane.kane.numeric.constant_values`).
-    t : float
-        Time [s].
-
-    Returns
-    -------
-    ndarray, shape (len(eom.q),)
-        The coordinates with the constraints closed to a residual below 1e-10, Euler parameters
-        of unit norm.
-
-    Raises
-    ------
-    ModelError
-        If the constraints cannot be closed from ``q``.
-    """
-    chain = eom.chain
-    dep = list(eom.dependent_speeds)
-    subs_const = {k: sp.Float(v) for k, v in p_values.items()}
-    phi = sp.Matrix([e.xreplace(subs_const) for e in eom._phi])
-    qdot = sp.Matrix([chain.qdot[s].xreplace(eom.substitutions) for s in eom.q])
-    directions = qdot.jacobian(dep).xreplace(subs_const)     # K_d: q' is linear in the speeds
-    args = [eom.t] + list(eom.q)
-    f = sp.lambdify(args, phi, "numpy")
-    move = sp.lambdify(args, directions, "numpy")
-    blocks = _euler_blocks(chain, list(eom.q))
-    q = np.array(q, dtype=float)
-
-    def residual(x):
-        return np.asarray(f(t, *x), dtype=float).ravel()
-
-    def moved(x, K, step):
-        y = x + K @ step
-        for block in blocks:
-            y[block] /= np.linalg.norm(y[block])
-        return y
-
-    def jacobian(x, K, h=1e-7):
-        """A_d = Phi_q K_d by central differences along the dependent directions (Newton's
-        iteration only needs it approximately: the residual judges convergence)."""
-        eye = np.eye(len(dep))
-        return np.column_stack([(residual(moved(x, K, h * eye[k])) - residual(moved(x, K, -h * eye[k]))) / (2 * h)
-                                for k in range(len(dep))])
-
-    r = residual(q)
-    for _ in range(50):
-        if np.abs(r).max() <= 1e-13:
-            break
-        K = np.asarray(move(t, *q), dtype=float)
-        try:
-            step = np.linalg.solve(jacobian(q, K), -r)
-        except np.linalg.LinAlgError:
-            break
-        trial = moved(q, K, step)
-        r_trial = residual(trial)
-        if not np.all(np.isfinite(r_trial)):
-            break
-        q, r = trial, r_trial
-    worst = float(np.abs(r).max())
-    if not worst <= 1e-10:
-        raise ModelError("initial", "initial coordinates from which the loop constraints can be closed "
-                         f"(moving along the dependent speeds {', '.join(u.name for u in dep)})",
-                         f"residual {worst:.3g}")
-    return q

@@ -32,8 +32,9 @@ Operating points (``about``):
 
 * ``equilibrium``: q0 solves ``f(q0, 0, t0) = 0`` (and the loop constraints), searched from the
   model's initial coordinates (:mod:`flexkane.linearize.equilibrium`);
-* ``rest``: q0 is the model's initial configuration with every elastic coordinate (modal and axial)
-  set to zero, and must be an equilibrium; for free-floating chains;
+* ``rest``: q0 is the model's initial configuration with every elastic coordinate (modal, planar or
+  along a spatial beam's y and z, torsional and axial: ``model.coordinates.BEAM_ROLES``) set to zero,
+  and must be an equilibrium; for free-floating chains;
 * ``spin``: a revolute hub turns at the constant rate Omega (its driver is replaced by
   ``speed = Omega``); the other coordinates are in equilibrium in the hub's rotating frame.
 
@@ -57,7 +58,9 @@ import sympy as sp
 
 from ..errors import ModelError
 from ..kane.inputs import input_symbols
+from ..kane.loop_closure import closure_unknowns
 from ..model import Model
+from ..model.coordinates import BEAM_ROLES
 from .equilibrium import EquilibriumCheck, NoEquilibriumError, check_equilibrium, find_equilibrium
 from .jacobian import forward_jacobian
 from .linear_model import LinearModel, linear_outputs
@@ -66,6 +69,35 @@ from .reduction import closure_map, loop_columns
 from .rotation_reduction import RotationReduction
 
 __all__ = ["Linearization", "linearize", "ABOUT"]
+
+
+def free_symbols(exprs) -> set:
+    """The free symbols of ``exprs``, each distinct subexpression visited once.
+
+    The same set as the union of ``e.free_symbols``, which walks a subexpression again wherever it
+    occurs: the equations of a closed loop share their minors so often that this takes minutes.
+
+    Parameters
+    ----------
+    exprs : iterable of sympy.Basic
+
+    Returns
+    -------
+    set of sympy.Symbol
+    """
+    out: set = set()
+    seen: set = set()
+    stack = list(exprs)
+    while stack:
+        node = stack.pop()
+        if node in seen:
+            continue
+        seen.add(node)
+        if not node.args or getattr(node, "bound_symbols", ()):    # a symbol; an integral's variables
+            out |= node.free_symbols                                 # are not free
+        else:
+            stack.extend(node.args)
+    return out
 
 
 class Linearization:
@@ -178,6 +210,7 @@ class Linearization:
         symbols = input_symbols(eom.chain)
         self.inputs = list(self.prepared.inputs)
         self.r = [symbols[ch.name] for ch in self.inputs]
+        self._symbols = None
         self._form_matrices()
         self._check_dropped()
         self._check_drivers()
@@ -248,9 +281,16 @@ class Linearization:
                     "Z_r": zdot.jacobian(self.r).xreplace(at_rest) if m else sp.zeros(len(self.z), 0)})
         return self._symbolic
 
+    def _equation_symbols(self) -> set:
+        """The free symbols of M, the forcing, the rates at rest, the constraints and the
+        controller rates (formed once: :func:`free_symbols`)."""
+        if self._symbols is None:
+            self._symbols = free_symbols(list(self.M) + list(self.eom.forcing) + list(self.qdot0)
+                                         + list(self.phi) + self.zdot)
+        return self._symbols
+
     def _appears(self, symbol) -> bool:
-        exprs = list(self.M) + list(self.eom.forcing) + list(self.qdot0) + list(self.W) + list(self.phi) + self.zdot
-        return any(symbol in e.free_symbols for e in exprs)
+        return symbol in self._equation_symbols() or symbol in free_symbols(self.W)
 
     def _check_dropped(self) -> None:
         for q in self.dropped:
@@ -271,8 +311,7 @@ class Linearization:
             names = [q.name for q in self.dependent] if self.loop_columns is None else \
                 [self.reduction.names[j] for j in self.loop_columns[1]]
             self.notes.append("closed loops: " + ", ".join(names) + " follow the independent coordinates (dq = T dq_i)")
-        exprs = list(self.M) + list(self.eom.forcing) + list(self.qdot0) + list(self.phi) + self.zdot
-        if any(self.t in e.free_symbols for e in exprs):
+        if self.t in self._equation_symbols():
             self.notes.append(f"the equations depend explicitly on time (drivers, loads): frozen at t0 = {self.t0:g} s")
 
     def _check_drivers(self) -> None:
@@ -490,10 +529,13 @@ class Linearization:
         spin : float, optional
             Spin rate [rad/s] (``about = "spin"``); the one given at construction by default.
         q_start : array_like, optional
-            Starting configuration of the search, shape (n_all,), or (n,) for the independent
-            coordinates only (the loops are then closed from the model's initial guesses); the
-            model's initial coordinates by default. The search finds the equilibrium nearest to it,
-            which may be unstable.
+            Starting configuration of the search [m, rad, -]: all coordinates ``q_all``, shape
+            (n_all,), or, for a chain with closed loops, planar or spatial, only those the loop
+            closure does not solve for (:func:`flexkane.kane.loop_closure.closure_unknowns`: the
+            coordinates of the independent speeds, without the Euler parameters of a joint with a
+            dependent angular speed), in the order of ``q_all``; the loops are then closed from the
+            model's initial guesses. The model's initial coordinates by default. The search finds
+            the equilibrium nearest to it, which may be unstable.
 
         Returns
         -------
@@ -512,16 +554,17 @@ class Linearization:
         start = self.q_initial.copy()
         if q_start is not None:
             given = np.asarray(q_start, dtype=float).ravel()
+            solved = set(closure_unknowns(self.eom))
+            independent = [k for k, q in enumerate(self.q_all) if q not in solved]
             if given.size == n_all:
                 start = given
-            elif given.size == len(self.q):     # independent coordinates: close the loops from there
-                independent = [k for k, q in enumerate(self.q_all) if q not in self.dependent]
+            elif given.size == len(independent):    # independent coordinates: close the loops from there
                 start[independent] = given
                 start = self._project(start)
             else:
-                raise ModelError("q_start", f"{len(self.q)} or {n_all} coordinates [m or rad]", given.size)
+                raise ModelError("q_start", f"{len(independent)} or {n_all} coordinates [m, rad or -]", given.size)
         loads = self._load_accelerations(np.concatenate([start, self.z_initial]), p, u0)
-        elastic = np.array([self._coordinate[q].role in ("mode", "axial") for q in self.q_all], dtype=bool)
+        elastic = np.array([self._coordinate[q].role in BEAM_ROLES for q in self.q_all], dtype=bool)
         origin = None
         if self.reduction is not None:  # searched in rotation coordinates x about the start (q = origin at x = 0)
             origin = self.reduction.normalize(np.where(elastic, 0.0, start) if self.about == "rest" else start)
@@ -573,8 +616,8 @@ class Linearization:
         spin : float, optional
             Spin rate [rad/s] (``about = "spin"``); the one given at construction by default.
         q_start : array_like, optional
-            Starting configuration of the equilibrium search, shape (n_all,) or (n,)
-            (:meth:`operating_point`).
+            Starting configuration of the equilibrium search, all coordinates or the independent
+            ones (:meth:`operating_point`).
         outputs : bool
             Form the output matrices (``False``: a model without outputs, for frequencies only; the
             outputs' Jacobians of a large model take as long as the rest).
@@ -729,7 +772,7 @@ def linearize(model: Model, *, about: str = "equilibrium", spin: float | None = 
     t0 : float
         Time of the operating point [s].
     q_start : array_like, optional
-        Starting configuration of the equilibrium search, shape (n_all,) or (n,) (see
+        Starting configuration of the equilibrium search, all coordinates or the independent ones (see
         :meth:`Linearization.operating_point`).
     spin_axis : sequence of 3 float, optional
         3D models: a free steady spin of the spherical or free joint ``hub`` about this axis of its
