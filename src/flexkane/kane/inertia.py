@@ -37,6 +37,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from ..model.coordinates import BEAM_ROLES
 from .kinematics import Kinematics, rigid_vec
 from .modal_field import ONE, vec_map
 
@@ -284,7 +285,7 @@ def generalized_inertia_forces(kin: Kinematics, lazy: bool = False) -> InertiaFo
     # the links attached to its beam
     roots = {}
     for c in chain.coordinates:
-        if c.role in ("mode", "axial"):
+        if c.role in BEAM_ROLES:
             roots[c.u] = [j.child for j in joints if j.parent == c.owner]
         else:
             roots[c.u] = [j.child for j in joints if j.name == c.owner]
@@ -364,7 +365,7 @@ class _MassTerms:
         self.kin, self.speeds, self.roots, self.beyond = kin, speeds, roots, beyond
         self.composite, self.frame = composite, frame
         chain = kin.chain
-        self.own = {name: {c.u for c in chain.of(name) if c.role in ("mode", "axial")}
+        self.own = {name: {c.u for c in chain.of(name) if c.role in BEAM_ROLES}
                     for name in kin.beams}
         self._twist: dict = {}
         self._field: dict = {}
