@@ -12,22 +12,13 @@ import pytest
 import flexkane
 from flexkane.errors import ModelError
 from flexkane.model import loads_model
+from spatial_beam_models import EI_Y, EI_Z, GJ, L, RHO, RHO_IP, clamped_spatial_beam
 from test_spatial_rayleigh_beam import mass_stiffness_damping
 
 LAMBDA = np.array([1.8751040687119611, 4.6940911329741745])   # clamped-free roots, eq. 8.4
-L, RHO, EI_Y, EI_Z, GJ, RHO_IP, EA = 1.2, 0.7, 5.0, 9.0, 3.0, 0.01, 400.0
+EA = 400.0   # axial stiffness [N]
 
-DAMPED = f"""
-dimensions = 3
-name = "damped-spatial-beam"
-
-[beams.b]
-L = {L}
-rho = {RHO}
-EI_y = {EI_Y}
-EI_z = {EI_Z}
-GJ = {GJ}
-rho_Ip = {RHO_IP}
+DAMPED = clamped_spatial_beam("damped-spatial-beam", f"""
 EA = {EA}
 n_modes_y = 2
 n_modes_z = 2
@@ -38,13 +29,7 @@ damping_y = [0.01, 0.03]
 damping_z = 0.02
 torsion_damping = [0.05]
 axial_damping = 0.04
-
-[joints.weld]
-type = "weld"
-parent = "ground"
-child = "b"
-orientation = {{ axis = [0, 1, 1], angle = 0.3 }}
-"""
+""", orientation=((0, 1, 1), 0.3))
 
 
 def test_each_damped_mode_decays_at_its_declared_ratio():

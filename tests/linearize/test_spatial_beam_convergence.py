@@ -15,31 +15,16 @@ import pytest
 
 from flexkane.linearize import convergence_study
 from flexkane.model import loads_model
+from spatial_beam_models import EI_Y, EI_Z, GJ, L, RHO, RHO_IP, clamped_spatial_beam
 
 LAMBDA = np.array([1.8751040687119611, 4.6940911329741745, 7.854757438237613])   # eq. 8.4
-L, RHO, EI_Y, EI_Z, GJ, RHO_IP = 1.2, 0.7, 5.0, 9.0, 3.0, 0.01
 
-BEAM = f"""
-dimensions = 3
-name = "clamped-spatial-beam"
-
-[beams.b]
-L = {L}
-rho = {RHO}
-EI_y = {EI_Y}
-EI_z = {EI_Z}
-GJ = {GJ}
-rho_Ip = {RHO_IP}
+BEAM = clamped_spatial_beam("clamped-spatial-beam", """
 n_modes_y = 1
 n_modes_z = 1
 n_torsion = 1
-shape_z = {{ family = "polynomial" }}
-
-[joints.weld]
-type = "weld"
-parent = "ground"
-child = "b"
-"""
+shape_z = { family = "polynomial" }
+""")
 
 
 def bending(EI: float) -> np.ndarray:

@@ -19,32 +19,16 @@ from flexkane.linearize import Linearization, modal_analysis
 from flexkane.linearize.mode_plot import SpatialBeamShapes, plot_mode_shapes
 from flexkane.model import loads_model
 from flexkane.modes import get_family
+from spatial_beam_models import EI_Y, EI_Z, GJ, L, RHO, RHO_IP, clamped_spatial_beam
 
 LAMBDA_1 = 1.8751040687119611
-L, RHO, EI_Y, EI_Z, GJ, RHO_IP = 1.2, 0.7, 5.0, 9.0, 3.0, 0.01
 
-CLAMPED = f"""
-dimensions = 3
-name = "clamped-spatial-beam"
-
-[beams.b]
-L = {L}
-rho = {RHO}
-EI_y = {EI_Y}
-EI_z = {EI_Z}
-GJ = {GJ}
-rho_Ip = {RHO_IP}
+CLAMPED = clamped_spatial_beam("clamped-spatial-beam", """
 n_modes_y = 1
 n_modes_z = 1
 n_torsion = 1
 principal_angle = 0.3
-
-[joints.weld]
-type = "weld"
-parent = "ground"
-child = "b"
-orientation = {{ axis = [1, 2, 0.5], angle = 0.7 }}
-"""
+""", orientation=((1, 2, 0.5), 0.7))
 
 
 def mode_count(modal) -> float:
