@@ -4,6 +4,11 @@ is reported with its error, and the files already written stay."""
 
 from __future__ import annotations
 
+import os
+import pathlib
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
@@ -13,7 +18,29 @@ from flexkane.plot_workers import PlotWorkerError
 from flexkane.plots import write_plots
 from flexkane.results import Results
 
-pytestmark = pytest.mark.skipif(not fork_allowed(), reason="a plotting fork needs Linux and a single thread")
+#: Set in the fresh interpreter that :func:`test_in_a_fresh_interpreter` starts.
+INNER = "FLEXKANE_TEST_PLOT_FORK"
+
+
+@pytest.fixture
+def single_thread():
+    """Skip where this process may not fork (not Linux, or other threads left by earlier tests, e.g. a
+    notebook's kernel client): :func:`test_in_a_fresh_interpreter` then runs these tests in one."""
+    if not fork_allowed():
+        pytest.skip("this process may not fork now: the tests run in a fresh interpreter instead")
+
+
+def test_in_a_fresh_interpreter():
+    """The fork's tests below, run in a new interpreter (one thread) when they cannot run here."""
+    if fork_allowed() or os.environ.get(INNER) == "1":
+        pytest.skip("the tests run in this process")
+    if not (sys.platform.startswith("linux") and hasattr(os, "fork")):
+        pytest.skip("a plotting fork needs Linux")
+    done = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", __file__],
+                          env={**os.environ, INNER: "1"}, capture_output=True, text=True,
+                          cwd=pathlib.Path(__file__).resolve().parents[1])
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-2000:]
+    assert "3 passed" in done.stdout.splitlines()[-1], done.stdout[-3000:]
 
 UNITS = {"q1": "rad", "q2": "m", "u1": "rad/s"}
 
@@ -32,7 +59,7 @@ def files(directory) -> dict:
     return {p.name: p.read_bytes() for p in sorted(directory.iterdir())}
 
 
-def test_two_processes_write_the_same_bytes_as_one(tmp_path):
+def test_two_processes_write_the_same_bytes_as_one(tmp_path, single_thread):
     res = made_up_run()
     written = {}
     for label, workers in (("one", 1), ("two", 2)):
@@ -45,7 +72,8 @@ def test_two_processes_write_the_same_bytes_as_one(tmp_path):
     assert written["two"] == written["one"]
 
 
-def test_a_figure_failing_in_the_second_process_is_reported_and_the_written_files_stay(tmp_path, monkeypatch):
+def test_a_figure_failing_in_the_second_process_is_reported_and_the_written_files_stay(tmp_path, monkeypatch,
+                                                                                      single_thread):
     res = made_up_run(rows=30)
     draw = plots._SeriesFigure.draw
 

@@ -208,6 +208,37 @@ def test_a_forked_child_compiles_a_new_structure_into_the_cache(tmp_path, models
     assert jit_module.is_compiled(module)  # in the disk cache: this process loads, not compiles
 
 
+def test_the_forks_compile_motion_and_outputs_apart_and_mark_the_module_only_when_both_succeed(
+        tmp_path, monkeypatch, models):
+    """Two forks compile the right-hand side and the outputs side by side; a failure of either
+    (here the outputs, made to fail in this process before the forks inherit it) leaves no marker,
+    while the other's work is kept in Numba's cache."""
+    import importlib
+
+    from flexkane.numerics import jit_module
+
+    integrate = importlib.import_module("flexkane.numerics.integrate")   # the module, not the function
+    if not jit_module._fork_allowed():
+        pytest.skip("no fork here (not Linux, or other threads)")
+    assert jit_module._PARTS == ("motion", "outputs")
+    source = generate_rhs_source(models.pendulum())
+    key = structure_key(source, "forks-apart")
+    path = tmp_path / key / f"flexkane_generated_{key}.py"
+    path.parent.mkdir()
+    path.write_text(compose_module_source(source, key), encoding="utf-8")
+
+    def failing(module):
+        raise RuntimeError("the outputs part fails")
+
+    monkeypatch.setattr(integrate, "compile_outputs", failing)
+    assert jit_module._compile_in_child(path, loops=False) is False
+    assert not jit_module._compiled_marker(path).exists()
+    assert list((path.parent / "__pycache__").glob("*rhs*.nbi"))   # the motion fork compiled it
+    monkeypatch.undo()
+    assert jit_module._compile_in_child(path, loops=False) is True
+    assert jit_module._compiled_marker(path).exists()
+
+
 @pytest.mark.parametrize("integrators", [True, False])
 def test_the_callers_meanwhile_work_runs_while_a_child_compiles_and_the_child_skips_cached_loops(
         tmp_path, monkeypatch, models, integrators):

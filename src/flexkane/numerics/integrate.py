@@ -31,7 +31,7 @@ from flexkane.numerics.radau import fd_jacobian, radau5_chunk
 from flexkane.numerics.switching import MethodSwitch, chunk_work, evaluation_work
 from flexkane.numerics.system_function import FUNCTION_TYPE, system_function
 
-__all__ = ["METHODS", "IntegrationResult", "Status", "StiffnessEstimate", "choose_method",
+__all__ = ["METHODS", "IntegrationResult", "Status", "StiffnessEstimate", "choose_method", "compile_outputs",
            "compile_integrators", "estimate_stiffness", "evaluate_outputs", "integrate", "integrator_signatures",
            "load_integrators"]
 
@@ -419,8 +419,28 @@ def compile_integrators(module, *, loops: bool = True, outputs: bool = True) -> 
              (module.rhs, (0.0, np.zeros(n_motion), p, np.empty(n_motion)))]
     if loops:
         calls += _integrator_calls(system_function(module), n, p)
-    calls += [(getattr(module, name), (np.zeros(0), np.zeros((0, n_motion)), p))
-              for name in ("outputs", "spin_rates") if outputs and hasattr(module, name)]   # evaluate_outputs' types
+    if outputs:
+        calls += _output_calls(module)
+    _call_each(calls)
+
+
+def compile_outputs(module) -> None:
+    """Compile (or load from Numba's disk cache) the outputs functions of a generated module, with
+    the argument types of :func:`evaluate_outputs` (what :func:`compile_integrators` compiles besides
+    the motion)."""
+    _call_each(_output_calls(module))
+
+
+def _output_calls(module) -> list:
+    """``(function, arguments)`` of the module's outputs functions, with evaluate_outputs' types."""
+    n_motion = _motion_count(module)
+    p = np.ones(len(module.CONSTANT_NAMES))
+    return [(getattr(module, name), (np.zeros(0), np.zeros((0, n_motion)), p))
+            for name in ("outputs", "spin_rates") if hasattr(module, name)]
+
+
+def _call_each(calls: list) -> None:
+    """Call each ``(function, arguments)``, which compiles it; made-up numbers may fail to compute."""
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore")
         for function, args in calls:

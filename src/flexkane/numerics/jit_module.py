@@ -21,7 +21,8 @@ run, nothing fails.
 Numba compiles a function on its first call, in C, for seconds to minutes, and Python cannot handle
 a signal meanwhile. Within :func:`compile_in_subprocess` (used by the command line), a structure
 met for the first time is therefore compiled by a child process that fills the on-disk cache (on
-Linux a fork of this process, which has Numba loaded already; elsewhere a new interpreter); this
+Linux two forks of this process, which has Numba loaded already, one for the motion (the right-hand
+side, the system function) and one for the outputs, side by side; elsewhere a new interpreter); this
 process waits for it (a signal stops the child at once and raises :class:`KeyboardInterrupt`) and
 then loads the machine code from the cache. The same child compiles the integrator loops when the
 package's cache does not hold them yet (the first run of an installation); when it does, this process
@@ -211,15 +212,17 @@ def _text_digest(text: str) -> str:
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
-def _compile_file(path: str, loops: bool = True) -> None:
+def _compile_file(path: str, loops: bool = True, part: str = "all") -> None:
     """Import the generated module at ``path`` and compile (into Numba's cache) everything a run calls.
 
     Run in the child process of :func:`_compile_in_child`, through the one function that compiles a
     module's integrators (:func:`~flexkane.numerics.integrate.compile_integrators`), so that the
     parent loads exactly the signatures it will call. ``loops``: also the integrator loops (when
-    their cache does not hold them); otherwise the module's own functions only.
+    their cache does not hold them); otherwise the module's own functions only. ``part``: ``"all"``
+    (and the marker that the module is compiled), or one of :data:`_PARTS` (no marker: the parent
+    writes it once every part is compiled).
     """
-    from flexkane.numerics.integrate import compile_integrators
+    from flexkane.numerics.integrate import compile_integrators, compile_outputs
 
     scalar_typing.install()
     path = Path(path)
@@ -227,44 +230,74 @@ def _compile_file(path: str, loops: bool = True) -> None:
     module = importlib.util.module_from_spec(spec)
     sys.modules[path.stem] = module
     spec.loader.exec_module(module)
-    compile_integrators(module, loops=loops)
+    if part == "outputs":
+        compile_outputs(module)
+        return
+    compile_integrators(module, loops=loops, outputs=part == "all")
+    if part == "all":
+        _write_marker(path)
+
+
+def _write_marker(path: Path) -> None:
+    """Mark the module at ``path`` as compiled (its text's digest: a changed text is not)."""
     atomic_write_text(_compiled_marker(path), _text_digest(path.read_text(encoding="utf-8")))
 
 
+#: The parts of a module that two forks compile side by side (:func:`_compile_in_fork`): the motion
+#: (right-hand side, the system function, the integrator loops if they are not cached) and the outputs.
+_PARTS = ("motion", "outputs")
+
+
 def _compile_in_fork(path: Path, meanwhile=None, loops: bool = True) -> bool:
-    """:func:`_compile_file` in a fork of this process (which has Numba and flexkane loaded already);
-    ``meanwhile`` (no arguments, optional) is called here once the child runs."""
+    """:func:`_compile_file` in forks of this process (which has Numba and flexkane loaded already):
+    one for each of :data:`_PARTS`, so that the right-hand side and the outputs compile on two cores;
+    ``meanwhile`` (no arguments, optional) is called here once they run. The module is marked
+    compiled when both succeed."""
     sys.stdout.flush()
     sys.stderr.flush()
-    with warnings.catch_warnings():  # Python >= 3.12 warns of native threads (BLAS), unused by the child
-        warnings.simplefilter("ignore", DeprecationWarning)
-        pid = os.fork()
-    if pid == 0:  # the child: its own session, default signals, no output; never returns
-        status = 1
-        try:
-            os.setsid()
-            for number in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
-                signal.signal(number, signal.SIG_DFL)
-            null = os.open(os.devnull, os.O_RDWR)
-            for fd in (0, 1, 2):
-                os.dup2(null, fd)
-            _compile_file(str(path), loops)
-            status = 0
-        finally:
-            os._exit(status)
-    finished = False
+    pids = []
     try:
+        for part in _PARTS:
+            with warnings.catch_warnings():  # Python >= 3.12 warns of native threads (BLAS), unused by the child
+                warnings.simplefilter("ignore", DeprecationWarning)
+                pid = os.fork()
+            if pid == 0:  # the child: its own session, default signals, no output; never returns
+                status = 1
+                try:
+                    os.setsid()
+                    for number in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+                        signal.signal(number, signal.SIG_DFL)
+                    null = os.open(os.devnull, os.O_RDWR)
+                    for fd in (0, 1, 2):
+                        os.dup2(null, fd)
+                    _compile_file(str(path), loops, part)
+                    status = 0
+                finally:
+                    os._exit(status)
+            pids.append(pid)
         if meanwhile is not None:
             meanwhile()
-        while not finished:
-            finished, code = os.waitpid(pid, os.WNOHANG)
-            if not finished:
+        codes = {}
+        while len(codes) < len(pids):
+            for pid in pids:
+                if pid not in codes:
+                    finished, code = os.waitpid(pid, os.WNOHANG)
+                    if finished:
+                        codes[pid] = code
+            if len(codes) < len(pids):
                 time.sleep(0.02)
-        return os.waitstatus_to_exitcode(code) == 0
+        ok = all(os.waitstatus_to_exitcode(code) == 0 for code in codes.values())
+        if ok:
+            _write_marker(path)
+        return ok
     finally:
-        if not finished:
-            os.kill(pid, signal.SIGKILL)
-            os.waitpid(pid, 0)
+        for pid in pids:
+            try:
+                if os.waitpid(pid, os.WNOHANG)[0] == 0:
+                    os.kill(pid, signal.SIGKILL)
+                    os.waitpid(pid, 0)
+            except ChildProcessError:   # reaped above
+                pass
 
 
 def _compile_in_child(path: Path, meanwhile=None, loops: bool = True) -> bool:
