@@ -255,7 +255,7 @@ def _compile_in_fork(path: Path, meanwhile=None, loops: bool = True) -> bool:
     compiled when both succeed."""
     sys.stdout.flush()
     sys.stderr.flush()
-    pids = []
+    pids, codes = [], {}   # the children, and the exit status of each one reaped
     try:
         for part in _PARTS:
             with warnings.catch_warnings():  # Python >= 3.12 warns of native threads (BLAS), unused by the child
@@ -277,7 +277,6 @@ def _compile_in_fork(path: Path, meanwhile=None, loops: bool = True) -> bool:
             pids.append(pid)
         if meanwhile is not None:
             meanwhile()
-        codes = {}
         while len(codes) < len(pids):
             for pid in pids:
                 if pid not in codes:
@@ -290,14 +289,11 @@ def _compile_in_fork(path: Path, meanwhile=None, loops: bool = True) -> bool:
         if ok:
             _write_marker(path)
         return ok
-    finally:
+    finally:   # a signal or an error here: the children not reaped yet are killed (a zombie too) and reaped
         for pid in pids:
-            try:
-                if os.waitpid(pid, os.WNOHANG)[0] == 0:
-                    os.kill(pid, signal.SIGKILL)
-                    os.waitpid(pid, 0)
-            except ChildProcessError:   # reaped above
-                pass
+            if pid not in codes:
+                os.kill(pid, signal.SIGKILL)
+                os.waitpid(pid, 0)
 
 
 def _compile_in_child(path: Path, meanwhile=None, loops: bool = True) -> bool:
