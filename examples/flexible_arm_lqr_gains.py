@@ -4,7 +4,7 @@ Usage: ``python examples/flexible_arm_lqr_gains.py``; needs python-control (``pi
 'flexkane[control]'``). Prints the gain lines of the model's ``[parameters]`` table.
 
 The design, as in ``examples/flexible-arm-lqr.ipynb``: the plant is ``flexible-arm`` with its torque
-profile switched off (``T0 = 0``), linearized about rest by :func:`flexkane.linearize.linearize`
+profile switched off (``T0 = 0``), linearized about rest by :func:`flexkane.analysis.linearize`
 (state ``x = [q_shoulder, q_link_1..3, u_shoulder, u_link_1..3]``, input ``input_effort_shoulder`` [N m]).
 python-control's ``lqr`` minimises the integral of ``x' Q x + u' R u`` with
 
@@ -40,7 +40,7 @@ def lqr_gains() -> dict[str, float]:
     import control
 
     import flexkane
-    from flexkane.linearize import linearize
+    from flexkane.analysis import linearize
 
     linear = linearize(flexkane.builtin_model("flexible-arm").with_values({"T0": 0}), about="rest")
     A, B = linear.state_space()

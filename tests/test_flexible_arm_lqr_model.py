@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import flexkane
-from flexkane.linearize import linearize
+from flexkane.analysis import linearize
 
 ROOT = Path(__file__).resolve().parents[1]
 #: The design weights stated in the model file's comment.

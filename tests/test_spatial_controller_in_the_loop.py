@@ -7,7 +7,7 @@ function from the state, and the actuator's power is the rate of kinetic energy 
 stays at the solver's error); a PD law on a skew revolute joint integrates as its spring and damper.
 The compiled runs are slow (new structures compile in 10-20 s); the default run checks the same facts
 on the equations evaluated without compiling (tests/kane/test_spatial_state_feedback.py,
-tests/linearize/test_spatial_control_linearization.py) and the exported C against them here.
+tests/analysis/test_spatial_control_linearization.py) and the exported C against them here.
 """
 
 from __future__ import annotations

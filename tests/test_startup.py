@@ -48,12 +48,13 @@ def test_help_and_version_load_no_heavy_library(arguments):
 
 def test_public_names_resolve_on_first_use():
     import flexkane
-    import flexkane.linearize.eigen  # noqa: F401 - importing the subpackage keeps the public function
+    import flexkane.analysis.eigen  # noqa: F401 - the subpackage of analyses has its own name
     from flexkane.derivation_cache import derive   # the package derive: the cached one
-    from flexkane.linearize.linearization import linearize
+    from flexkane.analysis.linearization import linearize
 
     assert flexkane.derive is derive
     assert flexkane.linearize is linearize and callable(flexkane.linearize)
+    assert flexkane.analysis.linearize is linearize and callable(flexkane.analysis.load_control)
     assert set(flexkane.__all__) <= set(dir(flexkane))
     with pytest.raises(AttributeError):
         flexkane.no_such_name  # noqa: B018

@@ -1,4 +1,4 @@
-"""flexkane: dynamics of planar kinematic chains with continuous flexible links, by Kane's method.
+"""flexkane: dynamics of planar and spatial kinematic chains with continuous flexible links, by Kane's method.
 
 The pipeline, one public function per stage::
 
@@ -15,8 +15,6 @@ line's ``--help``, ``--version`` and ``check`` do not load SymPy, SciPy, Numba o
 from __future__ import annotations
 
 import importlib
-import sys
-import types
 
 from ._version import __version__
 
@@ -28,11 +26,14 @@ _PUBLIC = {
     "save_model": ".model",
     "Results": ".results", "load_results": ".results",
     "compile_model": ".simulation", "simulate": ".simulation",
-    "linearize": ".linearize", "modal_analysis": ".linearize",
+    "linearize": ".analysis", "modal_analysis": ".analysis",
     "FlexkaneError": ".errors", "ModelError": ".errors", "SolverFailure": ".errors",
     "MissingExtraError": ".extras",
     "export_c": ".c_export",
 }
+
+#: Subpackages reachable as attributes after ``import flexkane`` (imported on first access).
+_SUBPACKAGES = {"analysis"}
 
 __all__ = ["__version__", "Model", "load_model", "loads_model", "dumps_model", "save_model",
            "builtin_model", "builtin_names", "derive", "EquationsOfMotion", "compile_model", "simulate",
@@ -42,6 +43,10 @@ __all__ = ["__version__", "Model", "load_model", "loads_model", "dumps_model", "
 
 def __getattr__(name: str):
     """Import a public name's module on first access and cache the name here."""
+    if name in _SUBPACKAGES:
+        value = importlib.import_module(f".{name}", __name__)
+        globals()[name] = value
+        return value
     module = _PUBLIC.get(name)
     if module is None:
         raise AttributeError(f"module 'flexkane' has no attribute {name!r}")
@@ -51,20 +56,4 @@ def __getattr__(name: str):
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_PUBLIC))
-
-
-class _Package(types.ModuleType):
-    """This package's module type: ``flexkane.linearize`` stays the function, as it always was.
-
-    Importing the subpackage :mod:`flexkane.linearize` sets the package attribute of the same name to
-    the subpackage; the public name is the function :func:`flexkane.linearize.linearize`.
-    """
-
-    def __setattr__(self, name: str, value) -> None:
-        if name == "linearize" and isinstance(value, types.ModuleType) and hasattr(value, "linearize"):
-            value = value.linearize
-        super().__setattr__(name, value)
-
-
-sys.modules[__name__].__class__ = _Package
+    return sorted(set(globals()) | set(_PUBLIC) | _SUBPACKAGES)

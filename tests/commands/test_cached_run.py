@@ -21,7 +21,7 @@ RUN = ["run", "falling-beam", "--t-end", "0.3", "--dt-out", "0.01", "--quiet", "
 #: (planar and spatial engines, control inputs), code generation, linearization, sweeps, animation and
 #: the controller loop.
 UNNEEDED = ("sympy", "flexkane.kane", "flexkane.numerics.codegen", "flexkane.numerics.large_rhs",
-            "flexkane.numerics.controller", "flexkane.linearize", "flexkane.sweep", "flexkane.animation",
+            "flexkane.numerics.controller", "flexkane.analysis", "flexkane.sweep", "flexkane.animation",
             "flexkane.report", "flexkane.c_export")
 
 

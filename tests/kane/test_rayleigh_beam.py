@@ -26,7 +26,7 @@ from scipy.optimize import brentq
 import flexkane
 from flexkane import Model
 from flexkane.errors import ModelError
-from flexkane.linearize import linearize, modal_analysis
+from flexkane.analysis import linearize, modal_analysis
 from flexkane.model.parts import Beam, Joint, RigidBody
 
 

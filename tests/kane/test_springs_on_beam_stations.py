@@ -7,7 +7,7 @@ import pytest
 import sympy as sp
 
 import flexkane
-from flexkane.linearize import linearize, modal_analysis
+from flexkane.analysis import linearize, modal_analysis
 from flexkane.modes import get_family
 
 TEXT = """

@@ -310,7 +310,7 @@ def test_linear_model_with_a_controller_state_is_the_open_loop_closed_by_the_pid
     """The PID's integral is a state of the linear model: x = (dq, du, dz), and A equals the open-loop
     arm's A - B K with the gains of the law (torque = 8 e + 4 z - 1.5 u, z' = e, e = ref - q) to 1e-12.
     Its initial integral 0.01 pushes the arm at rest, which is no equilibrium; the equilibrium has z = 0."""
-    from flexkane.linearize.equilibrium import NoEquilibriumError
+    from flexkane.analysis.equilibrium import NoEquilibriumError
 
     model = flexkane.loads_model(PID_ARM)
     with pytest.raises(NoEquilibriumError, match="not in equilibrium at rest"):
@@ -383,7 +383,7 @@ def _hub_beam_spring_frequencies(J, L, EI, rho, k, count):
 
 @pytest.mark.slow
 def test_closed_loop_frequencies_converge_to_the_hub_beam_frequency_equation():
-    from flexkane.linearize import modal_analysis
+    from flexkane.analysis import modal_analysis
 
     text = HUB_BEAM.format(law='torque = "-Kp*q_shoulder"')
     exact = _hub_beam_spring_frequencies(0.05, 1.0, 12.0, 0.6, 3.0, 3)

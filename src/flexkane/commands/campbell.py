@@ -45,8 +45,8 @@ def register(subparsers) -> None:
 def _handle(args) -> int:
     from ..atomic import atomic_write_text
     from ._common import default_out, prepare_out
-    from ..linearize import campbell_diagram
-    from ..linearize.campbell import parse_spin_range
+    from ..analysis import campbell_diagram
+    from ..analysis.campbell import parse_spin_range
 
     spins = parse_spin_range(args.spin)
     model = model_from_args(args)

@@ -44,8 +44,8 @@ def register(subparsers) -> None:
 def _handle(args) -> int:
     from ..atomic import atomic_write_text
     from ..errors import ModelError
-    from ..linearize import convergence_study
-    from ..linearize.convergence import parse_mode_counts
+    from ..analysis import convergence_study
+    from ..analysis.convergence import parse_mode_counts
     from ._common import default_out, model_from_args, prepare_out
 
     counts = parse_mode_counts(args.n_modes_range)

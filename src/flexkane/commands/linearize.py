@@ -13,7 +13,7 @@ states, inputs and outputs; in the .mat also the struct ``statespace`` with A, B
 InputName, OutputName), ``modes.csv`` (the table with the mode shapes) and ``mode_shapes.png``.
 ``--export control`` also writes ``statespace.npz``: the state space as python-control builds it
 (A, B, C, D, the names of states, inputs and outputs, dt = 0; no pickles), read back by
-``flexkane.linearize.load_control`` as a ``control.StateSpace``. A model without equilibrium (free
+``flexkane.analysis.load_control`` as a ``control.StateSpace``. A model without equilibrium (free
 fall) exits with code 2 and says so.
 """
 
@@ -31,8 +31,8 @@ EXPORTS = {"control": "statespace.npz"}
 
 def add_operating_point_arguments(parser, *, spin: bool = True, spin_axis: bool = False) -> None:
     """--about, --spin (unless ``spin`` is false), --hub, --spin-axis (if ``spin_axis``)."""
-    # no argparse choices: they would import flexkane.linearize (SciPy) to build the parser; the
-    # library checks the value against flexkane.linearize.ABOUT and names --about when it is not one
+    # no argparse choices: they would import flexkane.analysis (SciPy) to build the parser; the
+    # library checks the value against flexkane.analysis.ABOUT and names --about when it is not one
     parser.add_argument("--about", default=None, metavar="POINT",
                         help="operating point: equilibrium (searched from the initial coordinates), "
                              "rest (undeformed, speeds zero) or spin (a hub at the constant rate --spin) "
@@ -84,7 +84,7 @@ def register(subparsers) -> None:
     p.add_argument("--plot-modes", type=int, default=4, metavar="K", help="number of mode shapes drawn [default: 4]")
     p.add_argument("--export", action="append", default=[], metavar="FORMAT",
                    help="also write the state space for another tool (repeatable): control = statespace.npz "
-                        "for python-control (flexkane.linearize.load_control reads it)")
+                        "for python-control (flexkane.analysis.load_control reads it)")
     add_out_arguments(p, "out/MODEL_NAME-linearized")
     p.add_argument("--quiet", action="store_true", help="print nothing but errors")
     p.set_defaults(handler=_handle)
@@ -114,7 +114,7 @@ def describe(linear) -> list[str]:
 def _handle(args) -> int:
     from ..atomic import atomic_write_text
     from ..errors import ModelError
-    from ..linearize import Linearization, modal_analysis, plot_mode_shapes
+    from ..analysis import Linearization, modal_analysis, plot_mode_shapes
     from ._common import default_out, prepare_out
 
     model = model_from_args(args)

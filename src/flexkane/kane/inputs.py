@@ -30,7 +30,7 @@ Each input adds to what the model's own field gives (a joint's ``torque``, a
 load's ``force`` and ``torque``), so with every input zero the equations are the model's. An input
 symbol is a constant of the equations (an entry of the constants vector p, value 0 by default):
 ``flexkane.simulate(..., controller=f)`` sets it at every evaluation of the right-hand side, and
-:mod:`flexkane.linearize` differentiates with respect to it for the input matrix B.
+:mod:`flexkane.analysis` differentiates with respect to it for the input matrix B.
 
 A model derived without ``control_inputs`` (every model file, every run without a controller) has
 none, and its equations and printed report are unchanged.

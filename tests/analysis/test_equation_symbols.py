@@ -4,7 +4,7 @@ SymPy's ``free_symbols``, each shared subexpression visited once."""
 
 import sympy as sp
 
-from flexkane.linearize.linearization import free_symbols
+from flexkane.analysis.linearization import free_symbols
 
 t, x, y, a = sp.symbols("t x y a")
 

@@ -102,7 +102,7 @@ class RotationReduction:
     speeds : list of str
         Name of the generalized speed of each reduced coordinate (``rx_J``: ``u_J_wx``), length n: a
         reduced coordinate is dependent in a closed loop when its speed is
-        (:func:`flexkane.linearize.reduction.loop_columns`).
+        (:func:`flexkane.analysis.reduction.loop_columns`).
     """
 
     n_full: int
@@ -194,7 +194,7 @@ class RotationReduction:
         return next(cols for name, _, cols in self.blocks if name == joint)
 
     def wrap(self, q_ref: np.ndarray, evaluators: dict, steady: list[int] = ()) -> dict:
-        """Equilibrium evaluators (:func:`flexkane.linearize.equilibrium.check_equilibrium`) in the
+        """Equilibrium evaluators (:func:`flexkane.analysis.equilibrium.check_equilibrium`) in the
         reduced coordinates x about ``q_ref``: ``stiffness`` becomes ``K T`` and ``rates`` ``T^+ q'``,
         but for the columns ``steady`` (a joint spinning freely: its orientation turns at the
         operating point, which is a steady motion, not a rest). With closed loops (``constraints``
@@ -219,7 +219,7 @@ class RotationReduction:
         wandered along) halved until the forcing decreases; shape (n_full,). The caller checks it.
         With closed loops (``constraints`` among the evaluators) the residual is the forcing and the
         loops' gaps together, ``(f, w Phi)`` with the Jacobian ``(-K T, w Phi_q T)``, ``w`` balancing
-        forces [N] and gaps [m] as :func:`~flexkane.linearize.equilibrium.find_equilibrium` does."""
+        forces [N] and gaps [m] as :func:`~flexkane.analysis.equilibrium.find_equilibrium` does."""
         q = self.normalize(q_start)
         zero = np.zeros(self.n)
         loops = evaluators.get("constraints") is not None

@@ -16,7 +16,7 @@ import json
 import numpy as np
 import pytest
 
-from flexkane.linearize import campbell_diagram
+from flexkane.analysis import campbell_diagram
 from flexkane.model import loads_model
 
 LAMBDA_1 = 1.8751040687119611          # first clamped-free root, eq. 8.4

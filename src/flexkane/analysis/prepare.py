@@ -16,7 +16,7 @@ Two changes turn a model into one whose Kane's equations give the linear model d
   nominal value 0, so that ``B`` is then the input matrix of the closed loop.
   Spatial models (``dimensions = 3``) have the same channels, load components in three directions
   (``_fx, _fy, _fz, _tx, _ty, _tz``); their inputs and outputs go through the same reduction of Euler
-  parameters as the state (:mod:`flexkane.linearize.rotation_reduction`).
+  parameters as the state (:mod:`flexkane.analysis.rotation_reduction`).
 * **Steady spin.** For ``about = "spin"`` the hub joint (a revolute joint) is given the driver
   ``speed = Omega``, a new parameter whose value is the spin rate [rad/s]; its actuator torque, if
   any, is removed (the driver supplies the effort, the joint has no input), and so are initial
@@ -192,7 +192,7 @@ def prepare_model(model: Model, *, about: str, spin: float | None = None, hub: s
     spin_axis : sequence of 3 float, optional
         For a 3D model spinning freely on a spherical or free joint (a torque-free body, a top): the
         axis of the steady angular velocity along J_c's axes [-]; the joint is not driven, its steady
-        angular speeds are ``Omega * axis`` (:mod:`flexkane.linearize.rotation_reduction`).
+        angular speeds are ``Omega * axis`` (:mod:`flexkane.analysis.rotation_reduction`).
 
     Returns
     -------

@@ -10,8 +10,8 @@ import sympy as sp
 
 import flexkane
 from flexkane import Model
-from flexkane.linearize import Linearization, modal_analysis
-from flexkane.linearize.jacobian import forward_jacobian
+from flexkane.analysis import Linearization, modal_analysis
+from flexkane.analysis.jacobian import forward_jacobian
 from flexkane.model.parts import Beam, Gravity, Joint, Load, RigidBody
 
 

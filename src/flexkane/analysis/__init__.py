@@ -2,12 +2,12 @@
 
 The stages, one public function each::
 
-    linear = flexkane.linearize.linearize(model, about="equilibrium")   # M du' + C du + K dq = B dr
-    modal = flexkane.linearize.modal_analysis(linear)                   # frequencies, zeta, shapes
+    linear = flexkane.analysis.linearize(model, about="equilibrium")   # M du' + C du + K dq = B dr
+    modal = flexkane.analysis.modal_analysis(linear)                   # frequencies, zeta, shapes
     A, B = linear.state_space(); linear.save_mat("arm.mat")
     system = linear.to_control()          # python-control StateSpace, named states, inputs, outputs
-    diagram = flexkane.linearize.campbell_diagram(model, spins)         # frequencies against spin
-    study = flexkane.linearize.convergence_study(model, [1, 2, 4, 8])   # frequencies against n
+    diagram = flexkane.analysis.campbell_diagram(model, spins)         # frequencies against spin
+    study = flexkane.analysis.convergence_study(model, [1, 2, 4, 8])   # frequencies against n
 
 Modules: :mod:`.prepare` (inputs and steady spin), :mod:`.equilibrium` (operating points),
 :mod:`.linearization` (symbolic Jacobians), :mod:`.rotation_reduction` (rotation coordinates of

@@ -17,8 +17,8 @@ import pytest
 from scipy.optimize import brentq
 
 import flexkane
-from flexkane.linearize import Linearization, modal_analysis
-from flexkane.linearize.reduction import loop_columns
+from flexkane.analysis import Linearization, modal_analysis
+from flexkane.analysis.reduction import loop_columns
 from flexkane.model import as_spatial, load_model
 
 LOOPS = pathlib.Path(__file__).parents[1] / "kane" / "spatial_loops"

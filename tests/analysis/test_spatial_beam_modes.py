@@ -15,8 +15,8 @@ import csv
 import numpy as np
 import pytest
 
-from flexkane.linearize import Linearization, modal_analysis
-from flexkane.linearize.mode_plot import SpatialBeamShapes, plot_mode_shapes
+from flexkane.analysis import Linearization, modal_analysis
+from flexkane.analysis.mode_plot import SpatialBeamShapes, plot_mode_shapes
 from flexkane.model import loads_model
 from flexkane.modes import get_family
 from spatial_beam_models import EI_Y, EI_Z, GJ, L, RHO, RHO_IP, clamped_spatial_beam

@@ -9,7 +9,7 @@ import scipy.io
 import flexkane
 from flexkane import Model
 from flexkane.cli import main
-from flexkane.linearize import linearize, modal_analysis
+from flexkane.analysis import linearize, modal_analysis
 from flexkane.model.parts import Beam, Joint
 
 

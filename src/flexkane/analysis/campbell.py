@@ -2,7 +2,7 @@
 
 For each spin rate Omega the chain is linearized about the steady spin (its hub driven at the
 constant rate Omega, the other coordinates in equilibrium in the rotating frame, see
-:mod:`flexkane.linearize.linearization`); one symbolic linearization serves every Omega. The
+:mod:`flexkane.analysis.linearization`); one symbolic linearization serves every Omega. The
 frequency of a mode is the imaginary part of its eigenvalue (the frequency seen in the rotating frame)
 [rad/s]; a mode that has become statically unstable (a real pair ``+-sigma``, as the first bending
 mode of a rotating beam without geometric stiffening once Omega exceeds its frequency) has frequency 0,
@@ -10,7 +10,7 @@ and the largest growth rate ``max Re(lambda)`` [1/s] is reported for every Omega
 frequency at each Omega in :attr:`CampbellDiagram.frequencies`; each is labelled by its dominant
 motion and its rank among the modes of that motion (``flap 1``, ``lag 1``, ``torsion 1``, ``axial 1``,
 ``joint <name> 1``: the modal participation of its eigenvector in the chain's coordinate families,
-:mod:`flexkane.linearize.participation`), and the curves of the diagram join the modes of one label
+:mod:`flexkane.analysis.participation`), and the curves of the diagram join the modes of one label
 across the spin rates (:meth:`CampbellDiagram.curves`), so that they cross where the frequencies do.
 For a blade on a hub spinning about an axis normal to it, flap is the bending out of the plane of
 rotation (along the spin axis) and lag the bending in it.
@@ -239,12 +239,12 @@ def campbell_diagram(model: Model, spins, *, hub: str | None = None, t0: float =
     spins : array_like
         Spin rates Omega [rad/s], shape (s,).
     hub : str, optional
-        Revolute joint spun (see :func:`flexkane.linearize.prepare.spin_hub`).
+        Revolute joint spun (see :func:`flexkane.analysis.prepare.spin_hub`).
     t0 : float
         Time at which other time-dependent terms are frozen [s].
     spin_axis : sequence of 3 float, optional
         3D models: a spherical or free joint ``hub`` spinning freely about this axis of its child
-        frame (:class:`~flexkane.linearize.linearization.Linearization`).
+        frame (:class:`~flexkane.analysis.linearization.Linearization`).
 
     Returns
     -------

@@ -21,7 +21,7 @@ The eigenvalues lambda of the state matrix A (:meth:`LinearModel.state_space`) a
 
 A mode shape is the dq part of the eigenvector (or the null vector), scaled so that its largest
 component is 1 (real for undamped modes). Each mode is labelled by its dominant motion (``flap``,
-``lag``, ``torsion``, ``bending``, ``axial``, ``joint <name>``, :mod:`flexkane.linearize.participation`)
+``lag``, ``torsion``, ``bending``, ``axial``, ``joint <name>``, :mod:`flexkane.analysis.participation`)
 and its rank among the modes of that motion (``flap 1``, ``flap 2``; the two real eigenvalues of a
 statically unstable or overdamped mode share one label).
 """
@@ -60,7 +60,7 @@ class Mode:
         The complex dq of the eigenvector, shape (n,), same scaling.
     label : str
         Dominant motion and rank among the modes of that motion (``flap 1``, ``torsion 1``,
-        ``joint hub 1``; :mod:`flexkane.linearize.participation`); '' when the linear model does not
+        ``joint hub 1``; :mod:`flexkane.analysis.participation`); '' when the linear model does not
         know its chain.
     participation : dict of str to float
         Share of each family of motion in the mode's kinetic energy (summing to 1).

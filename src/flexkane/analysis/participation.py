@@ -89,7 +89,7 @@ class MotionFamilies:
 
 def motion_families(linear) -> MotionFamilies | None:
     """The motion families of a linear model made by
-    :class:`~flexkane.linearize.linearization.Linearization` (None without it).
+    :class:`~flexkane.analysis.linearization.Linearization` (None without it).
 
     Parameters
     ----------

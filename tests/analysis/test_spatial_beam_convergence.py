@@ -13,7 +13,7 @@ import csv
 import numpy as np
 import pytest
 
-from flexkane.linearize import convergence_study
+from flexkane.analysis import convergence_study
 from flexkane.model import loads_model
 from spatial_beam_models import EI_Y, EI_Z, GJ, L, RHO, RHO_IP, clamped_spatial_beam
 

@@ -11,7 +11,7 @@ import pytest
 
 import flexkane
 from flexkane.kane.inputs import INPUT_PREFIX
-from flexkane.linearize import linearize
+from flexkane.analysis import linearize
 
 control = pytest.importorskip("control")
 

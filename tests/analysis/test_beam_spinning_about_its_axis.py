@@ -11,7 +11,7 @@ seen from the ground, the bending frequencies are the beam's at rest, and from t
 import numpy as np
 import pytest
 
-from flexkane.linearize import campbell_diagram
+from flexkane.analysis import campbell_diagram
 from flexkane.model import loads_model
 
 LAMBDA = np.array([1.8751040687119611, 4.6940911329741745])   # clamped-free roots, eq. 8.4

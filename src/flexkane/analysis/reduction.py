@@ -14,7 +14,7 @@ freedom as the mechanism (no spurious modes from the constraints).
 A spatial chain whose loops make angular speeds of a spherical or free joint dependent has no
 dependent coordinate of their own (they move Euler parameters, ``e' = 1/2 E(e) w``). Its
 perturbations are first written in the rotation coordinates ``dq = T_r dx``, one per speed
-(:mod:`flexkane.linearize.rotation_reduction`), where the loops read ``(Phi_q T_r) dx = 0``; a reduced
+(:mod:`flexkane.analysis.rotation_reduction`), where the loops read ``(Phi_q T_r) dx = 0``; a reduced
 coordinate is dependent when its speed is (:func:`loop_columns`: ``ry_J``, ``rz_J`` when ``u_J_wy``,
 ``u_J_wz`` are), and the same map closes them, ``dx = T_c dx_i`` with
 ``T_c = closure_map(Phi_q T_r, ...)``. Together ``dq = T_r T_c dx_i`` and ``dx_i = (T_r^+)_i dq``
@@ -73,7 +73,7 @@ def loop_columns(speeds: list[str], independent: list[str], dependent: list[str]
     ----------
     speeds : list of str
         Name of the speed of each reduced coordinate
-        (:attr:`~flexkane.linearize.rotation_reduction.RotationReduction.speeds`).
+        (:attr:`~flexkane.analysis.rotation_reduction.RotationReduction.speeds`).
     independent, dependent : list of str
         Names of the chain's independent speeds (in their order) and of its dependent ones.
 

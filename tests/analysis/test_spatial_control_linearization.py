@@ -19,7 +19,7 @@ from spatial_control_models import (ATTITUDE_LAW, AXIS, BEAM_L, DISTANCE, EI_Y, 
                                     STATION, Evaluated, G, attitude, hinge, random_states)
 
 import flexkane
-from flexkane.linearize import Linearization
+from flexkane.analysis import Linearization
 from flexkane.model import loads_model
 
 
@@ -117,7 +117,7 @@ def test_static_gains_of_beam_sensors_are_the_cantilever_formulas():
 
 def test_to_control_has_the_names_of_the_spatial_linear_model(attitude_models, tmp_path):
     pytest.importorskip("control")
-    from flexkane.linearize.linear_model import load_control
+    from flexkane.analysis.linear_model import load_control
 
     closed, _ = attitude_models
     system = closed.to_control()

@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 from flexkane.errors import ModelError
-from flexkane.linearize import Linearization, NoEquilibriumError, modal_analysis
-from flexkane.linearize.rotation_reduction import RotationReduction, euler_matrix, turn
+from flexkane.analysis import Linearization, NoEquilibriumError, modal_analysis
+from flexkane.analysis.rotation_reduction import RotationReduction, euler_matrix, turn
 from flexkane.model import as_spatial, loads_model
 
 G = 9.81
@@ -328,7 +328,7 @@ damping = 0.1
 
 def test_planar_hub_through_the_spatial_engine_has_the_planar_campbell_diagram():
     """A driven revolute hub (the planar steady spin) in 3D: same frequencies and growth rates."""
-    from flexkane.linearize import campbell_diagram
+    from flexkane.analysis import campbell_diagram
 
     planar = loads_model(HUB_ARM)
     diagrams = [campbell_diagram(m, [0.0, 2.0, 4.0]) for m in (planar, as_spatial(planar))]

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import flexkane
-from flexkane.linearize import campbell_diagram, linearize, modal_analysis
+from flexkane.analysis import campbell_diagram, linearize, modal_analysis
 from flexkane.modes import get_family
 from flexkane.modes.integrals import gauss_legendre
 

@@ -13,7 +13,7 @@ import pytest
 from scipy.optimize import brentq
 
 from flexkane import Model
-from flexkane.linearize import linearize, modal_analysis
+from flexkane.analysis import linearize, modal_analysis
 from flexkane.model.parts import Beam, Joint, RigidBody
 from flexkane.modes import get_family
 

@@ -2,12 +2,12 @@
 
 For each number of modes n (every beam gets n shape functions, a spatial beam n in each bending
 plane and of torsion that it has, :meth:`Model.with_modes`) the model is linearized (as
-:func:`~flexkane.linearize.linearization.linearize`) and its first natural frequencies are recorded;
+:func:`~flexkane.analysis.linearization.linearize`) and its first natural frequencies are recorded;
 optionally the model is also integrated from its initial state to the time ``at`` and the value of
 one output (e.g. ``tip_<beam>``, the tip deflection [m]) there is recorded. Assumed-modes
 frequencies are Rayleigh-Ritz values: with shape functions that are admissible they decrease towards
 the exact ones as modes are added. Each frequency carries the label of its mode (``bending 1``,
-``flap 1``, ``torsion 2``, :mod:`flexkane.linearize.participation`).
+``flap 1``, ``torsion 2``, :mod:`flexkane.analysis.participation`).
 """
 
 from __future__ import annotations
@@ -161,7 +161,7 @@ def convergence_study(model: Model, n_modes, *, about: str = "equilibrium", spin
     n_modes : sequence of int
         Numbers of shape functions per beam.
     about, spin, hub
-        Operating point, as for :func:`~flexkane.linearize.linearization.linearize`.
+        Operating point, as for :func:`~flexkane.analysis.linearization.linearize`.
     count : int
         Number of frequencies recorded.
     output : str, optional

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import flexkane
-from flexkane.linearize import linearize
+from flexkane.analysis import linearize
 from flexkane.numerics.constant_block import prepared_parameters
 
 
@@ -92,7 +92,7 @@ def test_python_control_model_of_the_closed_loop_has_the_controller_state(pid, t
     control = pytest.importorskip("control")
     import scipy.io
 
-    from flexkane.linearize import load_control
+    from flexkane.analysis import load_control
 
     _, linear, _ = pid
     system = linear.to_control()

@@ -6,7 +6,7 @@ import sympy as sp
 
 import flexkane
 from flexkane.errors import ModelError
-from flexkane.linearize import Linearization, NoEquilibriumError, linearize, modal_analysis
+from flexkane.analysis import Linearization, NoEquilibriumError, linearize, modal_analysis
 from flexkane.modes import get_family
 
 # free fall under gravity; a crank driven at a constant speed

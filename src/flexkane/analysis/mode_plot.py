@@ -35,7 +35,7 @@ class ChainDrawing:
     Parameters
     ----------
     linear : LinearModel
-        A linear model made by :class:`~flexkane.linearize.linearization.Linearization` (which gives
+        A linear model made by :class:`~flexkane.analysis.linearization.Linearization` (which gives
         the equations, the model and the constants).
     points : int
         Points drawn along each beam.
@@ -132,7 +132,7 @@ class SpatialBeamShapes:
     Parameters
     ----------
     linear : LinearModel
-        Of a spatial model with beams, made by :class:`~flexkane.linearize.linearization.Linearization`.
+        Of a spatial model with beams, made by :class:`~flexkane.analysis.linearization.Linearization`.
     points : int
         Points along each beam.
 
@@ -247,7 +247,7 @@ def plot_mode_shapes(modal: ModalAnalysis, path, count: int = 4) -> Path:
     Parameters
     ----------
     modal : ModalAnalysis
-        Of a linear model made by :class:`~flexkane.linearize.linearization.Linearization`.
+        Of a linear model made by :class:`~flexkane.analysis.linearization.Linearization`.
     path : str or pathlib.Path
         The PNG file (written atomically).
     count : int

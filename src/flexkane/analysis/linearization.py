@@ -12,7 +12,7 @@ with, all evaluated at the operating point,
 (The term ``dM/dq . u'`` vanishes because ``u' = 0`` there.) W is the matrix of the kinematic
 equations ``q' = W(q) u + k(q, t)``: the identity for revolute, prismatic and modal coordinates, a
 rotation for the translation of a free joint (eq. 8.14). The state-space form is
-``x = (dq, du)``, ``x' = A x + B_ss dr`` (:class:`~flexkane.linearize.linear_model.LinearModel`).
+``x = (dq, du)``, ``x' = A x + B_ss dr`` (:class:`~flexkane.analysis.linear_model.LinearModel`).
 
 Controller states z (``[controllers.NAME]`` with ``states``, ``z' = zdot(q, u, z, t, r)``) are part
 of the operating point and of the state, ``x = (dq, du, dz)``: the forcing's Jacobian with respect to
@@ -21,17 +21,17 @@ z gives ``K_z = -df/dz`` (``M du' + C du + K dq + K_z dz = B dr``) and the rates
 together over ``(q, z)`` (an integral state settles where it cancels a constant load: a PID's at
 ``z0 = tau_d / Ki``); the controllers' outputs and the sensors are outputs with their ``dz`` columns.
 Chains with closed loops are linearized in their independent coordinates
-(:mod:`flexkane.linearize.reduction`), spatial chains with spherical or free joints in three rotation
-coordinates per set of Euler parameters (:mod:`flexkane.linearize.rotation_reduction`); spatial chains
+(:mod:`flexkane.analysis.reduction`), spatial chains with spherical or free joints in three rotation
+coordinates per set of Euler parameters (:mod:`flexkane.analysis.rotation_reduction`); spatial chains
 with both in the rotation coordinates of their independent speeds, the loops closing the others
-(``dq = T_r T_c dx_i``, :mod:`flexkane.linearize.reduction`), about a state
+(``dq = T_r T_c dx_i``, :mod:`flexkane.analysis.reduction`), about a state
 at rest or about a free steady spin of such a joint (``spin_axis``: a body spinning about a principal
 axis, a top spinning upright), with ``u0 = Omega * axis`` for its angular speeds.
 
 Operating points (``about``):
 
 * ``equilibrium``: q0 solves ``f(q0, 0, t0) = 0`` (and the loop constraints), searched from the
-  model's initial coordinates (:mod:`flexkane.linearize.equilibrium`);
+  model's initial coordinates (:mod:`flexkane.analysis.equilibrium`);
 * ``rest``: q0 is the model's initial configuration with every elastic coordinate (modal, planar or
   along a spatial beam's y and z, torsional and axial: ``model.coordinates.BEAM_ROLES``) set to zero,
   and must be an equilibrium; for free-floating chains;
@@ -43,7 +43,7 @@ Coordinates whose speed is prescribed by a driver are not degrees of freedom of 
 not appear in the equations (it is cyclic, like the angle of a hub without gravity) nothing is lost;
 when it does, the linear model freezes it at its value at t0 (and a steady spin is refused).
 
-:class:`Linearization` forms the Jacobians once, symbolically (:mod:`flexkane.linearize.jacobian`),
+:class:`Linearization` forms the Jacobians once, symbolically (:mod:`flexkane.analysis.jacobian`),
 and evaluates them for any operating point, which serves Campbell diagrams (one derivation, many spin
 rates).
 """
@@ -119,21 +119,21 @@ class Linearization:
         functions of time (drivers) are frozen at t0.
     spin_axis : sequence of 3 float, optional
         3D models: spin freely about this axis of the child frame of a spherical or free joint
-        (``hub``) instead of driving a revolute hub (:func:`~flexkane.linearize.prepare.prepare_model`).
+        (``hub``) instead of driving a revolute hub (:func:`~flexkane.analysis.prepare.prepare_model`).
 
     Attributes
     ----------
     eom : EquationsOfMotion
-        Of the prepared model (:mod:`flexkane.linearize.prepare`).
+        Of the prepared model (:mod:`flexkane.analysis.prepare`).
     q, u : list of sympy.Symbol
         Coordinates and speeds of the linear model, n of each; in 3D, q holds the Euler parameters,
         which the linear model replaces by rotation coordinates (``reduction``).
     reduction : RotationReduction or None
         The map to the independent coordinates of a spatial chain with spherical or free joints
-        (:mod:`flexkane.linearize.rotation_reduction`); None otherwise.
+        (:mod:`flexkane.analysis.rotation_reduction`); None otherwise.
     loop_columns : tuple of (list of int, list of int) or None
         With both Euler parameters and closed loops: the positions of the independent (in the order
-        of u) and dependent reduced coordinates (:func:`~flexkane.linearize.reduction.loop_columns`);
+        of u) and dependent reduced coordinates (:func:`~flexkane.analysis.reduction.loop_columns`);
         ``q`` is then ``q_all``. None otherwise.
     q_all : list of sympy.Symbol
         The coordinates searched for the operating point: ``q`` and the dependent coordinates of
@@ -152,7 +152,7 @@ class Linearization:
         (n_all, n_all) at u = 0; the Jacobians of the forcing are in :meth:`symbolic_matrices`.
     output_names : list of str
         Outputs of the linear model: the model's outputs but its energies and loop constraints
-        (:func:`~flexkane.linearize.linear_model.linear_outputs`).
+        (:func:`~flexkane.analysis.linear_model.linear_outputs`).
     parameters : list of sympy.Symbol
         Order of the constants vector p of the numeric functions.
     notes : list of str
@@ -254,7 +254,7 @@ class Linearization:
             (nz, m). Functions of q, z, t, the constants and r. For an open chain
             n_all = n but with Euler parameters (3D: reduced numerically, ``reduction``); a closed one
             is reduced numerically (``K T``, ``V T``, see
-            :mod:`flexkane.linearize.reduction`). Formed on first use: for large models (many modes
+            :mod:`flexkane.analysis.reduction`). Formed on first use: for large models (many modes
             with geometric stiffening) this takes long, and the numeric matrices do not need it.
         """
         if self._symbolic is None:

@@ -13,7 +13,7 @@ from control_models import KP, hub_beam
 import flexkane
 from flexkane.cli import main
 from flexkane.extras import MissingExtraError
-from flexkane.linearize import linearize, load_control
+from flexkane.analysis import linearize, load_control
 
 control = pytest.importorskip("control")
 
