@@ -159,7 +159,8 @@ def export_c(model, directory, *, prefix: str | None = None, force: bool = False
     info = CModelInfo(model_name=model.name, constant_units=units, constant_notes=notes,
                       p=list(numbers["p"]), y0=list(numbers["y0"]),
                       state_units=[unit_of.get(n, "") for n in manifest["state_names"]],
-                      output_units=[unit_of.get(n, "") for n in outputs], version=__version__)
+                      output_units=[unit_of.get(n, "") for n in outputs], version=__version__,
+                      dimensions=model.dimensions)
     try:
         header, source = c_sources(eom, prefix, info)
     except ValueError as exc:

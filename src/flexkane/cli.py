@@ -36,7 +36,7 @@ def build_parser() -> argparse.ArgumentParser:
     from ._version import __version__
 
     parser = _Parser(prog="flexkane",
-                     description="Dynamics of planar chains with flexible links, by Kane's method.")
+                     description="Dynamics of planar and spatial chains with flexible links, by Kane's method.")
     parser.add_argument("--version", action="version", version=f"flexkane {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for name in COMMAND_MODULES:

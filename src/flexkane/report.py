@@ -4,7 +4,9 @@ The report follows the chapter's steps: generalized coordinates and speeds with 
 equations (eqs. 8.10-8.16), the velocities of the bodies and of a point P of every beam (eqs. 8.17,
 8.18), the partial velocities, the generalized inertia forces F*_r (eq. 8.22, printed with the modal
 constants m_B, e_B, I_B, E_i, F_i, G_ij as eq. 8.23 is), the generalized active forces F_r by source
-(eqs. 8.28-8.35) and a table of every constant: its definition, unit and numeric value.
+(eqs. 8.28-8.35) and a table of every constant: its definition, unit and numeric value. A spatial
+chain (``dimensions = 3``) is printed by the same steps in three dimensions; its report cites the
+chapter's equations as the planar ones its own generalize, never as its own.
 :func:`render_pdf` turns ``equations.tex`` into a PDF where ``pdflatex`` is installed.
 """
 
@@ -579,6 +581,28 @@ def _tex_escape(text: str) -> str:
     return text.replace("\\", r"\textbackslash{}").replace("_", r"\_").replace("%", r"\%").replace("&", r"\&")
 
 
+def _cite(eom, equations: str) -> str:
+    """A citation of the chapter's ``equations`` (``"eqs. 8.22, 8.23"``) for the report of ``eom``: the
+    equations themselves for a planar chain, what the printed equations generalize for a spatial one."""
+    if eom.model.dimensions == 3:
+        return f"the spatial generalization of the planar {equations}"
+    return equations
+
+
+def _modal_constants_source(eom) -> str:
+    """Where the chapter defines the modal constants the table lists."""
+    if eom.model.dimensions == 3:
+        return ("the planar ones below eq. 8.22 and eq. 8.32 generalized to two bending planes, torsion "
+                "and stretch")
+    return "below eq. 8.22 and eq. 8.32"
+
+
+def _as_planar(eom, equation: str) -> str:
+    """``equation`` as a pattern the printed equations follow: ``"eq. 8.23"``, or for a spatial chain
+    ``"the planar eq. 8.23"``."""
+    return f"the planar {equation}" if eom.model.dimensions == 3 else equation
+
+
 # ---------------------------------------------------------------------- Markdown
 def equations_markdown(eom, values: dict | None = None) -> str:
     """A Markdown report (with LaTeX) of the derivation: coordinates, kinematics, partial velocities,
@@ -586,8 +610,8 @@ def equations_markdown(eom, values: dict | None = None) -> str:
     names = latex_names(eom)
     model = eom.model
     out = [f"# Equations of motion: {model.name}", "",
-           f"Derived by flexkane {__version__} with Kane's method: $F^*_r + F_r = 0$ (eq. 8.36) for every "
-           "generalized speed $u_r$, written as $M(q, t)\\,\\dot u = f(q, u, t)$.", "",
+           f"Derived by flexkane {__version__} with Kane's method: $F^*_r + F_r = 0$ ({_cite(eom, 'eq. 8.36')}) "
+           "for every generalized speed $u_r$, written as $M(q, t)\\,\\dot u = f(q, u, t)$.", "",
            "## Generalized coordinates and speeds", "",
            "| coordinate | speed | kinematic equation |", "|---|---|---|"]
     for c in eom.chain.coordinates:
@@ -598,9 +622,9 @@ def equations_markdown(eom, values: dict | None = None) -> str:
                    f"$\\dot {_latex_symbol(c.q.name)} = {_latex(qd, names)}$ |")
     for heading, items in _kinematics(eom, names):
         out += ["", f"## {heading}", ""] + [f"* {item}" for item in items]
-    out += ["", "## Generalized inertia and active forces (eqs. 8.22, 8.23, 8.28-8.35)", "",
+    out += ["", f"## Generalized inertia and active forces ({_cite(eom, 'eqs. 8.22, 8.23, 8.28-8.35')})", "",
             "Vectors are resolved along the axes of the link they belong to. F*_r is grouped by the "
-            "derivatives of the speeds, as eq. 8.23 is.", ""]
+            f"derivatives of the speeds, as {_as_planar(eom, 'eq. 8.23')} is.", ""]
     signal_rows = _signal_rows(eom, names)
     if signal_rows:
         out += ["Sensors and controller outputs the efforts use (by name below), and the rates of the "
@@ -618,7 +642,7 @@ def equations_markdown(eom, values: dict | None = None) -> str:
             f"State: {', '.join(eom.state_names)}. Mass matrix $M$ is {len(eom.u)} x {len(eom.u)}.", ""]
     if values is not None:
         out += ["## Constants", "",
-                "Modal constants (below eq. 8.22 and eq. 8.32; x along the beam from its root, "
+                f"Modal constants ({_modal_constants_source(eom)}; x along the beam from its root, "
                 "$\\Phi_i$ of eq. 8.4 or the beam's family) and the values of the model:", "",
                 "| symbol | of | definition | unit | value |", "|---|---|---|---|---|"]
         for sym, source, definition, unit, value in constant_rows(eom, values):
@@ -662,7 +686,7 @@ def equations_latex(eom, values: dict | None = None) -> str:
            r"\usepackage[margin=1.5cm,landscape]{geometry}", r"\allowdisplaybreaks", r"\begin{document}",
            rf"\section*{{Equations of motion: {title}}}",
            _tex_escape(f"Derived by flexkane {__version__} with Kane's method: ") +
-           r"$F^*_r + F_r = 0$ (eq. 8.36) for every generalized speed $u_r$, written as "
+           rf"$F^*_r + F_r = 0$ ({_tex_escape(_cite(eom, 'eq. 8.36'))}) for every generalized speed $u_r$, written as "
            r"$M(q, t)\,\dot u = f(q, u, t)$.", "",
            r"\subsection*{Generalized coordinates and speeds}", r"\begin{align*}"]
     for c in eom.chain.coordinates:
@@ -674,7 +698,7 @@ def equations_latex(eom, values: dict | None = None) -> str:
         doc += [rf"\subsection*{{{heading}}}", r"\begin{itemize}"]
         doc += [rf"\item {_md_to_tex(item)}" for item in items] or [r"\item none"]
         doc.append(r"\end{itemize}")
-    doc += [r"\subsection*{Generalized inertia and active forces (eqs. 8.22, 8.23, 8.28--8.35)}"]
+    doc += [rf"\subsection*{{Generalized inertia and active forces ({_cite(eom, 'eqs. 8.22, 8.23, 8.28--8.35')})}}"]
     signal_rows = _signal_rows(eom, names)
     if signal_rows:
         doc += ["Sensors and controller outputs the efforts use, and the rates of the controller states:",

@@ -20,7 +20,8 @@ def add_no_cache_argument(parser) -> None:
 def register(subparsers) -> None:
     p = subparsers.add_parser("derive", help="print the generalized inertia and active forces",
                               description="Derive Kane's equations and print F*_r (eq. 8.22) and F_r by "
-                                          "source (eqs. 8.28-8.35) for every generalized speed.")
+                                          "source (eqs. 8.28-8.35) for every generalized speed; a spatial "
+                                          "model's are the spatial generalization of those planar equations.")
     add_model_arguments(p)
     p.add_argument("--latex", action="store_true", help="print LaTeX instead of text")
     p.add_argument("--markdown", action="store_true", help="print the whole Markdown report (equations.md)")
