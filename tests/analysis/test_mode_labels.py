@@ -131,3 +131,36 @@ def test_linearize_prints_the_share_that_modes_csv_writes(tmp_path, capsys):
     for label, share in printed:
         assert share == pytest.approx(written[label], abs=0.005)
     assert ("rotation about z of bus 1", 1.0) in printed and written["bending z 1"] > 0.5
+
+
+SPHERICAL_PENDULUM = """
+dimensions = 3
+name = "spherical-pendulum"
+
+[bodies.bob]
+mass = 1.5
+inertia = [0.01, 0.02, 0.03]
+points = { top = [0, 0, 0.4] }
+
+[joints.pivot]
+type = "spherical"
+parent = "ground"
+child = "bob"
+child_point = "top"
+
+[gravity]
+g = 9.81
+direction = [0, 0, -1]
+"""
+
+
+def test_modes_of_a_spherical_joint_are_turns_of_its_body_about_its_axes():
+    modal = modal_analysis(Linearization(loads_model(SPHERICAL_PENDULUM), about="equilibrium").at(outputs=False))
+    labels = {m.label: m for m in modal.modes}
+    assert sorted(labels) == ["rotation about x of bob 1", "rotation about y of bob 1", "rotation about z of bob 1"]
+    assert labels["rotation about z of bob 1"].kind == "rigid"        # a turn about the vertical
+    m, g, length = 1.5, 9.81, 0.4                                      # swings about the pivot's axes
+    for axis, inertia in (("x", 0.01), ("y", 0.02)):
+        mode = labels[f"rotation about {axis} of bob 1"]
+        assert mode.omega == pytest.approx(np.sqrt(m * g * length / (inertia + m * length ** 2)), rel=1e-9)
+        assert mode.share == pytest.approx(1.0, abs=1e-12)
