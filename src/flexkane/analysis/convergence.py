@@ -8,10 +8,22 @@ one output (e.g. ``tip_<beam>``, the tip deflection [m]) there is recorded. Assu
 frequencies are Rayleigh-Ritz values: with shape functions that are admissible they decrease towards
 the exact ones as modes are added. Each frequency carries the label of its mode (``bending 1``,
 ``flap 1``, ``torsion 2``, :mod:`flexkane.analysis.participation`).
+
+The initial values of modal coordinates beyond the count under study (a model whose ``[initial]``
+sets a second mode, studied with one) are dropped, with a note (:meth:`Model.with_modes`).
+
+**Verdict.** Each tracked quantity (a frequency, followed by its label when the modes are labelled,
+and the output) is judged on its relative change from one mode count to the next,
+``c = |v_n - v_prev| / |v_n|``, against a tolerance (:data:`DEFAULT_TOLERANCE` unless stated): it has
+**converged** when the last change is within the tolerance, and "converged to C relative at n = N"
+says that the changes at the count N (from the count before) and at every later count were at most C
+relative; else it is **not converged** ("last change C > tolerance"). A quantity known at fewer than the last two
+counts is not judged (:func:`convergence_verdict`).
 """
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass, field
 
@@ -21,7 +33,13 @@ from ..errors import ModelError, SolverFailure
 from ..model import Model
 from .eigen import modal_analysis
 
-__all__ = ["ConvergenceStudy", "convergence_study", "parse_mode_counts"]
+__all__ = ["ConvergenceStudy", "Verdict", "convergence_study", "convergence_verdict", "parse_mode_counts",
+           "checked_mode_counts", "DEFAULT_TOLERANCE"]
+
+#: Relative change per added count of modes under which a quantity is converged, unless stated.
+DEFAULT_TOLERANCE = 1e-3
+#: The forms of ``--n-modes`` in a convergence study.
+_COUNT_FORMS = "mode counts as 1..N, a list A,B,C (increasing) or N, each 1 to {limit}"
 
 
 def parse_mode_counts(text: str, flag: str = "--n-modes") -> list[int]:
@@ -32,20 +50,124 @@ def parse_mode_counts(text: str, flag: str = "--n-modes") -> list[int]:
     list of int
         Increasing, each from 1 to :data:`~flexkane.model.validate.MAX_MODES`.
     """
+    from ..model.validate import MAX_MODES
+
     text = str(text).strip()
+    counts: list = []
     try:
         if ".." in text:
             first, last = (int(v) for v in text.split(".."))
-            counts = list(range(first, last + 1))
-        else:
+            if 1 <= first <= last <= MAX_MODES:       # bounded before the range is made
+                counts = list(range(first, last + 1))
+        elif text.count(",") < MAX_MODES:
             counts = [int(v) for v in text.split(",")]
     except ValueError:
         counts = []
+    try:
+        return checked_mode_counts(counts, flag)
+    except ModelError:
+        raise ModelError(flag, _COUNT_FORMS.format(limit=MAX_MODES), text) from None
+
+
+def checked_mode_counts(counts, flag: str = "--n-modes") -> list[int]:
+    """The mode counts of a study as a list: integers, increasing, each from 1 to
+    :data:`~flexkane.model.validate.MAX_MODES` (a ModelError naming ``flag`` otherwise)."""
     from ..model.validate import MAX_MODES
 
-    if not counts or any(c < 1 or c > MAX_MODES for c in counts) or counts != sorted(set(counts)):
-        raise ModelError(flag, f"mode counts as 1..N, a list A,B,C (increasing) or N, each 1 to {MAX_MODES}", text)
-    return counts
+    counts = list(itertools.islice(iter(counts), MAX_MODES + 1))     # never more than one too many
+    counts = counts if len(counts) <= MAX_MODES else []
+    if (not counts or any(isinstance(c, bool) or not isinstance(c, (int, np.integer)) or not 1 <= c <= MAX_MODES
+                          for c in counts) or counts != sorted(set(counts))):
+        raise ModelError(flag, _COUNT_FORMS.format(limit=MAX_MODES), counts)
+    return [int(c) for c in counts]
+
+
+def relative_change(previous: float, value: float) -> float:
+    """``|value - previous| / |value|`` [-]: 0 when both are 0, infinite when only ``value`` is,
+    NaN when either is NaN."""
+    if math.isnan(previous) or math.isnan(value):
+        return math.nan
+    if value == previous:
+        return 0.0
+    return abs(value - previous) / abs(value) if value != 0 else math.inf
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """Whether one quantity of a convergence study converged (module docstring).
+
+    Attributes
+    ----------
+    quantity : str
+        What is judged (``bending 1``, ``omega_2``, ``tip_B(t=0.8 s)``).
+    tolerance : float
+        Largest relative change of a converged quantity [-].
+    converged : bool or None
+        None when the quantity is not judged (known at fewer than the last two counts).
+    change : float
+        Converged: the largest relative change from ``n_modes`` on; not converged: the last
+        relative change [-]; NaN when not judged.
+    n_modes : int or None
+        Converged: the first count whose change and every later one are within the tolerance; else
+        the last count.
+    """
+
+    quantity: str
+    tolerance: float
+    converged: bool | None
+    change: float
+    n_modes: int | None
+
+    @property
+    def text(self) -> str:
+        """The verdict in words (``converged to 2.1e-04 relative at n = 3``)."""
+        if self.converged is None:
+            return f"not judged: known at fewer than the last two mode counts (n = {self.n_modes})"
+        if self.converged:
+            return f"converged to {self.change:.1e} relative at n = {self.n_modes}"
+        return f"not converged: last change {self.change:.1e} > {self.tolerance:g}"
+
+
+def check_tolerance(tolerance, flag: str = "--tolerance") -> float:
+    """The tolerance of a convergence verdict: a finite number between 0 and 1 [-] (a ModelError
+    naming ``flag`` otherwise)."""
+    if isinstance(tolerance, bool) or not isinstance(tolerance, (int, float)) or not 0 < tolerance < 1:
+        raise ModelError(flag, "a relative change between 0 and 1 (e.g. 1e-3)", tolerance)
+    return float(tolerance)
+
+
+def convergence_verdict(values, n_modes, tolerance: float = DEFAULT_TOLERANCE, quantity: str = "") -> Verdict:
+    """Judge a quantity against the number of modes (module docstring).
+
+    Parameters
+    ----------
+    values : sequence of float
+        The quantity at each count, shape (s,); NaN where it is not known.
+    n_modes : sequence of int
+        The counts, increasing, shape (s,).
+    tolerance : float
+        Largest relative change of a converged quantity [-].
+    quantity : str
+        Its name, kept in the verdict.
+
+    Returns
+    -------
+    Verdict
+    """
+    tolerance = check_tolerance(tolerance)
+    values = [float(v) for v in values]
+    counts = [int(n) for n in n_modes]
+    if len(values) != len(counts) or not counts:
+        raise ModelError("values", f"one value per mode count ({len(counts)})", len(values))
+    changes = [relative_change(p, v) for p, v in zip(values, values[1:])]   # changes[k] at counts[k + 1]
+    if not changes or math.isnan(changes[-1]):
+        return Verdict(quantity, tolerance, None, math.nan, counts[-1])
+    if not changes[-1] <= tolerance:
+        return Verdict(quantity, tolerance, False, changes[-1], counts[-1])
+    first = len(changes) - 1
+    while first > 0 and changes[first - 1] <= tolerance:
+        first -= 1
+    return Verdict(quantity, tolerance, True, max(changes[first:]), counts[first + 1])
 
 
 @dataclass
@@ -69,6 +191,8 @@ class ConvergenceStudy:
     notes : list of str
     labels : list of list of str
         The label of each frequency (``torsion 1``), per row.
+    tolerance : float
+        Largest relative change per added count of modes of a converged quantity [-] (:meth:`verdicts`).
     """
 
     name: str
@@ -79,6 +203,7 @@ class ConvergenceStudy:
     output_values: np.ndarray = field(default_factory=lambda: np.zeros(0))
     notes: list = field(default_factory=list)
     labels: list = field(default_factory=list)
+    tolerance: float = DEFAULT_TOLERANCE
 
     def header(self, labels: bool = False) -> list[str]:
         k = self.frequencies.shape[1]
@@ -122,36 +247,65 @@ class ConvergenceStudy:
                     out[label][i] = value
         return out
 
-    def table(self) -> str:
-        """A text table, with the relative change from the previous row of each column; the columns
-        are the modes by label (:meth:`curves`) when they are labelled, so that a change compares a
-        mode with itself when added modes fall between."""
+    def quantities(self) -> dict:
+        """The tracked quantities against the number of modes, name -> values shape (s,): the modes
+        by label (:meth:`curves`, [rad/s]) when they are labelled, so that a change compares a mode
+        with itself when added modes fall between, else ``omega_<i>`` [rad/s]; then the output."""
         curves = self.curves()
-        header, rows = self.header(), list(self._rows())
-        if curves:
-            header = ["n_modes"] + [f"{label} [rad/s]" for label in curves] + header[1 + self.frequencies.shape[1]:]
-            rows = [(n, [curves[label][i] for label in curves] + row[self.frequencies.shape[1]:])
-                    for i, (n, row) in enumerate(rows)]
+        out = dict(curves) if curves else {f"omega_{i + 1}": self.frequencies[:, i]
+                                           for i in range(self.frequencies.shape[1])}
+        if self.output:
+            out[f"{self.output}(t={self.time:g} s)"] = np.asarray(self.output_values, dtype=float)
+        return out
+
+    def table(self) -> str:
+        """A text table of :meth:`quantities`, with the relative change from the previous row of each
+        column."""
+        quantities = self.quantities()
+        frequencies = len(quantities) - bool(self.output)
+        header = ["n_modes"] + [f"{k} [rad/s]" if i < frequencies else k for i, k in enumerate(quantities)]
         widths = [8] + [max(18, len(h) + 2) for h in header[1:]]
         lines = ["".join(f"{h:>{w}}" for h, w in zip(header, widths))]
-        previous = None
-        for n, row in rows:
+        columns = list(quantities.values())
+        for i, n in enumerate(self.n_modes):
+            row = [float(c[i]) for c in columns]
             lines.append(f"{n:>8}" + "".join(f"{v:>{w}.10g}" if not math.isnan(v) else f"{'-':>{w}}"
                                               for v, w in zip(row, widths[1:])))
-            if previous is not None:
-                change = []
-                for v, p, w in zip(row, previous, widths[1:]):
-                    rel = abs(v - p) / abs(v) if not (math.isnan(v) or math.isnan(p)) and v != 0 else math.nan
-                    change.append(f"{rel:>{w}.2e}" if not math.isnan(rel) else f"{'':>{w}}")
-                lines.append(f"{'change':>8}" + "".join(change))
-            previous = row
+            if i:
+                rels = [relative_change(float(c[i - 1]), v) for c, v in zip(columns, row)]
+                lines.append(f"{'change':>8}" + "".join(f"{r:>{w}.2e}" if not math.isnan(r) else f"{'':>{w}}"
+                                                        for r, w in zip(rels, widths[1:])))
         return "\n".join(lines)
+
+    def verdicts(self) -> list[Verdict]:
+        """Whether each of :meth:`quantities` converged, against :attr:`tolerance` (module docstring)."""
+        return [convergence_verdict(values, self.n_modes, self.tolerance, name)
+                for name, values in self.quantities().items()]
+
+    def verdicts_text(self) -> str:
+        """The tolerance and one verdict line per quantity."""
+        lines = [f"tolerance: {self.tolerance:g} relative change per added count of modes"]
+        return "\n".join(lines + [f"{v.quantity}: {v.text}" for v in self.verdicts()])
+
+    def verdicts_csv_text(self) -> str:
+        """The verdicts as CSV, one row per quantity: its name, the tolerance [-], whether it converged
+        (``true``, ``false``, empty when not judged), the change [-], the count and the verdict."""
+        import csv
+        import io
+
+        text = io.StringIO()
+        writer = csv.writer(text, lineterminator="\n")
+        writer.writerow(["quantity", "tolerance [-]", "converged", "change [-]", "n_modes", "verdict"])
+        for v in self.verdicts():
+            writer.writerow([v.quantity, repr(v.tolerance), "" if v.converged is None else str(v.converged).lower(),
+                             "" if math.isnan(v.change) else repr(v.change), v.n_modes, v.text])
+        return text.getvalue()
 
 
 def convergence_study(model: Model, n_modes, *, about: str = "equilibrium", spin: float | None = None,
                       hub: str | None = None, count: int = 4, output: str | None = None,
-                      at: float | None = None, rtol: float | None = None,
-                      atol: float | None = None) -> ConvergenceStudy:
+                      at: float | None = None, rtol: float | None = None, atol: float | None = None,
+                      tolerance: float = DEFAULT_TOLERANCE) -> ConvergenceStudy:
     """Frequencies (and an output at a time) for each number of modes.
 
     Parameters
@@ -170,6 +324,9 @@ def convergence_study(model: Model, n_modes, *, about: str = "equilibrium", spin
         Time [s] at which the output is taken; required with ``output``.
     rtol, atol : float, optional
         Integrator tolerances; the model's ``[simulation]`` values by default.
+    tolerance : float
+        Largest relative change per added count of modes of a converged quantity [-]
+        (:meth:`ConvergenceStudy.verdicts`).
 
     Returns
     -------
@@ -186,11 +343,12 @@ def convergence_study(model: Model, n_modes, *, about: str = "equilibrium", spin
                          None, show_given=False)
     if at is not None and not (isinstance(at, (int, float)) and math.isfinite(at) and at > 0):
         raise ModelError("--at", "a positive time [s]", at)
-    counts = list(n_modes)
+    tolerance = check_tolerance(tolerance)
+    counts = checked_mode_counts(n_modes)
     rows, values, notes, labels = [], [], [], []
     sim = model.simulation
     for n in counts:
-        variant = model.with_modes(int(n))
+        variant = _study_variant(model, n, notes)
         lin = Linearization(variant, about=about, spin=spin, hub=hub)
         modal = modal_analysis(lin.at(outputs=False))
         rows.append(modal.frequencies[:count])
@@ -214,4 +372,18 @@ def convergence_study(model: Model, n_modes, *, about: str = "equilibrium", spin
     for k, r in enumerate(rows):
         table[k, :len(r)] = r
     return ConvergenceStudy(model.name, counts, table, output, float(at) if at is not None else None,
-                            np.array(values), notes, labels)
+                            np.array(values), notes, labels, tolerance)
+
+
+def _study_variant(model: Model, n: int, notes: list) -> Model:
+    """The model with n modes per beam, valid (:meth:`Model.with_modes`); a note for the initial
+    values it drops; a ModelError names ``--n-modes`` when the model cannot have n modes."""
+    try:
+        variant = model.with_modes(n).validate()
+    except ModelError as error:
+        raise ModelError("--n-modes", f"mode counts this model can have ({error})", n) from None
+    dropped = model.initial_beyond_modes(n)
+    if dropped:
+        values = "values of " + ", ".join(dropped) + " are" if len(dropped) > 1 else f"value of {dropped[0]} is"
+        notes.append(f"n = {n}: the initial {values} dropped (modes beyond the count under study, --n-modes)")
+    return variant

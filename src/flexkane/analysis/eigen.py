@@ -21,9 +21,15 @@ The eigenvalues lambda of the state matrix A (:meth:`LinearModel.state_space`) a
 
 A mode shape is the dq part of the eigenvector (or the null vector), scaled so that its largest
 component is 1 (real for undamped modes). Each mode is labelled by its dominant motion (``flap``,
-``lag``, ``torsion``, ``bending``, ``axial``, ``joint <name>``, :mod:`flexkane.analysis.participation`)
-and its rank among the modes of that motion (``flap 1``, ``flap 2``; the two real eigenvalues of a
-statically unstable or overdamped mode share one label).
+``lag``, ``torsion``, ``bending``, ``axial``, ``rotation about x of bus``, ``joint <name>``,
+:mod:`flexkane.analysis.participation`) and its rank among the modes of that motion (``flap 1``,
+``flap 2``; the two real eigenvalues of a statically unstable or overdamped mode share one label),
+with the share of that motion in the mode's kinetic energy (the participations of its families
+summed, as written in ``modes.csv``). A rigid-body mode, which does not move, is weighed by the
+speeds ``du = W^-1 dq`` that move the chain along its shape (by dq itself when W is singular), and
+the rigid-body modes are the basis of their null space whose members each move one speed alone
+(a free body's translations along, and turns about, its own axes), chosen by the speeds they move
+most independently.
 """
 
 from __future__ import annotations
@@ -64,6 +70,9 @@ class Mode:
         know its chain.
     participation : dict of str to float
         Share of each family of motion in the mode's kinetic energy (summing to 1).
+    share : float
+        Share of the labelled motion in the mode's kinetic energy [-]: the participation of its
+        family, or of all the families of its kind (``bending z`` of two beams); 0 when unlabelled.
     """
 
     kind: str
@@ -72,6 +81,7 @@ class Mode:
     shape_complex: np.ndarray
     label: str = ""
     participation: dict = field(default_factory=dict)
+    share: float = 0.0
 
     @property
     def motion(self) -> str:
@@ -166,6 +176,7 @@ class ModalAnalysis:
         if null.shape[1]:       # the dq parts, orthonormal
             u, s, _ = scipy.linalg.svd(null, full_matrices=False)
             null = u[:, :int(np.sum(s > RIGID_TOLERANCE[0] * s[0]))] if s[0] > 0 else null[:, :0]
+            null = _one_speed_each(linear, null)
         for k in range(null.shape[1]):
             shape = _normalise(null[:, k].astype(complex))
             modes.append((Mode("rigid", 0j, shape.real, shape), None))
@@ -242,28 +253,50 @@ class ModalAnalysis:
             for value, w in zip(row[2:], widths[2:]):
                 cells.append(f"{value + 0.0:>{w}.10g}" if not math.isnan(value) else f"{'-':>{w}}")
             if labelled:
-                cells.append(f"{mode.label} ({100 * mode.participation.get(mode.motion, 0.0):.0f} %)")
+                cells.append(f"{mode.label} ({100 * mode.share:.0f} %)")
             lines.append("  ".join(cells))
         return "\n".join(lines)
 
     def csv_text(self) -> str:
-        """The modes as CSV: the table, the label (dominant motion and rank), the participation of
-        each family of motion [-] and the mode shapes (one column per coordinate)."""
+        """The modes as CSV: the table, the label (dominant motion and rank), the share of that
+        motion [-], the participation of each family of motion [-] and the mode shapes (one column
+        per coordinate)."""
         names = self.linear.coordinates
         families = self.families
-        lines = [",".join(list(self.HEADER) + ["motion"] + [f"participation {f}" for f in families]
-                          + [f"shape {c}" for c in names])]
+        lines = [",".join(list(self.HEADER) + ["motion", "motion share [-]"]
+                          + [f"participation {f}" for f in families] + [f"shape {c}" for c in names])]
         for row, mode in zip(self.rows(), self.modes):
             cells = [str(row[0]), row[1]] + [repr(float(v) + 0.0) for v in row[2:]] + [mode.label]
+            cells.append(repr(float(mode.share)))
             cells += [repr(float(mode.participation.get(f, 0.0))) for f in families]
             cells += [repr(float(v)) for v in mode.shape]
             lines.append(",".join(cells))
         return "\n".join(lines) + "\n"
 
 
+def _one_speed_each(linear: LinearModel, null: np.ndarray) -> np.ndarray:
+    """The basis of the rigid-body shapes ``null`` (n, r) whose members each move one speed alone
+    (module docstring): the r speeds that the shapes move most independently (QR with column
+    pivoting of their speeds ``W^-1 null``), in the speeds' order."""
+    speeds = _speeds_along(linear, null)
+    _, _, pivots = scipy.linalg.qr(speeds.T, pivoting=True, mode="economic")
+    chosen = np.sort(pivots[:null.shape[1]])
+    return null @ np.linalg.inv(speeds[chosen, :])
+
+
+def _speeds_along(linear: LinearModel, shape: np.ndarray) -> np.ndarray:
+    """The speeds ``du = W^-1 dq`` that move the chain along shapes dq (n,) or (n, r) (module
+    docstring); dq itself when W is singular."""
+    W = np.asarray(linear.W, dtype=float)
+    if W.shape != (linear.n, linear.n) or not np.all(np.isfinite(W)) or np.linalg.cond(W) > 1e12:
+        return shape
+    return scipy.linalg.solve(W, shape)
+
+
 def _labelled(linear: LinearModel, modes: list) -> list:
-    """The modes of ``(mode, du)`` pairs with their participations and labels (module docstring),
-    ``du`` the speed part of the eigenvector (the shape ``dq`` stands for it when it is None or zero)."""
+    """The modes of ``(mode, du)`` pairs with their participations, labels and shares (module
+    docstring), ``du`` the speed part of the eigenvector (``W^-1 dq`` of the shape when it is None or
+    zero)."""
     from .participation import motion_families
 
     families = motion_families(linear)
@@ -274,7 +307,8 @@ def _labelled(linear: LinearModel, modes: list) -> list:
         if families is None:
             out.append(mode)
             continue
-        vector = speeds if speeds is not None and np.any(np.abs(speeds) > 0) else mode.shape_complex
+        moving = speeds is not None and np.any(np.abs(speeds) > 0)
+        vector = speeds if moving else _speeds_along(linear, mode.shape_complex)
         share = families.participation(linear.M, vector)
         motion = families.dominant(share)
         if mode.kind in ("overdamped", "divergent") and motion in pending:
@@ -283,7 +317,8 @@ def _labelled(linear: LinearModel, modes: list) -> list:
             rank = ranks[motion] = ranks.get(motion, 0) + 1
             if mode.kind in ("overdamped", "divergent"):
                 pending[motion] = rank
-        out.append(replace(mode, label=f"{motion} {rank}" if motion else "", participation=share))
+        out.append(replace(mode, label=f"{motion} {rank}" if motion else "", participation=share,
+                           share=families.share(share, motion)))
     return out
 
 

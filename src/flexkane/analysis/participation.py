@@ -11,16 +11,24 @@ The speeds of a linear model fall into families, each a kind of motion:
   into ``(flap_i, lag_i)`` by the angle between y_p and ``a_s``, and a coordinate without a partner
   is split by the squared cosines of that angle;
 * a beam's torsion (``torsion``) and axial (``axial``) coordinates;
-* a joint's coordinates (``joint <name>``).
+* the coordinates of a joint that floats its child or turns it freely, each a motion of its own
+  named after the child link: a free joint's translations along the axes of its child frame J_c
+  (``translation along x of bus``; the speeds' axes, :mod:`flexkane.kane.spatial_joints`) and its
+  or a spherical joint's turns about them (``rotation about x of bus``; a planar free joint's turn
+  is ``rotation of beam``);
+* any other joint's coordinates (``joint <name>``).
 
 The participation of a family in a mode is its share of the mode's kinetic energy on the diagonal
 of the mass matrix, ``sum_k M_kk |du_k|^2`` over the family's speeds (in the turned flap/lag speeds
 for spatial beams), ``du`` the speed part of the eigenvector (its coordinate part ``dq`` for a
-mode of zero eigenvalue, which does not move). A mode's motion is the kind of motion of the largest
+mode of zero eigenvalue, which does not move, taken to the speeds that move the chain along it by
+:func:`flexkane.analysis.eigen.modal_analysis`). A mode's motion is the kind of motion of the largest
 share summed over the beams (``flap``); with several beams the name of the beam that carries at least
 3/4 of it follows (``flap blade_a``; a mode shared by two symmetric panels is ``flap``). The spin
 axis is the beam frame's angular velocity per unit spin rate at the operating point, in the beam
-frame's axes.
+frame's axes. The **share** of a mode's motion is the participation of its family, or of all
+the families of its kind when no beam owns it (``flap`` above: the flap of every beam), as
+:meth:`MotionFamilies.share` gives it.
 """
 
 from __future__ import annotations
@@ -38,6 +46,12 @@ _ANGULAR_VELOCITIES: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 _ALONG_BEAM = 1e-6
 #: Share of a kind of motion one beam must carry for a mode to be named after it.
 _OWNS = 0.75
+#: Joint types whose coordinates are motions of their own, named after the child link (module docstring).
+_FLOATING = ("free", "spherical")
+#: The motion of a floating joint's coordinate, by role (``{child}`` the joint's child link).
+_FLOATING_MOTIONS = {"x": "translation along x of {child}", "y": "translation along y of {child}",
+                     "z": "translation along z of {child}", "e1": "rotation about x of {child}",
+                     "e2": "rotation about y of {child}", "e3": "rotation about z of {child}"}
 
 
 class MotionFamilies:
@@ -86,6 +100,13 @@ class MotionFamilies:
         total = sum(kinds[kind].values())
         return name if beam is None or kinds[kind][name] >= _OWNS * total else kind
 
+    def share(self, participation: dict, motion: str) -> float:
+        """The share [-] of ``motion`` (a family's name or a kind of motion, :meth:`dominant`) in a
+        mode of this ``participation``: the participation of the family, or the sum over the families
+        of that kind (0 for a motion no family has)."""
+        return float(sum(participation.get(name, 0.0) for name, (kind, _) in zip(self.names, self.kinds)
+                         if motion in (name, kind)))
+
 
 def motion_families(linear) -> MotionFamilies | None:
     """The motion families of a linear model made by
@@ -133,7 +154,7 @@ def motion_families(linear) -> MotionFamilies | None:
         elif c.role in ("torsion", "axial"):
             rows[k][family(c.role, c.owner)] = 1.0
         else:
-            rows[k][family(f"joint {c.owner}")] = 1.0
+            rows[k][family(_joint_motion(model.joints[c.owner], c.role, spatial))] = 1.0
     for beam, pairs in bending.items():
         flap = _flap_direction(lin, model.beams[beam], axes.get(beam)) if spatial else None
         for index in sorted(pairs):
@@ -158,6 +179,15 @@ def motion_families(linear) -> MotionFamilies | None:
         for name, share in row.items():
             weights[k, names.index(name)] = share
     return MotionFamilies(names, transform, weights, kinds)
+
+
+def _joint_motion(joint, role: str, spatial: bool) -> str:
+    """The family of motion of a joint's coordinate of this role (module docstring)."""
+    if joint.type not in _FLOATING:
+        return f"joint {joint.name}"
+    if role == "angle" and not spatial:       # a planar free joint's turn, about the plane's normal
+        return f"rotation of {joint.child}"
+    return _FLOATING_MOTIONS[role].format(child=joint.child)
 
 
 def _flap_direction(lin, beam, axis) -> tuple | None:

@@ -13,6 +13,7 @@ import errno
 import math
 import os
 import re
+import sys
 import tempfile
 import tomllib
 from pathlib import Path
@@ -140,9 +141,15 @@ def model_from_args(args) -> Model:
         if not model.beams:
             raise ModelError("--n-modes", "a model with beams", n_modes, f"{model.name!r} has no beam")
         try:
+            dropped = model.initial_beyond_modes(n_modes)
             model = model.with_modes(n_modes)
         except ModelError as exc:
-            raise cli_path(exc) from None
+            if exc.path == "n_modes":
+                raise cli_path(exc) from None
+            raise ModelError("--n-modes", f"a mode count this model can have ({exc})", n_modes) from None
+        if dropped and not getattr(args, "quiet", False):
+            print(f"note: --n-modes {n_modes} drops the initial values of {', '.join(dropped)} (modes beyond "
+                  "the count)", file=sys.stderr)
     _check_bare_names(model, _bare_names(model, settings))
     return model.validate()
 

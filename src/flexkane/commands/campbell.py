@@ -23,6 +23,8 @@ __all__ = ["register"]
 
 
 def register(subparsers) -> None:
+    from ..limits import MAX_VARIANTS
+
     p = subparsers.add_parser(
         "campbell", help="Campbell diagram: frequencies against the spin rate of a hub",
         description="Linearize a model about steady spins of a hub (revolute joint) and tabulate and plot "
@@ -31,7 +33,8 @@ def register(subparsers) -> None:
                     "campbell.json and campbell.png to DIR.")
     add_model_arguments(p, default=None)
     p.add_argument("--spin", required=True, metavar="START:STOP:COUNT",
-                   help="spin rates [rad/s]: COUNT values from START to STOP (e.g. 0:8:33), or a list A,B,C")
+                   help="spin rates [rad/s]: COUNT values from START to STOP (e.g. 0:8:33), or a list A,B,C; "
+                        f"at most {MAX_VARIANTS:,} (as a sweep's variants)")
     p.add_argument("--hub", default=None, metavar="JOINT",
                    help="revolute joint that spins [default: the driven one, else the one on the ground]; "
                         "with --spin-axis, the spherical or free joint that spins freely")

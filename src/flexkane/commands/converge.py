@@ -5,9 +5,12 @@ Example::
     flexkane converge flexible-arm --n-modes 1..6
     flexkane converge flexible-arm --n-modes 1..4 --output tip_link --at 0.8
 
-prints a table (one row per number of modes, with the relative change from the previous row) and
-writes ``convergence.csv`` to DIR. With ``--output NAME --at T`` each model is also integrated from
-its initial state to T [s] (compiling one right-hand side per number of modes).
+prints a table (one row per number of modes, with the relative change from the previous row) and a
+verdict per frequency and output: converged when the last relative change is within ``--tolerance``
+(default 1e-3; "converged to 2.1e-04 relative at n = 3", "not converged: last change 3.4e-02 >
+0.001"), and writes ``convergence.csv`` and ``convergence_verdicts.csv`` to DIR. With ``--output NAME
+--at T`` each model is also integrated from its initial state to T [s] (compiling one right-hand side
+per number of modes). Initial values of modes beyond a count under study are dropped with a note.
 """
 
 from __future__ import annotations
@@ -25,8 +28,8 @@ def register(subparsers) -> None:
         "converge", help="convergence study: frequencies and an output as modes are added",
         description="Linearize a model with 1, 2, ... N shape functions per beam (a spatial beam: per bending "
                     "plane and of torsion) and tabulate its first "
-                    "natural frequencies and, with --output and --at, an output at a time; write "
-                    "convergence.csv to DIR.")
+                    "natural frequencies and, with --output and --at, an output at a time, and say whether "
+                    "each converged (--tolerance); write convergence.csv and convergence_verdicts.csv to DIR.")
     p.add_argument("model", metavar="MODEL", help="built-in model name or model file (.toml)")
     p.add_argument("--n-modes", required=True, metavar="1..N", dest="n_modes_range",
                    help="numbers of shape functions per beam: 1..N, a list A,B,C, or N")
@@ -36,6 +39,9 @@ def register(subparsers) -> None:
     p.add_argument("--count", type=int, default=4, metavar="K", help="number of frequencies tabulated [default: 4]")
     p.add_argument("--output", default=None, metavar="NAME", help="output to follow, e.g. tip_link (with --at)")
     p.add_argument("--at", type=float, default=None, metavar="T", help="time of the output [s]")
+    p.add_argument("--tolerance", type=float, default=None, metavar="TOL",
+                   help="relative change per added count of modes under which a frequency or the output has "
+                        "converged [default: 1e-3]")
     add_out_arguments(p, "out/MODEL_NAME-converge")
     p.add_argument("--quiet", action="store_true", help="print nothing but errors")
     p.set_defaults(handler=_handle)
@@ -45,22 +51,25 @@ def _handle(args) -> int:
     from ..atomic import atomic_write_text
     from ..errors import ModelError
     from ..analysis import convergence_study
-    from ..analysis.convergence import parse_mode_counts
+    from ..analysis.convergence import DEFAULT_TOLERANCE, check_tolerance, parse_mode_counts
     from ._common import default_out, model_from_args, prepare_out
 
     counts = parse_mode_counts(args.n_modes_range)
+    tolerance = check_tolerance(DEFAULT_TOLERANCE if args.tolerance is None else args.tolerance)
     if args.count < 1:
         raise ModelError("--count", "a positive number of frequencies", args.count)
     model = model_from_args(args)          # MODEL and --set (--n-modes is the range here)
     about, spin = operating_point(args)
     out = prepare_out(Path(args.out) if args.out else default_out(model.name, "-converge"), force=args.force)
     study = convergence_study(model, counts, about=about, spin=spin, hub=args.hub, count=args.count,
-                              output=args.output, at=args.at)
+                              output=args.output, at=args.at, tolerance=tolerance)
     atomic_write_text(out / "convergence.csv", study.csv_text())
+    atomic_write_text(out / "convergence_verdicts.csv", study.verdicts_csv_text())
     if not args.quiet:
         print(f"{model.name}: convergence with the number of modes per beam, linearized about {about}")
         for note in study.notes:
             print(f"note: {note}")
         print(study.table())
-        print(f"wrote 1 file to {out}")
+        print(study.verdicts_text())
+        print(f"wrote 2 files to {out}")
     return 0

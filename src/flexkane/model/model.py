@@ -140,8 +140,52 @@ class Model:
         ``n_modes`` in each bending plane and of torsion that it has, ``n_modes_y``, ``n_modes_z``,
         ``n_torsion`` > 0).
 
-        Beams whose shape roots were typed explicitly keep them only when their count matches.
+        Beams whose shape roots were typed explicitly keep them only when their count matches. The
+        initial values of the modal coordinates and speeds follow their coordinate (renamed with
+        ``naming = "sequential"``, whose numbers shift); those of modes beyond ``n_modes`` are
+        dropped (:meth:`initial_beyond_modes` names them, for a note).
         """
+        new = self._with_mode_counts(n_modes)
+        new.initial, _ = self._initial_with_modes(new)
+        return new
+
+    def initial_beyond_modes(self, n_modes: int) -> list[str]:
+        """The keys of ``[initial]`` that :meth:`with_modes` drops: the initial values of modal
+        coordinates and speeds beyond ``n_modes`` (in the model's order)."""
+        return self._initial_with_modes(self._with_mode_counts(n_modes))[1]
+
+    def _initial_with_modes(self, new: "Model") -> tuple[dict, list[str]]:
+        """``(initial, dropped)``: this model's initial values renamed to the coordinates of ``new``
+        (the same chain with other mode counts), and the keys of those ``new`` does not have. The
+        initial values are kept as they are when the chain's coordinates cannot be named (an invalid
+        model: its validation reports why)."""
+        from .coordinates import coordinate_names
+
+        before, after = self.copy(), new.copy()
+        before.initial, after.initial = {}, {}
+        try:
+            after.validate()
+            names = [coordinate_names(before), coordinate_names(after)]
+        except ModelError:
+            return dict(self.initial), []
+        targets = {(c.owner, c.role, c.index): c for c in names[1]}
+        renamed: dict = {}          # name in this model -> name in new (None: no such coordinate)
+        for c in names[0]:
+            target = targets.get((c.owner, c.role, c.index))
+            renamed[c.q] = target.q if target is not None else None
+            if c.u is not None:
+                renamed[c.u] = target.u if target is not None else None
+        initial, dropped = {}, []
+        for key, value in self.initial.items():
+            if renamed.get(key, key) is None:
+                dropped.append(key)
+            else:
+                initial[renamed.get(key, key)] = value
+        return initial, dropped
+
+    def _with_mode_counts(self, n_modes: int) -> "Model":
+        """A copy with every beam's mode counts set to ``n_modes`` (:meth:`with_modes`), its initial
+        values unchanged."""
         from .validate import MAX_ELASTIC_COORDINATES, MAX_MODES
 
         if isinstance(n_modes, bool) or not isinstance(n_modes, int) or not 1 <= n_modes <= MAX_MODES:

@@ -34,11 +34,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..errors import ModelError
+from ..limits import MAX_VARIANTS, check_count
 
 __all__ = ["Vary", "SweepSpec", "SAMPLINGS", "MAX_VARIANTS", "sweep_spec_from_toml", "split_values"]
 
-#: Largest number of variants of one sweep (grid combinations or random samples); more is refused.
-MAX_VARIANTS = 100_000
 #: Ways to turn the varied values into variants.
 SAMPLINGS = ("grid", "random")
 _SCALES = ("linear", "log")
@@ -140,9 +139,8 @@ class Vary:
         if self.count is not None and (isinstance(self.count, bool) or not isinstance(self.count, int)
                                        or self.count < 1):
             raise ModelError(where, "a positive integer COUNT of values", self.count)
-        if self.count is not None and self.count > MAX_VARIANTS:
-            raise ModelError(where, f"a COUNT of at most {MAX_VARIANTS:,} values (the largest sweep)",
-                             self.count)
+        if self.count is not None:
+            check_count(self.count, where, "a COUNT of at most {limit} values (the largest sweep)")
         if self.scale not in _SCALES:
             raise ModelError(where, f"a scale among {', '.join(_SCALES)}", self.scale)
         if self.scale == "log" and (self.start <= 0 or self.stop <= 0):
@@ -312,10 +310,10 @@ class SweepSpec:
                 raise ModelError("seed", "a non-negative integer seed with random sampling (the same seed "
                                  "regenerates the same variants, which is what resuming needs)", self.seed)
         count = self.variant_count
-        if count is not None and count > MAX_VARIANTS:
+        if count is not None:
             what = "samples" if self.sampling == "random" else "vary"
-            raise ModelError(what, f"a sweep of at most {MAX_VARIANTS:,} variants",
-                             f"{count:,} variants" if count < 10**30 else f"{count:.3g} variants")
+            check_count(count, what, "a sweep of at most {limit} variants",
+                        f"{count:,} variants" if count < 10**30 else f"{count:.3g} variants")
         from ..model.validate import RUN_SETTINGS, validate_run_arguments
 
         validate_run_arguments(t_end=self.t_end, dt_out=self.dt_out, rtol=self.rtol, atol=self.atol,

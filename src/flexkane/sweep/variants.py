@@ -161,7 +161,7 @@ def check_keys(model: Model, spec: SweepSpec) -> set[str]:
 def make_assignments(spec: SweepSpec, integer_keys: set[str] = frozenset()) -> Iterator[tuple]:
     """The assignments of every variant, in sweep order, generated one at a time.
 
-    The number of variants is bounded by :data:`~flexkane.sweep.spec.MAX_VARIANTS` (checked by
+    The number of variants is bounded by :data:`~flexkane.limits.MAX_VARIANTS` (checked by
     :class:`~flexkane.sweep.spec.SweepSpec`); a grid is never built as a whole.
 
     Parameters
