@@ -16,19 +16,23 @@ from flexkane.derivation_cache import Derivation
 from flexkane.equations_document import constant_rows, documents
 
 
+def count_calls(monkeypatch, *names) -> list:
+    """Record the calls of the functions ``names`` of :mod:`flexkane.report` (by name)."""
+    calls = []
+    for name in names:
+        def call(*args, _function=getattr(flexkane.report, name), **kwargs):
+            calls.append(_function.__name__)
+            return _function(*args, **kwargs)
+
+        monkeypatch.setattr(flexkane.report, name, call)
+    return calls
+
+
 @pytest.fixture
 def count_renders(monkeypatch):
     """Counts the renderings of printed equations with SymPy (every document goes through
     ``flexkane.report._printed_parts``)."""
-    calls = []
-    original = flexkane.report._printed_parts
-
-    def counting(eom):
-        calls.append(eom.model.name)
-        return original(eom)
-
-    monkeypatch.setattr(flexkane.report, "_printed_parts", counting)
-    return calls
+    return count_calls(monkeypatch, "_printed_parts")
 
 
 def fresh_render(model) -> dict:
@@ -121,3 +125,25 @@ def test_documents_without_sympy_equal_the_report_of_a_controlled_model():
     assert documents(flexkane.report.printed_structure(eom), model.name, p, model.parameters) == \
         {"md": flexkane.report.equations_markdown(eom, eom.constant_values(model)),
          "tex": flexkane.report.equations_latex(eom, eom.constant_values(model))}
+
+
+@pytest.mark.parametrize("form", [[], ["--latex"], ["--markdown"]])
+def test_derive_prints_the_text_of_its_structure_rendered_once(tmp_path, monkeypatch, capsys, form):
+    """``flexkane derive --set`` of a structure printed before renders nothing and prints what a fresh
+    render of the changed model gives."""
+    from flexkane.cli import main
+
+    monkeypatch.setenv("FLEXKANE_CACHE_DIR", str(tmp_path))
+    renders = count_calls(monkeypatch, "format_equations", "_printed_parts")
+    assert main(["derive", "falling-beam", *form]) == 0
+    assert len(renders) == 1
+    capsys.readouterr()
+    assert main(["derive", "falling-beam", "--set", "EI=40", *form]) == 0
+    assert len(renders) == 1
+    changed = flexkane.builtin_model("falling-beam").with_values({"EI": 40})
+    eom = flexkane.derive(changed, cache=False)
+    if form == ["--markdown"]:
+        expected = flexkane.report.equations_markdown(eom, eom.constant_values(changed))
+    else:
+        expected = flexkane.report.format_equations(eom, latex=bool(form))
+    assert capsys.readouterr().out == expected + "\n"

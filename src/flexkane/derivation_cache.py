@@ -572,22 +572,50 @@ class Derivation:
             self._manifest = manifest
         return self._manifest
 
+    def _of_structure(self, name: str, make, valid) -> dict:
+        """Plain data of the structure made by ``make()`` from the equations (with SymPy), stored once
+        per structure beside the manifest as ``<key>-<run digest>.<name>.json``; read from there when
+        it is stored (and ``valid``)."""
+        path = self._root / "derived" / f"{self.key}-{_run_digest()[:16]}.{name}.json" if self.key else None
+        data = _read_json(path) if path is not None else None
+        if data is None or not valid(data):
+            from .run_manifest import MANIFEST_FORMAT
+
+            data = {"format": MANIFEST_FORMAT, **make()}
+            if path is not None:
+                _write_json(path, data)
+        return data
+
     @property
     def printed(self) -> dict:
         """The printed equations of the structure (:func:`flexkane.report.printed_structure`),
         rendered with SymPy once and stored beside the manifest."""
         if self._printed is None:
-            path = self._root / "derived" / f"{self.key}-{_run_digest()[:16]}.equations.json" if self.key else None
-            printed = _read_json(path) if path is not None else None
-            if printed is None or not _is_printed(printed):
+            def render():
                 from .report import printed_structure
-                from .run_manifest import MANIFEST_FORMAT
 
-                printed = {"format": MANIFEST_FORMAT, **printed_structure(self.eom)}
-                if path is not None:
-                    _write_json(path, printed)
-            self._printed = printed
+                return printed_structure(self.eom)
+
+            self._printed = self._of_structure("equations", render, _is_printed)
         return self._printed
+
+    def forces_text(self, latex: bool = False) -> str:
+        """F*_r and F_r of the structure as ``flexkane derive`` prints them
+        (:func:`flexkane.report.format_equations`), rendered once and stored.
+
+        Parameters
+        ----------
+        latex : bool
+            LaTeX lines instead of text.
+        """
+        def render():
+            from .report import format_equations
+
+            return {"text": format_equations(self.eom, latex=latex)}
+
+        data = self._of_structure("forces-latex" if latex else "forces-text", render,
+                                  lambda stored: isinstance(stored.get("text"), str))
+        return data["text"]
 
     def equations(self, model: Model, *, remember: bool = False) -> dict:
         """``equations.md`` and ``equations.tex`` of ``model`` (a model of this structure).

@@ -6,6 +6,10 @@ equations (eqs. 8.10-8.16), the velocities of the bodies and of a point P of eve
 constants m_B, e_B, I_B, E_i, F_i, G_ij as eq. 8.23 is), the generalized active forces F_r by source
 (eqs. 8.28-8.35) and a table of every constant: its definition, unit and numeric value.
 :func:`render_pdf` turns ``equations.tex`` into a PDF where ``pdflatex`` is installed.
+
+All of it but the model's name and the values of the table depends on the structure alone:
+:func:`printed_structure` renders that part once (both documents share one rendering of the forces),
+and :mod:`flexkane.equations_document` completes it for a model without SymPy.
 """
 
 from __future__ import annotations
