@@ -89,9 +89,9 @@ _NUMBERS = (re.compile(r"parameters|initial"), re.compile(r"controllers\.[^.]+\.
 _BEAM_LENGTH = re.compile(r"beams\.[^.]+\.L")
 _FORMAT = 1  # layout of the cache files
 # Sources that compute a run's numbers, its manifest and its generated module beside the equations.
-_RUN_SOURCES = ("modes/*.py", "report.py", "equations_document.py", "validity.py", "run_manifest.py", "plots.py",
-                "natural_order.py", "expression_syntax.py", "expression_values.py", "simulation.py", "derivation_cache.py",
-                "numerics/codegen.py", "numerics/large_rhs.py", "numerics/code_budget.py")
+_RUN_SOURCES = ("modes/*.py", "report.py", "validity.py", "run_manifest.py", "plots.py", "natural_order.py",
+                "expression_syntax.py", "expression_values.py", "simulation.py", "derivation_cache.py",
+                "numerics/codegen.py", "numerics/large_rhs.py", "numerics/code_budget.py", "equations_document.py")
 
 
 # ---------------------------------------------------------------------- structure signature
