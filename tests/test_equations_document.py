@@ -147,3 +147,17 @@ def test_derive_prints_the_text_of_its_structure_rendered_once(tmp_path, monkeyp
     else:
         expected = flexkane.report.format_equations(eom, latex=bool(form))
     assert capsys.readouterr().out == expected + "\n"
+
+
+def test_runs_and_sweeps_of_the_library_never_reach_the_rendering():
+    """Only the command line's ``run`` and ``derive`` (through :class:`Derivation`) write the printed
+    equations: simulating, the results, the numbers of a run and the sweeps (whose variants are value
+    changes) import no report, so no variant renders the equations."""
+    from test_import_layers import MODULES, imported_modules
+
+    readers = [m for m in MODULES if m.startswith(("flexkane.sweep", "flexkane.simulation", "flexkane.results",
+                                                   "flexkane.run_manifest", "flexkane.model"))]
+    assert "flexkane.sweep.worker" in readers and "flexkane.simulation" in readers
+    offenders = [f"{module}:{line}" for module in readers for target, line in imported_modules(module, MODULES[module])
+                 if target == "flexkane.report"]
+    assert not offenders, offenders
