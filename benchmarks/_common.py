@@ -105,6 +105,14 @@ def machine_info() -> dict:
     return info
 
 
+def machine_sentence(machine: dict | None) -> str:
+    """" Machine: CPU model, CPUs, Python." for a section's text ("" without ``machine``)."""
+    if not machine:
+        return ""
+    return (f" Machine: {machine.get('Model name', '?')}, {machine.get('CPU(s)', '?')} CPUs, "
+            f"Python {machine.get('python', '?')}.")
+
+
 def fmt_time(seconds: float) -> str:
     """Seconds in a readable unit."""
     if seconds >= 1.0:

@@ -298,6 +298,10 @@ def markdown(results) -> str:
         from startup import markdown as startup_markdown
 
         md += [""] + startup_markdown(results["startup"], info)
+    if "models" in results.get("iteration", {}):
+        from iteration import markdown as iteration_markdown
+
+        md += [""] + iteration_markdown(results["iteration"], info)
     return "\n".join(md) + "\n"
 
 

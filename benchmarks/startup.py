@@ -142,15 +142,15 @@ def run(quick: bool = False) -> dict:
 
 def markdown(result: dict, machine: dict | None = None) -> list[str]:
     """The RESULTS.md section of :func:`run`'s result."""
+    from _common import machine_sentence
+
     md = [SECTION, ""]
     text = (f"Measured by `benchmarks/startup.py` on {result['date']}: every case is a new process "
             f"(`python -m flexkane ...`), median of the runs given; CPU = user + system time of the "
             f"process. Load average {result['load_average']:.2f} at the start, "
             f"{result['load_average_end']:.2f} at the end (a shared machine: the wall times of a loaded "
             "machine are longer than the CPU times).")
-    if machine:
-        text += (f" Machine: {machine.get('Model name', '?')}, {machine.get('CPU(s)', '?')} CPUs, "
-                 f"Python {machine.get('python', '?')}.")
+    text += machine_sentence(machine)
     md += [text, "", "| case | runs | median wall | median CPU | target | met (wall) | met (CPU) |",
            "|---|---|---|---|---|---|---|"]
     for row in result["rows"]:

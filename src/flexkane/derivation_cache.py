@@ -91,7 +91,7 @@ _FORMAT = 1  # layout of the cache files
 # Sources that compute a run's numbers, its manifest and its generated module beside the equations.
 _RUN_SOURCES = ("modes/*.py", "report.py", "validity.py", "run_manifest.py", "plots.py", "natural_order.py",
                 "expression_syntax.py", "expression_values.py", "simulation.py", "derivation_cache.py",
-                "numerics/codegen.py", "numerics/large_rhs.py", "numerics/code_budget.py")
+                "numerics/codegen.py", "numerics/large_rhs.py", "numerics/code_budget.py", "equations_document.py")
 
 
 # ---------------------------------------------------------------------- structure signature
@@ -489,6 +489,15 @@ def _write_json(path: Path, data: dict) -> None:
         pass  # a read-only cache only costs speed
 
 
+def _is_printed(data: dict) -> bool:
+    """Whether stored data has the layout of the printed equations of a structure."""
+    from .equations_document import PRINTED_KEYS
+
+    return (all(key in data for key in PRINTED_KEYS) and isinstance(data["md"], str)
+            and isinstance(data["tex"], str) and isinstance(data["constants"], list)
+            and all(isinstance(row, list) and len(row) == 7 for row in data["constants"]))
+
+
 class Derivation:
     """The equations of a model's structure as a run uses them, from the cache as far as it has them.
 
@@ -533,6 +542,7 @@ class Derivation:
         self._cache = cache
         self._eom = eom
         self._manifest = None
+        self._printed = None
         self._numbers: dict = {}
 
     @property
@@ -561,6 +571,74 @@ class Derivation:
                     _write_json(path, manifest)
             self._manifest = manifest
         return self._manifest
+
+    def _of_structure(self, name: str, make, valid) -> dict:
+        """Plain data of the structure made by ``make()`` from the equations (with SymPy), stored once
+        per structure beside the manifest as ``<key>-<run digest>.<name>.json``; read from there when
+        it is stored (and ``valid``)."""
+        path = self._root / "derived" / f"{self.key}-{_run_digest()[:16]}.{name}.json" if self.key else None
+        data = _read_json(path) if path is not None else None
+        if data is None or not valid(data):
+            from .run_manifest import MANIFEST_FORMAT
+
+            data = {"format": MANIFEST_FORMAT, **make()}
+            if path is not None:
+                _write_json(path, data)
+        return data
+
+    @property
+    def printed(self) -> dict:
+        """The printed equations of the structure (:func:`flexkane.report.printed_structure`),
+        rendered with SymPy once and stored beside the manifest."""
+        if self._printed is None:
+            def render():
+                from .report import printed_structure
+
+                return printed_structure(self.eom)
+
+            self._printed = self._of_structure("equations", render, _is_printed)
+        return self._printed
+
+    def forces_text(self, latex: bool = False) -> str:
+        """F*_r and F_r of the structure as ``flexkane derive`` prints them
+        (:func:`flexkane.report.format_equations`), rendered once and stored.
+
+        Parameters
+        ----------
+        latex : bool
+            LaTeX lines instead of text.
+        """
+        def render():
+            from .report import format_equations
+
+            return {"text": format_equations(self.eom, latex=latex)}
+
+        data = self._of_structure("forces-latex" if latex else "forces-text", render,
+                                  lambda stored: isinstance(stored.get("text"), str))
+        return data["text"]
+
+    def equations(self, model: Model, *, remember: bool = False) -> dict:
+        """``equations.md`` and ``equations.tex`` of ``model`` (a model of this structure).
+
+        The printed equations of the structure (:attr:`printed`) with the model's name and values
+        (:func:`flexkane.equations_document.documents`): a model whose numbers alone changed costs
+        its constants vector p, no rendering.
+
+        Parameters
+        ----------
+        model : Model
+        remember : bool
+            Store the model's p in the cache (as :meth:`numbers`).
+
+        Returns
+        -------
+        dict
+            ``{"md": text, "tex": text}``.
+        """
+        from .equations_document import documents
+
+        p = self.numbers(model, ("p",), remember=remember)["p"]
+        return documents(self.printed, model.name, p, model.parameters)
 
     def source(self) -> str:
         """Source of the generated module (:func:`cached_rhs_source`)."""

@@ -8,6 +8,10 @@ constants m_B, e_B, I_B, E_i, F_i, G_ij as eq. 8.23 is), the generalized active 
 chain (``dimensions = 3``) is printed by the same steps in three dimensions; its report cites the
 chapter's equations as the planar ones its own generalize, never as its own.
 :func:`render_pdf` turns ``equations.tex`` into a PDF where ``pdflatex`` is installed.
+
+All of it but the model's name and the values of the table depends on the structure alone:
+:func:`printed_structure` renders that part once (both documents share one rendering of the forces),
+and :mod:`flexkane.equations_document` completes it for a model without SymPy.
 """
 
 from __future__ import annotations
@@ -24,11 +28,13 @@ from sympy.printing.precedence import precedence
 from sympy.printing.str import StrPrinter
 
 from ._version import __version__
+from .equations_document import (latex_document, markdown_document, number_text, parameter_text,
+                                 tex_escape)
 from .expressions import bounded_expand
 from .natural_order import natural_key
 
 __all__ = ["collect_terms", "latex_names", "format_equations", "equations_markdown", "equations_latex",
-           "constant_rows", "render_pdf", "PDFLATEX_MISSING"]
+           "printed_structure", "constant_columns", "constant_rows", "render_pdf", "PDFLATEX_MISSING"]
 
 #: Message shown by :func:`render_pdf` without a LaTeX installation.
 PDFLATEX_MISSING = ("PDF skipped: pdflatex is not on PATH (install a LaTeX distribution, e.g. TeX Live, "
@@ -546,39 +552,54 @@ def _definition(spec) -> tuple[str, str]:
     return "", ""
 
 
-def constant_rows(eom, values: dict | None = None) -> list[tuple[str, str, str, str, str]]:
-    """One row per constant of the equations: (LaTeX symbol, beam or source, LaTeX definition, unit,
-    value as text); modal constants first, then parameters and other values of the model."""
+def constant_columns(eom) -> list[tuple[int, str, str, str, str, str, str]]:
+    """The columns of the table of constants that the structure fixes, one row per constant.
+
+    Returns
+    -------
+    list of (int, str, str, str, str, str, str)
+        ``(index in eom.constants, name, kind, LaTeX symbol, beam or source, LaTeX definition, unit)``;
+        modal constants first, then parameters and other values of the model. ``kind`` is
+        ``"modal"``, ``"parameter"`` (its definition is the text given for it, a number of the
+        model: :func:`flexkane.equations_document.parameter_text`), ``"defined"`` (a value field of
+        the model) or ``""``.
+    """
     modal = eom.beam_constant_symbols()
     defined = eom.chain.symbols.definitions
     params = eom.model.parameters
     rows_modal, rows_other = [], []
-    for s in eom.constants:
-        value = f"{values[s]:.10g}" if values is not None and s in values else ""
+    for index, s in enumerate(eom.constants):
         if s in modal:
             beam, consts = modal[s]
             definition, unit = _definition(consts.used[s])
-            rows_modal.append((_latex_symbol(s.name), f"beam {beam}", definition, unit, value))
+            rows_modal.append((index, s.name, "modal", _latex_symbol(s.name), f"beam {beam}", definition, unit))
         elif s.name in params:
-            given = params[s.name]
-            text = "" if isinstance(given, (int, float)) else rf"\mathtt{{{_tex_escape(str(given))}}}"
-            rows_other.append((_latex_symbol(s.name), "parameter", text, "", value))
+            rows_other.append((index, s.name, "parameter", _latex_symbol(s.name), "parameter", "", ""))
         elif s in defined:
-            path, given = defined[s]
-            rows_other.append((_latex_symbol(s.name), f"`{path}`", "", "",
-                               value or _tex_escape(str(given))))
+            rows_other.append((index, s.name, "defined", _latex_symbol(s.name), f"`{defined[s][0]}`", "", ""))
         else:
-            rows_other.append((_latex_symbol(s.name), "", "", "", value))
+            rows_other.append((index, s.name, "", _latex_symbol(s.name), "", "", ""))
     return rows_modal + rows_other
 
 
-def _unit_tex(unit: str) -> str:
-    """A unit such as ``kg m^2`` or ``1/m^3`` in LaTeX text mode."""
-    return re.sub(r"\^(-?\d+)", r"$^{\1}$", unit.replace(" ", r"\,"))
+def constant_rows(eom, values: dict | None = None) -> list[tuple[str, str, str, str, str]]:
+    """One row per constant of the equations: (LaTeX symbol, beam or source, LaTeX definition, unit,
+    value as text); modal constants first, then parameters and other values of the model.
 
-
-def _tex_escape(text: str) -> str:
-    return text.replace("\\", r"\textbackslash{}").replace("_", r"\_").replace("%", r"\%").replace("&", r"\&")
+    Without ``values``, a value field of the model shows the value it is given as.
+    """
+    params = eom.model.parameters
+    rows = []
+    for index, name, kind, symbol, source, definition, unit in constant_columns(eom):
+        s = eom.constants[index]
+        if kind == "parameter":
+            definition = parameter_text(params[name])
+        if values is not None and s in values:
+            value = number_text(values[s])
+        else:
+            value = tex_escape(str(eom.chain.symbols.definitions[s][1])) if kind == "defined" else ""
+        rows.append((symbol, source, definition, unit, value))
+    return rows
 
 
 def _cite(eom, equations: str) -> str:
@@ -603,14 +624,25 @@ def _as_planar(eom, equation: str) -> str:
     return f"the planar {equation}" if eom.model.dimensions == 3 else equation
 
 
-# ---------------------------------------------------------------------- Markdown
-def equations_markdown(eom, values: dict | None = None) -> str:
-    """A Markdown report (with LaTeX) of the derivation: coordinates, kinematics, partial velocities,
-    F*_r, F_r and the constants with their definitions and values."""
+# ---------------------------------------------------------------------- documents
+def _printed_parts(eom) -> dict:
+    """The rendered pieces that ``equations.md`` and ``equations.tex`` share (rendered once for both):
+    the LaTeX names, the kinematics items, the rows of the signals, the intermediates and their rows,
+    and the rows of F*_r and F_r of every speed."""
     names = latex_names(eom)
-    model = eom.model
-    out = [f"# Equations of motion: {model.name}", "",
-           f"Derived by flexkane {__version__} with Kane's method: $F^*_r + F_r = 0$ ({_cite(eom, 'eq. 8.36')}) "
+    kinematics = _kinematics(eom, names)
+    signal_rows = _signal_rows(eom, names)
+    intermediates, forces = _forces(eom)
+    return {"names": names, "kinematics": kinematics, "signal_rows": signal_rows,
+            "intermediates": intermediates,
+            "intermediate_rows": _intermediate_rows(eom, intermediates, names) if intermediates else [],
+            "speeds": [_one_speed(eom, forces[r], u, names) for r, u in enumerate(eom.all_speeds)]}
+
+
+def _markdown_body(eom, parts: dict) -> str:
+    """The Markdown report between its title and its table of constants."""
+    names = parts["names"]
+    out = ["", f"Derived by flexkane {__version__} with Kane's method: $F^*_r + F_r = 0$ ({_cite(eom, 'eq. 8.36')}) "
            "for every generalized speed $u_r$, written as $M(q, t)\\,\\dot u = f(q, u, t)$.", "",
            "## Generalized coordinates and speeds", "",
            "| coordinate | speed | kinematic equation |", "|---|---|---|"]
@@ -620,36 +652,84 @@ def equations_markdown(eom, values: dict | None = None) -> str:
         speed = f"${_latex_symbol(c.u.name)}$" if c.u is not None else "(none: an Euler parameter)"
         out.append(f"| ${_latex_symbol(c.q.name)}$ | {speed}{law} | "
                    f"$\\dot {_latex_symbol(c.q.name)} = {_latex(qd, names)}$ |")
-    for heading, items in _kinematics(eom, names):
+    for heading, items in parts["kinematics"]:
         out += ["", f"## {heading}", ""] + [f"* {item}" for item in items]
     out += ["", f"## Generalized inertia and active forces ({_cite(eom, 'eqs. 8.22, 8.23, 8.28-8.35')})", "",
             "Vectors are resolved along the axes of the link they belong to. F*_r is grouped by the "
             f"derivatives of the speeds, as {_as_planar(eom, 'eq. 8.23')} is.", ""]
-    signal_rows = _signal_rows(eom, names)
-    if signal_rows:
+    if parts["signal_rows"]:
         out += ["Sensors and controller outputs the efforts use (by name below), and the rates of the "
-                "controller states:", "", "$$", "\\begin{aligned}", *signal_rows, "\\end{aligned}", "$$", ""]
-    intermediates, forces = _forces(eom)
-    if intermediates:
-        out += [_intermediates_note(intermediates), "", "$$", "\\begin{aligned}"]
-        out += _intermediate_rows(eom, intermediates, names)
+                "controller states:", "", "$$", "\\begin{aligned}", *parts["signal_rows"], "\\end{aligned}",
+                "$$", ""]
+    if parts["intermediates"]:
+        out += [_intermediates_note(parts["intermediates"]), "", "$$", "\\begin{aligned}"]
+        out += parts["intermediate_rows"]
         out += ["\\end{aligned}", "$$", ""]
-    for r, u in enumerate(eom.all_speeds):
-        out += ["$$", "\\begin{aligned}"]
-        out += _one_speed(eom, forces[r], u, names)
-        out += ["\\end{aligned}", "$$", ""]
+    for rows in parts["speeds"]:
+        out += ["$$", "\\begin{aligned}", *rows, "\\end{aligned}", "$$", ""]
     out += ["## Equations of motion", "",
             f"State: {', '.join(eom.state_names)}. Mass matrix $M$ is {len(eom.u)} x {len(eom.u)}.", ""]
-    if values is not None:
-        out += ["## Constants", "",
-                f"Modal constants ({_modal_constants_source(eom)}; x along the beam from its root, "
-                "$\\Phi_i$ of eq. 8.4 or the beam's family) and the values of the model:", "",
-                "| symbol | of | definition | unit | value |", "|---|---|---|---|---|"]
-        for sym, source, definition, unit, value in constant_rows(eom, values):
-            d = f"${definition}$" if definition else ""
-            out.append(f"| ${sym}$ | {source} | {d} | {unit} | {value} |")
-        out.append("")
     return "\n".join(out)
+
+
+def _latex_body(eom, parts: dict) -> str:
+    """The LaTeX document between its title and its table of constants."""
+    names = parts["names"]
+    doc = [tex_escape(f"Derived by flexkane {__version__} with Kane's method: ") +
+           rf"$F^*_r + F_r = 0$ ({tex_escape(_cite(eom, 'eq. 8.36'))}) for every generalized speed $u_r$, written as "
+           r"$M(q, t)\,\dot u = f(q, u, t)$.", "",
+           r"\subsection*{Generalized coordinates and speeds}", r"\begin{align*}"]
+    for c in eom.chain.coordinates:
+        qd = eom.chain.qdot[c.q]
+        driven = rf" && \text{{(driven: {c.driver})}}" if c.driver else ""
+        doc.append(rf"\dot {_latex_symbol(c.q.name)} &= {_latex(qd, names)}{driven} \\")
+    doc.append(r"\end{align*}")
+    for heading, items in parts["kinematics"]:
+        doc += [rf"\subsection*{{{heading}}}", r"\begin{itemize}"]
+        doc += [rf"\item {_md_to_tex(item)}" for item in items] or [r"\item none"]
+        doc.append(r"\end{itemize}")
+    doc += [rf"\subsection*{{Generalized inertia and active forces ({_cite(eom, 'eqs. 8.22, 8.23, 8.28--8.35')})}}"]
+    if parts["signal_rows"]:
+        doc += ["Sensors and controller outputs the efforts use, and the rates of the controller states:",
+                r"\begin{align*}", *parts["signal_rows"], r"\end{align*}"]
+    if parts["intermediates"]:
+        doc += [_md_to_tex(_intermediates_note(parts["intermediates"])), r"\begin{align*}"]
+        doc += parts["intermediate_rows"] + [r"\end{align*}"]
+    for rows in parts["speeds"]:
+        doc += [r"\begin{align*}", *rows, r"\end{align*}"]
+    return "\n".join(doc)
+
+
+def printed_structure(eom) -> dict:
+    """The printed equations of a structure: all of ``equations.md`` and ``equations.tex`` that does not
+    depend on the numbers or the name of one model of it.
+
+    Rendered with SymPy (seconds to minutes for a large model); :mod:`flexkane.equations_document`
+    completes it for a model without SymPy, and :class:`flexkane.derivation_cache.Derivation` stores it
+    once per structure.
+
+    Parameters
+    ----------
+    eom : EquationsOfMotion
+
+    Returns
+    -------
+    dict
+        Plain JSON data: ``md`` and ``tex`` (the text between the title and the table of constants)
+        and ``constants`` (:func:`constant_columns`, as lists).
+    """
+    parts = _printed_parts(eom)
+    return {"md": _markdown_body(eom, parts), "tex": _latex_body(eom, parts),
+            "constants": [list(row) for row in constant_columns(eom)],
+            "constants_source": _modal_constants_source(eom)}
+
+
+def equations_markdown(eom, values: dict | None = None) -> str:
+    """A Markdown report (with LaTeX) of the derivation: coordinates, kinematics, partial velocities,
+    F*_r, F_r and, when ``values`` are given, the constants with their definitions and values."""
+    rows = constant_rows(eom, values) if values is not None else None
+    return markdown_document(eom.model.name, _markdown_body(eom, _printed_parts(eom)), rows,
+                             constants_source=_modal_constants_source(eom))
 
 
 def _intermediate_rows(eom, intermediates, names) -> list[str]:
@@ -671,54 +751,16 @@ def _one_speed(eom, force, u, names) -> list[str]:
     return rows
 
 
-# ---------------------------------------------------------------------- LaTeX
 def _md_to_tex(item: str) -> str:
     """Plain words of a list item escaped for LaTeX, its $...$ parts kept."""
     parts = item.split("$")
-    return "$".join(p if i % 2 else _tex_escape(p) for i, p in enumerate(parts))
+    return "$".join(p if i % 2 else tex_escape(p) for i, p in enumerate(parts))
 
 
 def equations_latex(eom, values: dict | None = None) -> str:
     """A standalone LaTeX document: the same content as :func:`equations_markdown`."""
-    names = latex_names(eom)
-    title = _tex_escape(eom.model.name)
-    doc = [r"\documentclass[10pt]{article}", r"\usepackage{amsmath}", r"\usepackage{longtable}",
-           r"\usepackage[margin=1.5cm,landscape]{geometry}", r"\allowdisplaybreaks", r"\begin{document}",
-           rf"\section*{{Equations of motion: {title}}}",
-           _tex_escape(f"Derived by flexkane {__version__} with Kane's method: ") +
-           rf"$F^*_r + F_r = 0$ ({_tex_escape(_cite(eom, 'eq. 8.36'))}) for every generalized speed $u_r$, written as "
-           r"$M(q, t)\,\dot u = f(q, u, t)$.", "",
-           r"\subsection*{Generalized coordinates and speeds}", r"\begin{align*}"]
-    for c in eom.chain.coordinates:
-        qd = eom.chain.qdot[c.q]
-        driven = rf" && \text{{(driven: {c.driver})}}" if c.driver else ""
-        doc.append(rf"\dot {_latex_symbol(c.q.name)} &= {_latex(qd, names)}{driven} \\")
-    doc.append(r"\end{align*}")
-    for heading, items in _kinematics(eom, names):
-        doc += [rf"\subsection*{{{heading}}}", r"\begin{itemize}"]
-        doc += [rf"\item {_md_to_tex(item)}" for item in items] or [r"\item none"]
-        doc.append(r"\end{itemize}")
-    doc += [rf"\subsection*{{Generalized inertia and active forces ({_cite(eom, 'eqs. 8.22, 8.23, 8.28--8.35')})}}"]
-    signal_rows = _signal_rows(eom, names)
-    if signal_rows:
-        doc += ["Sensors and controller outputs the efforts use, and the rates of the controller states:",
-                r"\begin{align*}", *signal_rows, r"\end{align*}"]
-    intermediates, forces = _forces(eom)
-    if intermediates:
-        doc += [_md_to_tex(_intermediates_note(intermediates)), r"\begin{align*}"]
-        doc += _intermediate_rows(eom, intermediates, names) + [r"\end{align*}"]
-    for r, u in enumerate(eom.all_speeds):
-        doc += [r"\begin{align*}"] + _one_speed(eom, forces[r], u, names) + [r"\end{align*}"]
-    if values is not None:
-        doc += [r"\subsection*{Constants}", r"\begin{longtable}{lllll}",
-                r"symbol & of & definition & unit & value \\ \hline \endhead"]
-        for sym, source, definition, unit, value in constant_rows(eom, values):
-            src = _tex_escape(source.strip("`"))
-            doc.append(f"${sym}$ & {src} & {'$' + definition + '$' if definition else ''} & "
-                       f"{_unit_tex(unit)} & {value} \\\\")
-        doc.append(r"\end{longtable}")
-    doc.append(r"\end{document}")
-    return "\n".join(doc) + "\n"
+    rows = constant_rows(eom, values) if values is not None else None
+    return latex_document(eom.model.name, _latex_body(eom, _printed_parts(eom)), rows)
 
 
 def render_pdf(tex_path, *, timeout: float = 120.0) -> tuple[Path | None, str]:

@@ -10,9 +10,11 @@ neither them nor SymPy:
   the state and of the constants vector p, the unit of every column (for the plots) and the beams
   whose spin is checked;
 * the numbers of one model of that structure (:func:`numbers_of`): the constants vector p, the
-  initial state, the numbers of the validity checks (:func:`flexkane.validity.beam_checks`) and the
-  printed equations (``equations.md`` and ``equations.tex``, whose table of constants holds the
-  model's values).
+  initial state and the numbers of the validity checks (:func:`flexkane.validity.beam_checks`).
+
+The printed equations of the structure (:func:`flexkane.report.printed_structure`) are stored beside
+the manifest too; ``equations.md`` and ``equations.tex`` of a model are assembled from them and its p
+(:mod:`flexkane.equations_document`).
 
 Everything here is plain JSON data (lists, dicts, str, float): loading it imports nothing.
 """
@@ -27,7 +29,7 @@ __all__ = ["MANIFEST_FORMAT", "NUMBER_FIELDS", "manifest_of", "numbers_of", "uni
 MANIFEST_FORMAT = 1
 
 #: The fields of the numbers of a model, each computed on demand by :func:`numbers_of`.
-NUMBER_FIELDS = ("p", "y0", "checks", "equations")
+NUMBER_FIELDS = ("p", "y0", "checks")
 
 
 def manifest_of(eom) -> dict:
@@ -72,8 +74,7 @@ def numbers_of(eom, model, fields, spins) -> dict:
     dict
         ``p`` (list of float, the constants vector), ``y0`` (list of float, the initial state
         from the model's ``[initial]`` table, loop constraints closed), ``checks``
-        (:func:`flexkane.validity.beam_checks`), ``equations`` (``{"md": text, "tex": text}``),
-        as asked.
+        (:func:`flexkane.validity.beam_checks`), as asked.
 
     Raises
     ------
@@ -90,15 +91,6 @@ def numbers_of(eom, model, fields, spins) -> dict:
         from .validity import beam_checks
 
         out["checks"] = beam_checks(eom, model, spins)
-    if "equations" in fields:
-        from .report import equations_latex, equations_markdown
-
-        bound = eom.model
-        eom.model = model     # the report names the model and prints its given values
-        try:
-            out["equations"] = {"md": equations_markdown(eom, values), "tex": equations_latex(eom, values)}
-        finally:
-            eom.model = bound
     return out
 
 

@@ -63,3 +63,18 @@ def test_a_cached_run_imports_no_sympy_and_writes_what_a_fresh_derivation_writes
     assert cached == []
     assert_same_files(tmp_path / "fresh", tmp_path / "cached")
     assert_same_files(tmp_path / "first", tmp_path / "cached")
+
+
+def test_a_value_change_of_a_cached_structure_renders_no_equations(tmp_path):
+    """``--set`` of a cached structure computes the new constants vector (SymPy loads the equations)
+    but never imports the report: equations.md and .tex are the stored text with the new values, the
+    same bytes as a run that derives and renders everything afresh."""
+    settings = ["--set", "EI=40", "--set", "Iz=mR/7", "--no-plots"]
+    fresh = run_cli(tmp_path / "fresh", *settings, "--no-cache")
+    assert "flexkane.report" in fresh
+    run_cli(tmp_path / "first", "--no-plots")                  # the structure's equations and text cached
+    changed = run_cli(tmp_path / "changed", *settings)
+    assert "flexkane.report" not in changed
+    for name in ("equations.md", "equations.tex"):
+        assert (tmp_path / "changed" / name).read_bytes() == (tmp_path / "fresh" / name).read_bytes(), name
+    assert "| $EI$ | parameter |  |  | 40 |" in (tmp_path / "changed" / "equations.md").read_text(encoding="utf-8")

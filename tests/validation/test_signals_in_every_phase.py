@@ -158,7 +158,7 @@ def test_a_signal_while_the_equations_are_written_stops_them_at_once(run_args, r
     """The equations report (minutes for the largest models) is not deferred: the results are.
     (``--no-cache``: a repeated run takes the report's text from the cache instead of writing it.)"""
     out = tmp_path / "run"
-    process = _run_signalling("flexkane.report:equations_markdown", [*run_args, "--no-cache", "--out", str(out)],
+    process = _run_signalling("flexkane.report:printed_structure", [*run_args, "--no-cache", "--out", str(out)],
                               loop=True,
                               timeout=120)
     assert process.returncode == 130, process.stderr

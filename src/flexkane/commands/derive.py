@@ -30,18 +30,18 @@ def register(subparsers) -> None:
 
 
 def _handle(args) -> int:
-    from ..derivation_cache import derive
-    from ..report import equations_markdown, format_equations
+    from ..derivation_cache import Derivation, derive
 
     model = model_from_args(args)
     start = time.perf_counter()
     derived = []
     eom = derive(model, cache=not args.no_cache, announce=lambda: derived.append(True))
     elapsed = time.perf_counter() - start
+    derivation = Derivation(eom=eom, cache=not args.no_cache)   # the printed text rendered once per structure
     if args.markdown:
-        print(equations_markdown(eom, eom.constant_values(model)))
+        print(derivation.equations(model)["md"])
     else:
-        print(format_equations(eom, latex=args.latex))
+        print(derivation.forces_text(latex=args.latex))
     how = "derived" if derived else "loaded from the cache"
     print(f"# {how} {len(eom.all_speeds)} equations in {elapsed:.3f} s", file=sys.stderr)
     return 0

@@ -136,7 +136,7 @@ def _run_phases(model, out: Path, stop, *, t_end, dt_out, rtol, atol, method, ma
     derive_time = time.perf_counter() - started
 
     def meanwhile():   # while a child compiles: what the run needs afterwards anyway (kept)
-        derivation.numbers(model, ("equations",), remember=True)
+        derivation.equations(model, remember=True)
         if plots:
             from ..plots import load_matplotlib
 
@@ -164,7 +164,7 @@ def _run_phases(model, out: Path, stop, *, t_end, dt_out, rtol, atol, method, ma
         return _stopped(out, written, [], interrupted, results)
     before = {p.name: p.stat().st_mtime_ns for p in out.iterdir()}
     try:  # the equations (minutes for the largest models) and the plots: a signal stops them at once
-        equations = derivation.numbers(model, ("equations",), remember=True)["equations"]
+        equations = derivation.equations(model, remember=True)
         atomic_write_text(out / "equations.md", equations["md"])
         atomic_write_text(out / "equations.tex", equations["tex"])
         written += [out / "equations.md", out / "equations.tex"]
