@@ -2,10 +2,12 @@
 and a change of it is the change ``--set`` (``Model.with_values``) makes to the model.
 
 The modal constants of a beam are integrals of its shape functions computed by quadrature from L,
-rho, EI ...; they are frozen at export, with every parameter they are computed from (directly or
-through other parameters' expressions), outside ``p``. The oracles: flexkane's own right-hand side
-and outputs of the model with the same values set (the Numba module with the changed model's
-constants), and the modal constants themselves, which no editable entry may move.
+the shape roots and options, stations and load profiles, times a section value (rho, EI ...): the
+integrals are frozen at export (per unit section value where there is one), with every parameter
+they are computed from (directly or through other parameters' expressions), outside ``p``; the
+section values stay in ``p``. The oracles: flexkane's own right-hand side and outputs of the model
+with the same values set (the Numba module with the changed model's constants), and the frozen
+values themselves, which no editable entry may move.
 """
 
 from __future__ import annotations
@@ -24,21 +26,37 @@ from flexkane.model.paths import get_value
 from flexkane.numerics import evaluate_outputs
 from flexkane.numerics.c_source import c_identifier
 
-from spatial_beam_models import clamped_spatial_beam
+from spatial_beam_models import EI_Y, EI_Z, GJ, RHO, RHO_IP, clamped_spatial_beam
 from test_c_export import CC, _call, _close, _compile, _documented, _Numba, needs_cc
 
-#: A clamped spatial beam bending in both planes and twisting, damped, under an oblique gravity:
-#: its length, rigidities and masses are numbers of the beam (frozen), its principal angle, damping
-#: ratios and g are editable.
-SPATIAL_BEAM = clamped_spatial_beam("damped-spatial-beam", """
+#: A clamped spatial beam bending in both planes, twisting and stretching, with the rotary inertia
+#: of its sections, damped, under an oblique gravity: its length is a number of the beam (frozen),
+#: its section values are parameters (editable: each multiplies its integrals), its principal angle,
+#: damping ratios and g are editable.
+SPATIAL_BEAM = re.sub(r"(?m)^(rho|EI_y|EI_z|GJ|rho_Ip) = .*$", lambda m: f'{m[1]} = "{m[1]}_b"',
+                      clamped_spatial_beam("damped-spatial-beam", """
+rho_Iy = "rho_Iy_b"
+rho_Iz = "rho_Iz_b"
+EA = "EA_b"
 n_modes_y = 1
 n_modes_z = 1
 n_torsion = 1
+n_axial = 1
 principal_angle = 0.4
 damping_y = 0.02
 damping_z = 0.03
 torsion_damping = 0.05
-""") + """
+""")) + f"""
+[parameters]
+rho_b = {RHO}
+EI_y_b = {EI_Y}
+EI_z_b = {EI_Z}
+GJ_b = {GJ}
+rho_Ip_b = {RHO_IP}
+rho_Iy_b = 0.002
+rho_Iz_b = 0.003
+EA_b = 400.0
+
 [gravity]
 g = 9.81
 direction = [0, 0.6, -0.8]
@@ -89,62 +107,73 @@ def test_every_entry_of_p_changes_the_c_model_as_set_changes_the_model(tmp_path,
         _close(out, [expected[k][0] for k in outputs], rtol=1e-10)
 
 
+def _frozen(eom, model) -> np.ndarray:
+    return np.array([c.value for c in c_constants(eom, model)[1]])
+
+
 @pytest.mark.parametrize("name", ["falling-beam", "flexible-arm", "flexible-arm-pd", "slider-crank",
                                   "spatial-beam"])
-def test_no_entry_of_p_moves_a_modal_constant_and_every_frozen_parameter_does(name):
-    """Each editable entry changed alone leaves every modal constant as it was; each frozen parameter
-    given as a number, changed alone, moves one (so none is frozen needlessly)."""
+def test_no_entry_of_p_moves_a_frozen_value_and_every_frozen_parameter_does(name):
+    """Each editable entry changed alone leaves every frozen value (integrals of the shape functions,
+    per unit section value) as it was, to round-off; each frozen parameter given as a number,
+    changed alone, moves one (so none is frozen needlessly)."""
     model = _model(name)
     eom = Derivation(model).eom
     roles = constant_roles(eom, model)
-    before = eom.constant_values(model)
+    before, values = _frozen(eom, model), eom.constant_values(model)
     for s in roles.editable:
-        value = before[s]
-        after = eom.constant_values(model.with_values({roles.paths[s]: 1.01 * value if value else 0.01}))
-        assert all(after[m] == before[m] for m in roles.modal), s
-    roots = [s for s in roles.frozen if s not in roles.modal and s in roles.paths
-             and not isinstance(get_value(model, roles.paths[s]), str)]
+        value = values[s]
+        after = _frozen(eom, model.with_values({roles.paths[s]: 1.01 * value if value else 0.01}))
+        np.testing.assert_allclose(after, before, rtol=1e-14, atol=0, err_msg=s.name)
+    roots = [s for s in roles.frozen if s in roles.paths and not isinstance(get_value(model, roles.paths[s]), str)]
     assert roots
     for s in roots:
-        after = eom.constant_values(model.with_values({roles.paths[s]: 1.01 * before[s]}))
-        assert any(after[m] != before[m] for m in roles.modal), s
+        after = _frozen(eom, model.with_values({roles.paths[s]: 1.01 * values[s]}))
+        assert np.max(np.abs(after - before) / np.abs(before).clip(1e-300)) > 1e-6, s
 
 
-def test_header_lists_the_beam_values_frozen_and_keeps_them_out_of_p(tmp_path):
-    """falling-beam: L, EI and rho (the parameter ro) give the modal constants; Iz, an expression of
-    mR, c and d, is computed from p on every call."""
+def test_header_lists_the_beam_length_frozen_and_the_section_values_in_p(tmp_path):
+    """falling-beam: L gives the integrals of the shape functions, frozen per unit rho (ro) or EI;
+    ro and EI stay in p and multiply them; Iz, an expression of mR, c and d, is computed from p."""
     header_path, source_path = export_c(flexkane.builtin_model("falling-beam"), tmp_path)
     header = header_path.read_text()
     editable = [n for _, n, _ in _documented(header, "p")]
     frozen = [n for _, n, _ in _documented(header, "frozen")]
-    assert editable == ["b", "c", "d", "g", "mR"]
-    assert {"L", "EI", "ro", "E_1", "G_11", "H_11", "Phi_1(L)"} <= set(frozen)
-    assert not set(editable) & set(frozen)
-    assert "#define FALLING_BEAM_NP 5" in header and f"#define FALLING_BEAM_NFROZEN {len(frozen)}" in header
+    assert editable == ["EI", "b", "c", "d", "g", "mR", "ro"]
+    assert {"L", "E_1/rho", "G_11/rho", "H_11/EI", "m_B/rho", "Phi_1(L)", "J_1"} <= set(frozen)
+    assert not set(editable) & set(frozen) and not {"E_1", "H_11", "m_B"} & set(frozen)
+    assert "#define FALLING_BEAM_NP 7" in header and f"#define FALLING_BEAM_NFROZEN {len(frozen)}" in header
     assert " *   Iz [kg m^2] = mR*(c**2 + d**2)/12" in header
-    assert re.search(r"frozen\[\d+\] = L \[m\] = 1\.0: parameter, the value of beams\.B\.L; the modal", header)
+    assert " *   H_11 [N/m] = EI * (H_11/EI): beam B: " in header
+    assert re.search(r"frozen\[\d+\] = L \[m\] = 1\.0: parameter, the value of beams\.B\.L; the integrals", header)
+    assert re.search(r"frozen\[\d+\] = m_B/rho \[m\] = 1\.0: beam B: .*, per unit beams\.B\.rho", header)
     assert "const double falling_beam_frozen_values[" in source_path.read_text()
 
 
-def test_a_parameter_a_beam_length_is_computed_from_is_frozen_with_it(tmp_path):
-    """L = 2*a: a gives the modal constants through L, so both are frozen; b = a/4 + 0.05 stays an
-    expression computed in C from the frozen a, and mR, which feeds Iz only, stays editable."""
+def test_parameters_of_the_shape_functions_are_frozen_with_them(tmp_path):
+    """L = 2*a: a gives the integrals through L, so both are frozen; b = a/4 - 0.025 stays an
+    expression computed in C from the frozen a. A tip-mass family with mass_ratio = mR/(ro*L) makes
+    its shape functions depend on mR and ro: both are frozen, EI (a factor of H_11 only) is not."""
     text = builtin_text("falling-beam").replace("L = 1.0 ", 'a = 0.5\nL = "2*a"').replace(
-        "b = 0.1 ", 'b = "a/4 - 0.025"')
+        "b = 0.1 ", 'b = "a/4 - 0.025"').replace('shape = { family = "clamped-free", roots = [1.875] }',
+        'shape = { family = "clamped-free-tip-mass", mass_ratio = "mR/(ro*L)", inertia_ratio = 0.01 }')
     model = flexkane.loads_model(text)
     eom = Derivation(model).eom
     roles = constant_roles(eom, model)
     names = {kind: {s.name for s in getattr(roles, kind)} for kind in ("editable", "frozen")}
-    assert {"a", "L", "EI", "ro"} <= names["frozen"] and names["editable"] == {"c", "d", "g", "mR"}
-    assert [s.name for s, _ in roles.derived] == ["Iz", "b"]
+    assert {"a", "L", "ro", "mR", "E_1/rho", "H_11/EI"} <= names["frozen"]
+    assert names["editable"] == {"EI", "c", "d", "g"}
+    assert {"Iz", "b", "E_1", "H_11"} <= {s.name for s, _ in roles.derived}
     header_path, _ = export_c(model, tmp_path)
     assert re.search(r"frozen\[\d+\] = a \[unit unknown\] = 0\.5: parameter;", header_path.read_text())
-    if CC is not None:   # the C with its default p is the model
+    if CC is not None:   # the C with its default p, and with every entry changed, is the model
         prefix = c_identifier(model.name)
         lib = _compile(tmp_path, prefix)
         numba = _Numba(model)
-        numbers = numba.derivation.numbers(model, ("p", "y0"))
-        y = np.array(numbers["y0"]) + 0.1
-        status, dy = _call(getattr(lib, f"{prefix}_rhs"), 0.1, y, [c.value for c in c_constants(eom, model)[0]], len(y))
-        assert status == 0
-        _close(dy, numba.rhs(0.1, y, np.array(numbers["p"])), rtol=1e-12)
+        default, p, changed = _changed(model, eom)
+        for entries, case in ((default, model), (p, changed)):
+            numbers = Derivation(case).numbers(case, ("p", "y0"))
+            y = np.array(numbers["y0"]) + 0.1
+            status, dy = _call(getattr(lib, f"{prefix}_rhs"), 0.1, y, entries, len(y))
+            assert status == 0
+            _close(dy, numba.rhs(0.1, y, np.array(numbers["p"])), rtol=1e-10)

@@ -8,9 +8,10 @@ in the header, and the model's parameters and initial state as default arrays, s
 or another integrator can call them without Python.
 
 Every entry of ``p`` is a value a caller may change, a change being that of ``--set`` of it: the
-modal constants of the beams (quadratures of their shape functions) and every parameter they are
-computed from are frozen at export, listed apart and held in a read-only array; parameters that are
-expressions of others are computed from ``p`` on every call
+integrals of the beams' shape functions (quadratures) and every parameter they are computed from
+are frozen at export, listed apart and held in a read-only array; a modal constant proportional to
+a section value that is a parameter (``E_1 = rho * (E_1/rho)``, ``H_11 = EI * (H_11/EI)``) and a
+parameter that is an expression of others are computed from ``p`` on every call
 (:mod:`flexkane.kane.frozen_constants`). The code is generated from the same compact
 equations as the Numba module (:mod:`flexkane.numerics.c_source`); drivers and closed loops are
 part of those equations.
@@ -122,29 +123,53 @@ def c_constants(eom, model: Model) -> tuple[list, list, list]:
     -------
     editable, frozen, derived : list of flexkane.numerics.c_source.CConstant
         The entries of ``p`` (what a caller may change; a change is that of ``--set`` of the
-        parameter or field), the values frozen at export (the modal constants and every value they
-        are computed from) and the constants computed from those on every call, in evaluation
-        order (:func:`flexkane.kane.frozen_constants.constant_roles`).
+        parameter or field), the values frozen at export (the integrals of the shape functions,
+        per unit section value where a constant has one, and every value they are computed from)
+        and the constants computed from those on every call, in evaluation order
+        (:func:`flexkane.kane.frozen_constants.constant_roles`).
     """
     from .kane.frozen_constants import constant_roles
+    from .model.parameter_units import field_values
     from .numerics.c_source import CConstant
 
     roles = constant_roles(eom, model)
     values = eom.constant_values(model)
+    per_unit = {u: (s, path) for s, (u, path, _) in roles.per_section.items()}
+    values.update({u: value for u, _, value in roles.per_section.values()})
     listed = [*roles.editable, *roles.frozen, *(s for s, _ in roles.derived)]
-    units, notes = constant_descriptions(eom, model, listed)
+    units, notes = constant_descriptions(eom, model, [per_unit.get(s, (s,))[0] for s in listed])
     unit, note = dict(zip(listed, units)), dict(zip(listed, notes))
+    field_units = {path: u for path, (_, u) in field_values(model).items()}
+    for u, (s, path) in per_unit.items():   # E_1/rho [m]: the integral per unit section value
+        unit[u] = _quotient(unit[u], field_units.get(path, ""))
+        note[u] = f"{note[u]}, per unit {path}"
     for s in roles.frozen:
-        if s not in roles.modal:
-            note[s] += "; the modal constants are computed from it"
+        if s in roles.paths:
+            note[s] += "; the integrals of the shape functions are computed from it"
     given = {s: text for s, (_, text) in eom.chain.symbols.definitions.items()}
     given.update({eom.chain.symbols.parameters[n]: text for n, text in model.parameters.items()})
+    for s, (u, _, _) in roles.per_section.items():     # E_1 = ro * (E_1/rho)
+        factor = str(roles.factors[s])
+        given[s] = f"{factor if roles.factors[s].is_Symbol else f'({factor})'} * ({u.name}): {note[s]}"
 
     def entry(s, expression=None):
         return CConstant(s, unit[s], str(given[s]) if expression is not None else note[s], float(values[s]),
                          expression)
     return ([entry(s) for s in roles.editable], [entry(s) for s in roles.frozen],
             [entry(s, e) for s, e in roles.derived])
+
+
+def _quotient(numerator: str, denominator: str) -> str:
+    """The unit ``numerator / denominator`` (``"kg"``, ``"kg/m"`` -> ``"m"``); ``""`` if either is unknown."""
+    from .model.parameter_units import format_unit, parse_unit
+
+    a, b = (parse_unit(u) if u else None for u in (numerator, denominator))
+    if a is None or b is None:
+        return ""
+    out = dict(a)
+    for name, exponent in b.items():
+        out[name] = out.get(name, 0) - exponent
+    return format_unit({name: e for name, e in out.items() if e}) or "-"
 
 
 def export_c(model, directory, *, prefix: str | None = None, force: bool = False, cache_dir=None,

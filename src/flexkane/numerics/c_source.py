@@ -487,11 +487,13 @@ def c_sources(eom, prefix: str, info: CModelInfo) -> tuple[str, str]:
     header += [" *",
                f" * Frozen at export, {P}_NFROZEN = {len(frozen)} values (name [unit] = value: what it is), read-only",
                f" * in {prefix}_frozen_values: the modal constants of the beams are integrals of their shape",
-               " * functions, computed by quadrature from the beam's length, mass per length, rigidities, shape",
-               " * roots, stations and load profiles; those values and every parameter they were computed from",
-               " * (directly or through other parameters' expressions) are frozen with them, and no entry of p",
-               " * influences them. To change a frozen value, export again: flexkane export MODEL --set ..."
-               + ("" if frozen else " (none here)")]
+               " * functions that flexkane computes by quadrature from the beam's length, shape roots, stations",
+               " * and load profiles. Those integrals are frozen (per unit section value, e.g. E_1/rho, when the",
+               " * constant is proportional to the mass per length, a rigidity or a rotary inertia that are",
+               " * parameters: those stay in p and multiply it above), with every parameter they were computed",
+               " * from, directly or through other parameters' expressions; no entry of p influences them. To",
+               " * change a frozen value, export again: flexkane export MODEL --set ..."
+               + (" (none here)" if not frozen else "")]
     header += [f" *   frozen[{k}] = {_comment(c.symbol.name)} [{_comment(c.unit) or 'unit unknown'}] = "
                f"{_number(c.value)}: {_comment(c.note)}" for k, c in enumerate(frozen)]
     header += [" *", f" * Outputs, {P}_NOUT = {len(output_names)} entries (name [unit], [?]: not recorded):"]
