@@ -177,3 +177,30 @@ def test_parameters_of_the_shape_functions_are_frozen_with_them(tmp_path):
             status, dy = _call(getattr(lib, f"{prefix}_rhs"), 0.1, y, entries, len(y))
             assert status == 0
             _close(dy, numba.rhs(0.1, y, np.array(numbers["p"])), rtol=1e-10)
+
+
+@needs_cc
+@pytest.mark.slow
+def test_every_entry_of_p_of_the_flexible_3d_arm_changes_the_c_model_as_set_does(tmp_path):
+    """robot-arm-3d-flexible (two spatial beams whose rho, EI, GJ, rho_Ip are parameters): its 36
+    entries of p changed at once, the C against the equations of the model with those values set,
+    evaluated through SymPy (13 s here; its Numba module would take minutes to compile)."""
+    from spatial_control_models import Evaluated
+
+    model = flexkane.builtin_model("robot-arm-3d-flexible")
+    export_c(model, tmp_path, force=True)
+    prefix = c_identifier(model.name)
+    lib = _compile(tmp_path, prefix)
+    eom = Derivation(model).eom
+    _, p, changed = _changed(model, eom)
+    assert {"EI1", "GJ2", "rho1", "rIp2"} <= {s.name for s in constant_roles(eom, model).editable}
+    equations = Evaluated(eom)
+    values = eom.constant_values(changed)
+    equations.constants = [values[c] for c in eom.constants]
+    y0 = eom.initial_state(changed)
+    rng = np.random.default_rng(25)
+    for _ in range(3):
+        y = y0 + 0.1 * rng.standard_normal(len(y0))
+        status, dy = _call(getattr(lib, f"{prefix}_rhs"), 0.2, y, p, len(y))
+        assert status == 0
+        _close(dy, equations.rhs(0.2, y), rtol=1e-10)
