@@ -165,7 +165,7 @@ def test_parameters_of_the_shape_functions_are_frozen_with_them(tmp_path):
     assert names["editable"] == {"EI", "c", "d", "g"}
     assert {"Iz", "b", "E_1", "H_11"} <= {s.name for s, _ in roles.derived}
     header_path, _ = export_c(model, tmp_path)
-    assert re.search(r"frozen\[\d+\] = a \[unit unknown\] = 0\.5: parameter;", header_path.read_text())
+    assert re.search(r"frozen\[\d+\] = a \[[^\]]*\] = 0\.5: parameter, in parameters\.L, parameters\.b", header_path.read_text())
     if CC is not None:   # the C with its default p, and with every entry changed, is the model
         prefix = c_identifier(model.name)
         lib = _compile(tmp_path, prefix)
@@ -204,3 +204,15 @@ def test_every_entry_of_p_of_the_flexible_3d_arm_changes_the_c_model_as_set_does
         status, dy = _call(getattr(lib, f"{prefix}_rhs"), 0.2, y, p, len(y))
         assert status == 0
         _close(dy, equations.rhs(0.2, y), rtol=1e-10)
+
+
+def test_a_parameter_used_only_in_other_parameters_gets_their_unit_or_says_why_not(tmp_path):
+    """slider-crank: J1 appears only in Jc1 = J1 - m1*(L1/2)**2, the crank's inertia [kg m^2], so J1
+    is [kg m^2]; E appears only in EA = E*bs*hs [N] and EI = E*bs*hs**3/12 [N m^2] with bs and hs
+    free, so no unit is fixed and the note names those uses with their units."""
+    header_path, _ = export_c(flexkane.builtin_model("slider-crank"), tmp_path)
+    header = header_path.read_text()
+    unit = {n: u for _, n, u in _documented(header, "p")}
+    assert unit["J1"] == "kg m^2" and unit["E"] == "unit unknown"
+    assert re.search(r"p\[\d+\] = E \[unit unknown\]: parameter, in parameters\.EA, parameters\.EI; no unit: its "
+                     r"uses do not fix one \(parameters\.EA \[N\], parameters\.EI \[N m\^2\] leave", header)

@@ -65,7 +65,18 @@ def constant_descriptions(eom, model: Model, symbols=None) -> tuple[list[str], l
         with contextlib.suppress(NeedsSymbolic):
             for name in expression_names(value) & set(model.parameters):
                 used_in.setdefault(name, {})[path] = unit
-    inferred = inferred_units(fields, model.parameters)
+    # a parameter defined by an expression has the unit of that expression: Jc1 = J1 - m1*(L1/2)**2
+    # [kg m^2] gives J1 its unit when no field names J1 (the units the fields fix alone are kept:
+    # a number in such an expression, b = a/4 - 0.025, may leave the inference undecided)
+    inferred = inferred_units(fields, model.parameters,
+                              equal=[(n, v, False) for n, v in model.parameters.items() if isinstance(v, str)])
+    inferred.update(inferred_units(fields, model.parameters))
+    for other, value in model.parameters.items():   # J1 in Jc1 = J1 - m1*(L1/2)**2: "in parameters.Jc1"
+        kinds = set(named.get(other, {}).values())
+        unit = kinds.pop() if len(kinds) == 1 else inferred.get(other, "")
+        with contextlib.suppress(NeedsSymbolic):
+            for name in expression_names(value) & set(model.parameters):
+                used_in.setdefault(name, {})[f"parameters.{other}"] = unit
     modal = eom.beam_constant_symbols()
     defined = eom.chain.symbols.definitions
     units, notes = [], []
@@ -102,7 +113,7 @@ def _no_unit(name: str, kinds: set, used_in: dict) -> str:
         return "no unit: the fields that name it have different units"
     if not used_in:
         return "no unit: no field of the model uses it"
-    return ("no unit: its uses do not fix one (" + _listed([f"{p} [{u}]" for p, u in sorted(used_in.items())])
+    return ("no unit: its uses do not fix one (" + _listed([f"{p} [{u or '?'}]" for p, u in sorted(used_in.items())])
             + " leave it free or disagree)")
 
 
