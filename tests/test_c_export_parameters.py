@@ -21,6 +21,7 @@ import flexkane
 from flexkane.builtin import builtin_text
 from flexkane.c_export import c_constants, export_c
 from flexkane.derivation_cache import Derivation
+from flexkane.errors import ModelError
 from flexkane.kane.frozen_constants import constant_roles
 from flexkane.model.paths import get_value
 from flexkane.numerics import evaluate_outputs
@@ -107,12 +108,24 @@ def test_every_entry_of_p_changes_the_c_model_as_set_changes_the_model(tmp_path,
         _close(out, [expected[k][0] for k in outputs], rtol=1e-10)
 
 
+def _nudged(model, path: str, value: float):
+    """The model with the value at ``path`` 1 % larger (0.01 for a zero), else 1 % smaller (rotor-blade's
+    hub inertia [0.15, 0.15, 0.3] may not grow: the triangle inequality of principal values)."""
+    try:
+        return model.with_values({path: 1.01 * value if value else 0.01})
+    except ModelError:
+        return model.with_values({path: 0.99 * value})
+
+
 def _frozen(eom, model) -> np.ndarray:
     return np.array([c.value for c in c_constants(eom, model)[1]])
 
 
-@pytest.mark.parametrize("name", ["falling-beam", "flexible-arm", "flexible-arm-pd", "slider-crank",
-                                  "spatial-beam"])
+@pytest.mark.parametrize("name", ["falling-beam", "flexible-arm", "flexible-arm-pd", "slider-crank", "spatial-beam",
+                                  *(pytest.param(name, marks=pytest.mark.slow) for name in
+                                    ("falling-beam-exact", "two-link-flexible-arm", "pendulum-beam", "spin-up",
+                                     "wind-mast", "rotor-blade", "spacecraft-flexible-slew",
+                                     "robot-arm-3d-flexible"))])
 def test_no_entry_of_p_moves_a_frozen_value_and_every_frozen_parameter_does(name):
     """Each editable entry changed alone leaves every frozen value (integrals of the shape functions,
     per unit section value) as it was, to round-off; each frozen parameter given as a number,
@@ -122,13 +135,12 @@ def test_no_entry_of_p_moves_a_frozen_value_and_every_frozen_parameter_does(name
     roles = constant_roles(eom, model)
     before, values = _frozen(eom, model), eom.constant_values(model)
     for s in roles.editable:
-        value = values[s]
-        after = _frozen(eom, model.with_values({roles.paths[s]: 1.01 * value if value else 0.01}))
+        after = _frozen(eom, _nudged(model, roles.paths[s], values[s]))
         np.testing.assert_allclose(after, before, rtol=1e-14, atol=0, err_msg=s.name)
     roots = [s for s in roles.frozen if s in roles.paths and not isinstance(get_value(model, roles.paths[s]), str)]
     assert roots
     for s in roots:
-        after = _frozen(eom, model.with_values({roles.paths[s]: 1.01 * values[s]}))
+        after = _frozen(eom, _nudged(model, roles.paths[s], values[s]))
         assert np.max(np.abs(after - before) / np.abs(before).clip(1e-300)) > 1e-6, s
 
 
