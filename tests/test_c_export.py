@@ -23,7 +23,7 @@ import pytest
 import sympy as sp
 
 import flexkane
-from flexkane.c_export import export_c
+from flexkane.c_export import c_constants, export_c
 from flexkane.derivation_cache import Derivation
 from flexkane.errors import ModelError
 from flexkane._version import __version__
@@ -107,6 +107,7 @@ def _compare_at_random_states(model, numba, lib, prefix: str, count: int = 5) ->
     eom = numba.eom
     numbers = numba.derivation.numbers(model, ("p", "y0"))
     p, y0 = np.array(numbers["p"]), np.array(numbers["y0"])
+    editable = np.array([c.value for c in c_constants(eom, model)[0]])   # the C's p: editable entries only
     nq, nu, nz = len(eom.q), len(eom.u), len(eom.z)
     ny = nq + nu + nz
     assert len(y0) == ny
@@ -117,24 +118,24 @@ def _compare_at_random_states(model, numba, lib, prefix: str, count: int = 5) ->
     for _ in range(count):
         t = float(rng.uniform(0.0, 0.5))
         y = y0 + np.concatenate([0.05 * rng.standard_normal(nq), rng.standard_normal(nu), rng.standard_normal(nz)])
-        status, dy = _call(rhs, t, y, p, ny)
+        status, dy = _call(rhs, t, y, editable, ny)
         assert status == 0
         _close(dy, numba.rhs(t, y, p))
-        status, M = _call(mass, t, y, p, nu * nu)
+        status, M = _call(mass, t, y, editable, nu * nu)
         assert status == 0
         M = M.reshape(nu, nu)
         np.testing.assert_array_equal(M, M.T)
-        status, f = _call(forcing, t, y, p, nu)
+        status, f = _call(forcing, t, y, editable, nu)
         assert status == 0
         _close(M @ dy[nq:nq + nu], f, rtol=1e-11)    # M u' = f with u' of the C right-hand side
-        status, qdot = _call(getattr(lib, f"{prefix}_kinematics"), t, y, p, nq)
+        status, qdot = _call(getattr(lib, f"{prefix}_kinematics"), t, y, editable, nq)
         assert status == 0
         np.testing.assert_array_equal(qdot, dy[:nq])
         if nz:
-            status, zdot = _call(getattr(lib, f"{prefix}_controller_rates"), t, y, p, nz)
+            status, zdot = _call(getattr(lib, f"{prefix}_controller_rates"), t, y, editable, nz)
             assert status == 0
             np.testing.assert_array_equal(zdot, dy[nq + nu:])
-        status, out = _call(getattr(lib, f"{prefix}_outputs"), t, y, p, len(outputs))
+        status, out = _call(getattr(lib, f"{prefix}_outputs"), t, y, editable, len(outputs))
         assert status == 0
         numba_out = evaluate_outputs(numba.module, np.array([t]), y[None, :], p)
         for k, key in enumerate(outputs):
@@ -224,8 +225,9 @@ def test_a_program_without_python_runs_on_the_default_arrays(exported):
     """A C program calls the exported functions with the model's constants and initial state."""
     model, numba, lib, prefix, directory = exported("four-bar")
     numbers = numba.derivation.numbers(model, ("p", "y0"))
-    p = np.ctypeslib.as_array((ctypes.c_double * len(numbers["p"])).in_dll(lib, f"{prefix}_default_p"))
-    np.testing.assert_array_equal(p, numbers["p"])
+    editable = [c.value for c in c_constants(numba.eom, model)[0]]
+    p = np.ctypeslib.as_array((ctypes.c_double * len(editable)).in_dll(lib, f"{prefix}_default_p"))
+    np.testing.assert_array_equal(p, editable)
     (directory / "main.c").write_text(_PROGRAM)
     program = directory / "four_bar_program"
     subprocess.run([CC, "-std=c99", "-O2", "-Wall", "-Werror", str(directory / "main.c"), str(directory / "four_bar.c"),
@@ -254,16 +256,24 @@ def test_header_documents_the_orders_of_the_run_manifest(tmp_path):
     assert [k for k, _, _ in states] == list(range(len(manifest["state_names"])))
     assert [n for _, n, _ in states] == manifest["state_names"]
     assert [u for _, _, u in states] == [manifest["units"][n] for n in manifest["state_names"]]
-    constants = _documented(header, "p")
-    assert [n for _, n, _ in constants] == manifest["constant_names"]
-    unit = {n: u for _, n, u in constants}
+    constants, frozen = _documented(header, "p"), _documented(header, "frozen")
+    derived = re.findall(r"^ \*   (\w+) \[([^\]]*)\] = ", header, flags=re.M)
+    editable_, frozen_, derived_ = c_constants(Derivation(model).eom, model)
+    assert [n for _, n, _ in constants] == [c.symbol.name for c in editable_]
+    assert [n for _, n, _ in frozen] == [c.symbol.name for c in frozen_]
+    assert [n for n, _ in derived] == [c.symbol.name for c in derived_]
+    # every constant of the equations is a parameter, frozen or computed from them, once
+    named = [n for _, n, _ in constants + frozen] + [n for n, _ in derived]
+    assert set(manifest["constant_names"]) <= set(named) and len(named) == len(set(named))
+    unit = {n: u for _, n, u in constants + frozen} | dict(derived)
     # a modal constant (as the report), a parameter a field names, a field's own constant
     # and a parameter of a time law only: the driver coordinate Omega*t [rad] makes Omega [rad/s]
     assert (unit["H_11"], unit["m1"], unit["L2"], unit["x_crank_pin"], unit["Omega"]) \
         == ("N/m", "kg", "m", "m", "rad/s")
     assert not [line for line in header.splitlines() if line.startswith(" *   p[") and "[?]" in line]
     assert f"#define SLIDER_CRANK_NY {len(manifest['state_names'])}" in header
-    assert f"#define SLIDER_CRANK_NP {len(manifest['constant_names'])}" in header
+    assert f"#define SLIDER_CRANK_NP {len(constants)}" in header
+    assert f"#define SLIDER_CRANK_NFROZEN {len(frozen)}" in header
     outputs = [n for _, n, _ in _documented(header, "out")]
     assert outputs[:3] == ["x_crank", "y_crank", "theta_crank"] and "constraint_piston_1" in outputs
     source = source_path.read_text()
@@ -292,7 +302,8 @@ def test_names_are_sanitized_and_never_collide(tmp_path):
     from flexkane.builtin import builtin_text
 
     text = builtin_text("four-bar")
-    for old, new in (("m1", "pow"), ("m2", "double"), ("m3", "bar_rhs"), ("I1", "NAN"), ("d", "dy")):
+    for old, new in (("m1", "pow"), ("m2", "double"), ("m3", "bar_rhs"), ("I1", "NAN"), ("d", "dy"),
+                     ("b", "bar_constants"), ("c", "bar_frozen_values")):   # b, c: lengths of derived values
         text = re.sub(rf"\b{old}\b", new, text)
     text = text.replace('name = "four-bar"', 'name = "4 bar */ \\"x\\""')
     text = text.replace('dependent = ["u_coupler", "u_rocker"]',
@@ -300,7 +311,7 @@ def test_names_are_sanitized_and_never_collide(tmp_path):
     model = flexkane.loads_model(text)
     files = export_c(model, tmp_path, prefix="bar")
     header, source = (f.read_text() for f in files)
-    for name in ("pow", "double", "bar_rhs", "NAN", "dy"):
+    for name in ("pow", "double", "bar_rhs", "NAN", "dy", "bar_constants", "bar_frozen_values"):
         assert f"const double {name} = " not in source
     assert '"4 bar * / "x""' in header   # (compiling the header below shows its comments are closed)
     assert "20.0*" in source             # the stabilization rate, in q' of the coordinates

@@ -20,7 +20,7 @@ from spatial_control_models import (ATTITUDE_LAW, ATTITUDE_PI, INTEGRAL, KD_ATT,
 from test_c_export import _call, _close, _compare_at_random_states, _compile, _Numba, needs_cc
 
 import flexkane
-from flexkane.c_export import export_c
+from flexkane.c_export import c_constants, export_c
 from flexkane.numerics.c_source import c_identifier
 
 RUN = dict(t_end=30.0, dt_out=0.5, rtol=1e-11, atol=1e-13, method="dop853")
@@ -102,7 +102,7 @@ def test_c_of_a_spatial_model_with_controller_states_computes_its_equations(expo
     assert (len(eom.q), len(eom.u), len(eom.z)) == counts
     nq, nu, nz = counts
     equations = Evaluated(eom)
-    p = eom.parameter_vector()
+    p = np.array([c.value for c in c_constants(eom, model)[0]])   # the C's parameters
     ny = nq + nu + nz
     names = list(eom.compact.outputs)
     states = random_states(eom, 3)

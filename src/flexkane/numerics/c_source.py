@@ -37,13 +37,13 @@ from flexkane.numerics.codegen import (
 from flexkane.numerics.large_rhs import Statement
 from flexkane.numerics.linear_algebra import PIVOT_RTOL
 
-__all__ = ["C_FUNCTIONS", "C_RESERVED", "PREFIX_RULE", "CModelInfo", "c_identifier", "c_sources", "check_prefix"]
+__all__ = ["C_FUNCTIONS", "C_RESERVED", "PREFIX_RULE", "CConstant", "CModelInfo", "c_identifier", "c_sources", "check_prefix"]
 
 #: Functions of the generated file, by suffix of ``<prefix>_``.
 C_FUNCTIONS = ("rhs", "mass_matrix", "forcing", "kinematics", "controller_rates", "outputs", "solve")
 #: Global data of the generated file, by suffix of ``<prefix>_``.
 _C_DATA = ("default_p", "default_y0", "state_names", "state_units", "constant_names", "constant_units",
-           "output_names", "output_units")
+           "output_names", "output_units", "frozen_values", "frozen_names", "frozen_units", "constants")
 
 # Names no local variable of the generated functions may take: C99's keywords, the functions and
 # macros of math.h (C99 and POSIX: a local ``sin`` would hide the function), and the names of
@@ -155,6 +155,30 @@ class _CPrinter(C99CodePrinter):
 
 
 @dataclass
+class CConstant:
+    """One constant of the generated files: a symbol of the equations (or a value they come from).
+
+    Attributes
+    ----------
+    symbol : sympy.Symbol
+    unit : str
+        Its unit (``""`` when not known).
+    note : str
+        What it is (a beam's modal constant, a parameter, a field's key path).
+    value : float
+        The model's value [unit].
+    expression : sympy.Expr or None
+        For a derived constant, its expression in the editable, frozen and earlier derived symbols.
+    """
+
+    symbol: sympy.Symbol
+    unit: str
+    note: str
+    value: float
+    expression: sympy.Expr | None = None
+
+
+@dataclass
 class CModelInfo:
     """What the generated files document and hold besides the equations.
 
@@ -162,12 +186,14 @@ class CModelInfo:
     ----------
     model_name : str
         The model's name (a label, shown in comments).
-    constant_units : list of str
-        Unit of each constant, in the order of ``eom.constants`` (``""`` when not known).
-    constant_notes : list of str
-        What each constant is (a beam's modal constant, a parameter, a field's key path).
-    p : list of float
-        The model's constants vector (``<prefix>_default_p``).
+    editable : list of CConstant
+        The entries of ``p`` in their order (``<prefix>_default_p``): what a user may change.
+    frozen : list of CConstant
+        The constants frozen at export (``<prefix>_frozen_values``): modal constants and the values
+        they were computed from.
+    derived : list of CConstant
+        The constants computed from the others on every call, in evaluation order (each with its
+        ``expression``).
     y0 : list of float
         The model's initial state (``<prefix>_default_y0``).
     state_units : list of str
@@ -181,9 +207,9 @@ class CModelInfo:
     """
 
     model_name: str
-    constant_units: list
-    constant_notes: list
-    p: list
+    editable: list
+    frozen: list
+    derived: list
     y0: list
     state_units: list
     output_units: list
@@ -262,7 +288,7 @@ class _Generator:
         if bad:   # validated models have ASCII names; a hand-made equation set may not
             raise ValueError(f"names that are not C identifiers: {', '.join(bad)}")
         loads = {n: f"y[{k}]" for k, n in enumerate(y_names)}
-        loads.update({n: f"p[{k}]" for k, n in enumerate(c_names)})
+        loads.update({n: f"_pc[{k}]" for k, n in enumerate(c_names)})
         loads.update({n: f"_dy[{self.nq + k}]" for k, n in enumerate(ud_names)})
         if t_name != "t":
             loads[t_name] = "t"
@@ -294,8 +320,12 @@ class _Generator:
     def lines(self, statements: list, loads: dict, ud_names: list, targets: Sequence[str]) -> list[str]:
         """Lines of a function body: the locals it reads, then ``statements`` (``targets`` are outputs)."""
         used = set().union(*(st.uses for st in statements)) if statements else set()
-        lines = [f"    const double {n} = {source};" for n, source in loads.items()
-                 if n in used and not source.startswith("_dy")]
+        lines = []
+        if any(n in used and source.startswith("_pc") for n, source in loads.items()):
+            lines += [f"    double _pc[{_dim(len(self.eom.constants))}];",   # every constant, from p
+                      f"    {self.prefix}_constants(p, _pc);"]
+        lines += [f"    const double {n} = {source};" for n, source in loads.items()
+                  if n in used and not source.startswith("_dy")]
         if ud_names:
             lines += [f"    double _dy[{self.prefix.upper()}_NY];",
                       f"    const int _status = {self.prefix}_rhs(t, y, p, _dy);"]
@@ -349,6 +379,24 @@ def _solve_lines(prefix: str, nu: int) -> list[str]:
     ]
 
 
+def _constants_lines(prefix: str, constants: list, info: CModelInfo, printer) -> list[str]:
+    """``<prefix>_constants(p, c)``: every constant of the equations (order of ``eom.constants``) from the
+    parameters p, the frozen values and the derived constants' expressions."""
+    source = {c.symbol: sympy.Symbol(f"p[{k}]") for k, c in enumerate(info.editable)}
+    source.update({c.symbol: sympy.Symbol(f"{prefix}_frozen_values[{k}]") for k, c in enumerate(info.frozen)})
+    locals_ = []
+    for k, c in enumerate(info.derived):
+        local = sympy.Symbol(f"_a{k}")
+        locals_.append(f"    const double {local} = {printer.doprint(c.expression.xreplace(source))};"
+                       f"  /* {_comment(c.symbol.name)} */")
+        source[c.symbol] = local
+    missing = [s.name for s in constants if s not in source]
+    if missing:
+        raise ValueError(f"constants neither parameters, frozen nor derived: {', '.join(missing)}")
+    return [f"static void {prefix}_constants(const double *p, double *c)", "{", "    (void)p; (void)c;", *locals_,
+            *(f"    c[{k}] = {source[s]};" for k, s in enumerate(constants)), "}"]
+
+
 def _finite_check(array: str, count: str) -> list[str]:
     return ["    {", "        int _i;",
             f"        for (_i = 0; _i < {count}; ++_i) if (!isfinite({array}[_i])) return 2;", "    }"]
@@ -364,13 +412,16 @@ def c_sources(eom, prefix: str, info: CModelInfo) -> tuple[str, str]:
     prefix : str
         Prefix of every global name (``<prefix>_rhs`` ...), a C identifier (:func:`c_identifier`).
     info : CModelInfo
-        Units, notes and the model's numbers.
+        Units, notes and the model's numbers; its editable, frozen and derived constants together
+        give every constant of ``eom`` (``<prefix>_constants(p, c)``, a static function of the
+        source, fills them in the order of ``eom.constants`` for the other functions).
 
     Returns
     -------
     header : str
-        Text of ``<prefix>.h``: the sizes as macros, the order of the state, the constants (name,
-        unit, what it is, one per line) and the outputs in comments, the declarations.
+        Text of ``<prefix>.h``: the sizes as macros, the order of the state, the parameters ``p``,
+        the derived constants, the frozen values (name, unit, what it is, one per line) and the
+        outputs in comments, the declarations.
     source : str
         Text of ``<prefix>.c``: the functions and the model's numbers; it includes ``math.h`` and
         the header only.
@@ -378,8 +429,8 @@ def c_sources(eom, prefix: str, info: CModelInfo) -> tuple[str, str]:
     Raises
     ------
     ValueError
-        For a prefix that is not a C identifier, an expression with a function C cannot print or
-        a symbol that is neither q, u, t nor a constant.
+        For a prefix that is not a C identifier, an expression with a function C cannot print,
+        a symbol that is neither q, u, t nor a constant, or a constant that ``info`` does not give.
     """
     check_prefix(prefix)
     gen = _Generator(eom, prefix)
@@ -427,12 +478,32 @@ def c_sources(eom, prefix: str, info: CModelInfo) -> tuple[str, str]:
         f" * {P}_NZ = {nz} controller states, in the order of the controllers, each one's states as listed):"]
     header += [f" *   y[{k}] = {_comment(n)} [{_comment(u) or '?'}]"     # [?]: a unit not recorded
                for k, (n, u) in enumerate(zip(state_names, info.state_units))]
+    editable, frozen, derived = info.editable, info.frozen, info.derived
     header += [" *",
-               f" * Constants p, {P}_NP = {len(constants)} entries (name [unit]: what it is; [unit unknown]: a",
-               f" * parameter whose unit the model does not fix, the note says why; the model's values are",
-               f" * {prefix}_default_p):"]
-    for k, (s, unit, note) in enumerate(zip(constants, info.constant_units, info.constant_notes)):
-        header.append(f" *   p[{k}] = {_comment(s.name)} [{_comment(unit) or 'unit unknown'}]: {_comment(note)}")
+               f" * Parameters p, {P}_NP = {len(editable)} entries, what a caller may change (name [unit]: what it",
+               " * is; [unit unknown]: a parameter whose unit the model does not fix, the note says why; the",
+               f" * model's values are {prefix}_default_p). A change of p[k] is the change of the model that",
+               " * `--set NAME=VALUE` of a parameter, `--set KEY.PATH=VALUE` of a field (the note names it) makes:"]
+    header += [f" *   p[{k}] = {_comment(c.symbol.name)} [{_comment(c.unit) or 'unit unknown'}]: {_comment(c.note)}"
+               for k, c in enumerate(editable)]
+    if derived:
+        header += [" *",
+                   " * Computed from p (and the frozen values) on every call, as flexkane computes them after",
+                   " * a --set (not in p; name [unit] = expression):"]
+        header += [f" *   {_comment(c.symbol.name)} [{_comment(c.unit) or 'unit unknown'}] = {_comment(c.note)}"
+                   for c in derived]
+    header += [" *",
+               f" * Frozen at export, {P}_NFROZEN = {len(frozen)} values (name [unit] = value: what it is), read-only",
+               f" * in {prefix}_frozen_values: the modal constants of the beams are integrals of their shape",
+               " * functions that flexkane computes by quadrature from the beam's length, shape roots, stations",
+               " * and load profiles. Those integrals are frozen (per unit section value, e.g. E_1/rho, when the",
+               " * constant is proportional to the mass per length, a rigidity or a rotary inertia that are",
+               " * parameters: those stay in p and multiply it above), with every parameter they were computed",
+               " * from, directly or through other parameters' expressions; no entry of p influences them. To",
+               " * change a frozen value, export again: flexkane export MODEL --set ..."
+               + (" (none here)" if not frozen else "")]
+    header += [f" *   frozen[{k}] = {_comment(c.symbol.name)} [{_comment(c.unit) or 'unit unknown'}] = "
+               f"{_number(c.value)}: {_comment(c.note)}" for k, c in enumerate(frozen)]
     header += [" *", f" * Outputs, {P}_NOUT = {len(output_names)} entries (name [unit], [?]: not recorded):"]
     header += [f" *   out[{k}] = {_comment(n)} [{_comment(u) or '?'}]"
                for k, (n, u) in enumerate(zip(output_names, info.output_units))]
@@ -456,21 +527,27 @@ def c_sources(eom, prefix: str, info: CModelInfo) -> tuple[str, str]:
         f"#define {P}_NU {nu}",
         f"#define {P}_NZ {nz}",
         f"#define {P}_NY {ny}",
-        f"#define {P}_NP {len(constants)}",
+        f"#define {P}_NP {len(editable)}",
+        f"#define {P}_NFROZEN {len(frozen)}",
         f"#define {P}_NOUT {len(output_names)}",
         "",
-        "/* The model's constants (order above) and initial state y(0) = [q, u, z] (loops closed). */",
-        f"extern const double {prefix}_default_p[{_dim(len(constants))}];",
+        "/* The model's parameters p (order above) and initial state y(0) = [q, u, z] (loops closed). */",
+        f"extern const double {prefix}_default_p[{_dim(len(editable))}];",
         f"extern const double {prefix}_default_y0[{_dim(ny)}];",
-        "/* Names and units of the state entries, the constants and the outputs, in their order. */",
+        "/* The values frozen at export (order above; not parameters: export again to change them). */",
+        f"extern const double {prefix}_frozen_values[{_dim(len(frozen))}];",
+        "/* Names and units of the state entries, the parameters p, the frozen values and the outputs,",
+        " * in their order. */",
         f"extern const char *const {prefix}_state_names[{_dim(ny)}];",
         f"extern const char *const {prefix}_state_units[{_dim(ny)}];",
-        f"extern const char *const {prefix}_constant_names[{_dim(len(constants))}];",
-        f"extern const char *const {prefix}_constant_units[{_dim(len(constants))}];",
+        f"extern const char *const {prefix}_constant_names[{_dim(len(editable))}];",
+        f"extern const char *const {prefix}_constant_units[{_dim(len(editable))}];",
+        f"extern const char *const {prefix}_frozen_names[{_dim(len(frozen))}];",
+        f"extern const char *const {prefix}_frozen_units[{_dim(len(frozen))}];",
         f"extern const char *const {prefix}_output_names[{_dim(len(output_names))}];",
         f"extern const char *const {prefix}_output_units[{_dim(len(output_names))}];",
         "",
-        f"/* dy/dt = [q', u', z'] ({P}_NY) at time t [s], state y ({P}_NY), constants p ({P}_NP);",
+        f"/* dy/dt = [q', u', z'] ({P}_NY) at time t [s], state y ({P}_NY), parameters p ({P}_NP);",
         " * u' by solving M u' = f. Returns 0, 2 or 4 (dy then all NaN). */",
         f"int {prefix}_rhs(double t, const double *y, const double *p, double *dy);",
         "",
@@ -510,15 +587,23 @@ def c_sources(eom, prefix: str, info: CModelInfo) -> tuple[str, str]:
         return [f"{qualifier} {prefix}_{name}[{_dim(size)}] = {{"] + [f"    {r}," for r in rows] + ["};", ""]
 
     source = head + [" */", "#include <math.h>", "", f'#include "{prefix}.h"', ""]
-    source += data("double", "default_p", [f"{_number(v)}  /* {_comment(s.name)} */"
-                                           for s, v in zip(constants, info.p)], len(constants))
+    source += data("double", "default_p", [f"{_number(c.value)}  /* {_comment(c.symbol.name)} */"
+                                           for c in editable], len(editable))
+    source += data("double", "frozen_values", [f"{_number(c.value)}  /* {_comment(c.symbol.name)} */"
+                                               for c in frozen], len(frozen))
     source += data("double", "default_y0", [f"{_number(v)}  /* {_comment(n)} */"
                                             for n, v in zip(state_names, info.y0)], ny)
     for name, items in (("state_names", state_names), ("state_units", info.state_units),
-                        ("constant_names", [s.name for s in constants]),
-                        ("constant_units", info.constant_units), ("output_names", output_names),
-                        ("output_units", info.output_units)):
+                        ("constant_names", [c.symbol.name for c in editable]),
+                        ("constant_units", [c.unit for c in editable]),
+                        ("frozen_names", [c.symbol.name for c in frozen]),
+                        ("frozen_units", [c.unit for c in frozen]),
+                        ("output_names", output_names), ("output_units", info.output_units)):
         source += data("str", name, [_string(x) for x in items], len(items))
+    constants_function = _constants_lines(prefix, constants, info, gen.printer)
+    bodies = (rhs_body, kin_body, mass_body, force_body, rate_body, out_body)
+    if any(f"{prefix}_constants(p, _pc);" in line for body in bodies for line in body):   # else unused
+        source += constants_function + [""]
     source += _solve_lines(prefix, nu) + [""]
 
     def function(name: str, array: str, body: list[str], tail: list[str]) -> list[str]:
