@@ -976,7 +976,7 @@ def _check_structure(model, values: _Values) -> list:
         from .initial import initial_values
 
         initial_values(model, values)   # orientations as tables, Euler parameters (all four, not zero)
-    free = {c.u for c in coordinates if c.driver is None}
+    free = {c.u for c in coordinates if c.driver is None and c.u is not None}   # e0 of a 3D joint: no speed
     chosen: dict[str, str] = {}
     for con in model.constraints.values():
         for i, name in enumerate(con.dependent or []):
