@@ -345,6 +345,9 @@ def validate_model(model, *, units: dict | None = None) -> None:
     problems.raise_found(final=True)   # the structure needs a valid tree of valid parts
     coordinates = _check_structure(model, values)
     _check_signals(model, values, lengths, coordinates)
+    from .columns import result_columns
+
+    result_columns(model, coordinates)   # one name per column of the results
 
 
 # ---------------------------------------------------------------------------------------- parts
