@@ -154,10 +154,11 @@ def result_columns(model, coordinates) -> dict[str, str]:
         claims.claim(f"constraints.{con.name}", f"a residual of loop constraint {con.name!r}",
                      [f"constraint_{con.name}_{k + 1}" for k in range(count)], con.name)
     # the state variables last: a name the file gives a column directly is the one to change
-    for c in (c for c in coordinates if c.driver is None):   # a driven coordinate is a function of t: no column
+    for c in coordinates:
         joint = model.joints.get(c.owner)
         for kind, name, names_key in (("coordinate", c.q, "coordinates"), ("speed", c.u, "speeds")):
-            if name is None:
+            # a driver makes its speed (and a prescribed coordinate) a function of t: no column
+            if name is None or (c.driver is not None and (kind == "speed" or c.driver == "coordinate")):
                 continue
             listed = getattr(joint, names_key, None) if joint is not None and c.role not in BEAM_ROLES else None
             if listed and name in listed:
