@@ -660,7 +660,15 @@ def _check_load(model, load: Load, values: _Values, lengths: dict) -> None:
     _choice(f"{path}.frame", load.frame, FRAMES)
 
 
+def _run_times(simulation) -> tuple[float, ...]:
+    """The start and, when it is a finite number, the end of the run [s]."""
+    end = simulation.t_end
+    return (0.0, float(end)) if _is_finite(end) and end > 0 else (0.0,)
+
+
 def _check_distributed_load(model, load: DistributedLoad, values: _Values, lengths: dict) -> None:
+    from .load_integrability import check_integrable
+
     path = f"distributed_loads.{load.name}"
     beams = list(model.beams)
     if not isinstance(load.beam, str) or load.beam not in model.beams:
@@ -687,6 +695,7 @@ def _check_distributed_load(model, load: DistributedLoad, values: _Values, lengt
             except ModelError as exc:
                 raise ModelError(f"{path}.{key}", f"{kind}, finite at t = 0 along the beam", value,
                                  f"at x = {x:g} m: {exc.hint or exc.expected}") from None
+        check_integrable(f"{path}.{key}", value, values.parameters, length, _run_times(model.simulation))
     if all(isinstance(v, (int, float)) and v == 0 for v in (getattr(load, key) for key in keys)):
         raise ModelError(path, f"a non-zero component {' or '.join(keys)} [N/m]", None, show_given=False)
 
