@@ -231,6 +231,10 @@ def compile_model(eom, cache_dir=None, *, announce=None, outputs: bool = True) -
     from .numerics.jit_module import build_module, integrators_compiled, is_compiled, structure_key
 
     start = time.perf_counter()
+    if not derivation.manifest["state_names"]:   # derive serves inverse dynamics; a run needs a state
+        raise ModelError("joints", "at least one coordinate that no coordinate driver prescribes, or a controller "
+                         "state, to integrate (derive gives the drivers' efforts of a fully prescribed motion)",
+                         "a chain whose every coordinate a driver prescribes")
     source = derivation.source()
     key = structure_key(__version__, source)
     module = build_module(source, key, cache_dir)
