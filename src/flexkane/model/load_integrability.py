@@ -74,6 +74,8 @@ def check_integrable(path: str, text, parameters: dict, length: float, times) ->
         return
     expected = "a force per unit length [N/m] bounded and integrable along the beam (0 <= x <= L)"
     for base, power in _denominators(expr):
+        if not base.has(x):   # a function of t alone: the run's own evaluation of the load decides
+            continue
         for time in times:
             for x0, order in _zeros(base.xreplace({t: sp.Float(time)}), x, length):
                 where = f"{sp.sstr(base)} is zero at x = {x0:.6g} m"
