@@ -125,3 +125,14 @@ def test_a_spatial_beam_spun_fast_without_geometric_stiffening_is_warned_about_n
     assert "geometric_stiffening = true in [beams.arm]" in warning and "2 rad/s" in warning \
         and "p1 = 3.52 rad/s" in warning
     assert _spatial_warnings(t, {"u_spin": [0.0, 0.1, 2.0]}, "geometric_stiffening = true") == []
+
+
+@pytest.mark.slow
+def test_a_run_of_a_spatial_beam_warns_through_its_compiled_spin_rates():
+    """The compiled path: the transverse spin sqrt(w_y^2 + w_z^2) of the root frame is generated code."""
+    text = SPINNING_BEAM_3D.format(stiffening="") + ("[initial]\nu_spin = 2.0\nq_arm_z1 = 0.6\n"
+                                                     "[simulation]\nt_end = 0.5\ndt_out = 0.1\n")
+    results = flexkane.simulate(flexkane.compile_model(flexkane.derive(flexkane.loads_model(text))))
+    deflection, spin = results.warnings
+    assert "beam 'arm': its deflection reached 1.2 m" in deflection
+    assert "p1 = 3.52 rad/s" in spin and "geometric_stiffening = true in [beams.arm]" in spin
