@@ -76,3 +76,44 @@ def test_outputs_compiled_on_first_use_give_the_same_results(falling_beam):
         assert np.array_equal(lazy[name], eager[name]), name
     with pytest.raises(ModelError, match="outputs"):
         compile_model(eom, outputs="no")
+
+
+#: A pendulum whose only coordinate a driver prescribes: nothing to integrate.
+PRESCRIBED_PENDULUM = """
+name = "prescribed-pendulum"
+[bodies.bob]
+mass = 1.0
+inertia = 0.1
+points = { pin = [-0.5, 0] }
+[joints.pin]
+type = "revolute"
+parent = "ground"
+child = "bob"
+child_point = "pin"
+driver = { coordinate = "sin(t)" }
+[gravity]
+g = 9.81
+direction = [0, -1]
+"""
+
+
+def test_a_fully_prescribed_chain_derives_its_efforts_but_is_refused_a_run(tmp_path, capsys):
+    """Inverse dynamics: the effort of the driver is derived; compiling a run of no state was a
+    ValueError traceback of the code generator, now a ModelError (exit 2)."""
+    import sympy as sp
+
+    import flexkane
+    from flexkane.cli import main
+
+    model = flexkane.loads_model(PRESCRIBED_PENDULUM)
+    eom = flexkane.derive(model)
+    assert eom.state_names == [] and "effort_pin" in eom.output_names
+    # at t = 0: q = 0, q' = 1, q'' = 0: the effort holds the weight's moment m g r = 1 * 9.81 * 0.5
+    effort = sp.sympify(eom.outputs["effort_pin"]).xreplace(eom.constant_values(model)).xreplace({eom.t: 0})
+    assert float(effort) == pytest.approx(9.81 * 0.5, rel=1e-12)
+    with pytest.raises(flexkane.errors.ModelError, match="at least one coordinate that no coordinate driver"):
+        flexkane.compile_model(eom, cache_dir=tmp_path)
+    path = tmp_path / "prescribed.toml"
+    path.write_text(PRESCRIBED_PENDULUM, "utf-8")
+    assert main(["run", str(path), "--quiet", "--no-plots", "--out", str(tmp_path / "run")]) == 2
+    assert "Traceback" not in capsys.readouterr().err

@@ -750,23 +750,60 @@ def bounded_expand(expr: sympy.Expr, variables, time: sympy.Symbol,
     return expanded.xreplace({dummy: node for node, dummy in placeholders.items()})
 
 
-def _as_piecewise(expr: sympy.Expr) -> sympy.Expr:
-    """Write ``abs``, ``min`` and ``max`` as piecewise expressions (their derivatives then are too)."""
-    def abs_(x):
-        return sympy.Piecewise((x, x >= 0), (-x, True))
+def _branch_sign(x: sympy.Expr) -> sympy.Expr:
+    """``1`` where ``x >= 0``, ``-1`` elsewhere: the derivative of ``abs`` over that of its argument."""
+    return sympy.Piecewise((sympy.Integer(1), x >= 0), (sympy.Integer(-1), True))
 
-    def extreme(better):
-        def build(*args):
-            pieces = []
-            for k, a in enumerate(args[:-1]):
-                pieces.append((a, sympy.And(*[better(a, b) for b in args[k + 1:]])))
-            pieces.append((args[-1], True))
-            return sympy.Piecewise(*pieces)
-        return build
 
-    expr = expr.replace(sympy.Abs, abs_)
-    expr = expr.replace(sympy.Max, extreme(lambda a, b: a >= b))
-    return expr.replace(sympy.Min, extreme(lambda a, b: a <= b))
+def _extreme_derivative(args, derivatives, better) -> sympy.Expr:
+    """Derivative of ``max`` (``better`` is ``>=``) or ``min`` (``<=``): that of the first argument
+    at least as good as every later one."""
+    pieces = [(d, sympy.And(*[better(a, b) for b in args[k + 1:]]))
+              for k, (a, d) in enumerate(zip(args[:-1], derivatives[:-1]))]
+    return sympy.Piecewise(*pieces, (derivatives[-1], True))
+
+
+def _branch_derivative(expr: sympy.Expr, time: sympy.Symbol) -> sympy.Expr:
+    """``d expr / d time`` by the chain rule, node by node with memory: each distinct subexpression is
+    differentiated once, and ``abs``, ``min``, ``max`` and ``piecewise`` branch by branch with their
+    arguments left as they are (no argument is copied into conditions and values), so the derivative of
+    six nested ``abs`` has a size linear in the nesting where rewriting each ``abs(x)`` as
+    ``piecewise(x, x >= 0, -x)`` before differentiating tripled the expression per level."""
+    memo: dict = {}
+
+    def d(node):
+        if node in memo:
+            return memo[node]
+        if not node.has(time):
+            out = sympy.Integer(0)
+        elif node == time:
+            out = sympy.Integer(1)
+        elif isinstance(node, sympy.Abs):
+            out = _branch_sign(node.args[0]) * d(node.args[0])
+        elif isinstance(node, (sympy.Max, sympy.Min)):
+            args = list(node.args)
+            better = (lambda a, b: a >= b) if isinstance(node, sympy.Max) else (lambda a, b: a <= b)
+            out = _extreme_derivative(args, [d(a) for a in args], better)
+        elif isinstance(node, sympy.Piecewise):
+            out = sympy.Piecewise(*[(d(e), c) for e, c in node.args])
+        elif isinstance(node, sympy.Add):
+            out = sympy.Add(*[d(a) for a in node.args])
+        elif isinstance(node, sympy.Mul):
+            args = node.args
+            out = sympy.Add(*[sympy.Mul(*args[:k], d(a), *args[k + 1:]) for k, a in enumerate(args) if a.has(time)])
+        elif isinstance(node, sympy.Pow) and not node.exp.has(time):
+            out = node.exp * node.base ** (node.exp - 1) * d(node.base)
+        elif isinstance(node, sympy.Pow):
+            out = node * (d(node.exp) * sympy.log(node.base) + node.exp * d(node.base) / node.base)
+        elif isinstance(node, sympy.Function) and len(node.args) == 1:
+            dummy = sympy.Dummy("u", real=True)
+            out = sympy.diff(node.func(dummy), dummy).xreplace({dummy: node.args[0]}) * d(node.args[0])
+        else:
+            out = sympy.diff(node, time)
+        memo[node] = out
+        return out
+
+    return d(expr)
 
 
 def time_derivative(expr: sympy.Expr, time: sympy.Symbol, *, path: str, order: int = 1) -> sympy.Expr:
@@ -793,9 +830,9 @@ def time_derivative(expr: sympy.Expr, time: sympy.Symbol, *, path: str, order: i
     sympy.Expr
         The derivative, free of ``DiracDelta``, ``Heaviside`` and unevaluated derivatives.
     """
-    result = _as_piecewise(expr)
+    result = expr
     for _ in range(order):
-        result = _as_piecewise(sympy.diff(result, time))
+        result = _branch_derivative(result, time)
     if result.has(sympy.DiracDelta, sympy.Heaviside, sympy.Derivative, sympy.Subs, sympy.sign):
         raise ModelError(path, "a time law that can be differentiated with respect to t", _shorten(str(expr)),
                          f"its derivative of order {order} is not a function of t")

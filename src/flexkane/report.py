@@ -119,13 +119,16 @@ def _signal_symbols(eom) -> set:
 
 def _signal_definitions(eom) -> list:
     """``(symbol, expression, is_rate)``: each sensor and controller output that efforts use, then the
-    rate of each controller state, in terms of q, u, z, t and the constants."""
+    rate of each controller state, in terms of q, u, z, t, the constants and the signals listed before
+    (each written once: the printed size stays linear in the number of chained signals)."""
     chain = eom.chain
     definitions = dict(chain.intermediates.definitions)
     order = {sym: k for k, sym in enumerate(definitions)}
-    out = [(sym, chain.intermediates.expand(definitions[sym]), False)
-           for sym in sorted(_signal_symbols(eom), key=order.__getitem__)]
-    out += [(z, rate, True) for z, rate in zip(getattr(eom, "z", ()), getattr(eom, "zdot", ()))]
+    signals = _signal_symbols(eom)
+    out = [(sym, chain.intermediates.expand(definitions[sym], keep=signals), False)
+           for sym in sorted(signals, key=order.__getitem__)]
+    rates = eom.compact.zdot if getattr(eom, "compact", None) is not None else getattr(eom, "zdot", ())
+    out += [(z, chain.intermediates.expand(rate, keep=signals), True) for z, rate in zip(getattr(eom, "z", ()), rates)]
     return out
 
 

@@ -75,6 +75,13 @@ class Results:
     version: str = __version__
     warnings: list = field(default_factory=list)
 
+    def __post_init__(self):
+        taken = duplicate_columns(self.state_names, self.outputs)
+        if taken:   # the validation refuses models whose names collide (flexkane.model.columns)
+            from .model.columns import DuplicateColumnError
+
+            raise DuplicateColumnError(f"internal error: the result column(s) {', '.join(taken)} were made twice")
+
     # ------------------------------------------------------- the conventions of scipy.integrate.solve_ivp
     @property
     def y(self) -> np.ndarray:
@@ -162,6 +169,12 @@ class Results:
         _savez_fixed_dates(buffer, arrays)
         atomic_write_bytes(npz_path, buffer.getvalue())
         return [csv_path, npz_path]
+
+
+def duplicate_columns(state_names, output_names) -> list[str]:
+    """Names given to more than one column of the results (``t``, the states, the outputs), sorted."""
+    names = ["t", *state_names, *output_names]
+    return sorted({name for name in names if names.count(name) > 1})
 
 
 def _savez_fixed_dates(buffer, arrays: dict) -> None:
@@ -292,6 +305,9 @@ def load_results(path: str | Path) -> Results:
     if outputs.shape[0] != len(names) or (names and outputs.shape[1] != n_rows):
         raise ResultsError(path, f"array 'outputs' has shape {outputs.shape}, expected ({len(names)}, {n_rows}) "
                                  f"for {len(names)} output names and {n_rows} output times")
+    taken = duplicate_columns(state_names, names)
+    if taken:
+        raise ResultsError(path, f"it names several columns alike ({', '.join(taken)}): not written by this flexkane")
     metadata = {"warnings": [], "timing": {}}
     for key in ("parameters", "solver", "timing", "warnings"):
         if key not in data:

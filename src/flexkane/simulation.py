@@ -22,6 +22,7 @@ import numpy as np
 from ._version import __version__
 from .errors import ModelError
 from .model import Model, dumps_model
+from .model.columns import ColumnTable
 from .model.validate import MAX_OUTPUT_ROWS, check_output_grid
 from .results import Results
 
@@ -230,6 +231,10 @@ def compile_model(eom, cache_dir=None, *, announce=None, outputs: bool = True) -
     from .numerics.jit_module import build_module, integrators_compiled, is_compiled, structure_key
 
     start = time.perf_counter()
+    if not derivation.manifest["state_names"]:   # derive serves inverse dynamics; a run needs a state
+        raise ModelError("joints", "at least one coordinate that no coordinate driver prescribes, or a controller "
+                         "state, to integrate (derive gives the drivers' efforts of a fully prescribed motion)",
+                         "a chain whose every coordinate a driver prescribes")
     source = derivation.source()
     key = structure_key(__version__, source)
     module = build_module(source, key, cache_dir)
@@ -392,8 +397,9 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
         n_valid = len(t)
     # the compiled outputs (u' of the outputs that need it from the compiled rhs, row by row)
     with np.errstate(all="ignore"):
-        outputs = {k: np.array(v, dtype=float) for k, v in evaluate_outputs(compiled.module, t, state, p).items()} \
-            if control is None else control.outputs(t, state, p)
+        outputs = ColumnTable({k: np.array(v, dtype=float) for k, v in evaluate_outputs(compiled.module, t, state,
+                                                                                            p).items()}
+                              if control is None else control.outputs(t, state, p))   # work: a name of its own
         spins = evaluate_outputs(compiled.module, t, state, p, name="spin_rates") \
             if hasattr(compiled.module, "spin_rates") else {}
     if "energy" in outputs:
@@ -418,7 +424,7 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
         from .model.initial import initial_values
 
         warnings = initial_values(model).warnings + warnings
-    return Results(t=t, state=state, state_names=list(state_names), outputs=outputs,
+    return Results(t=t, state=state, state_names=list(state_names), outputs=dict(outputs),
                    model_text=dumps_model(model),
                    parameters=dict(zip(manifest["constant_names"], numbers["p"])),
                    solver=solver, partial=partial, warnings=warnings)

@@ -4,14 +4,20 @@ Two assumptions of the chapter's formulation can fail silently during a run:
 
 * **small deflections.** The assumed modes (eq. 8.15) and the linear strain energy (eq. 8.32)
   describe a beam whose deflection is small against its length; a run warns when the largest
-  transverse deflection of a beam, ``max_x,t |sum_i Phi_i(x/L) q_i(t)|``, exceeds
-  ``simulation.deflection_warning`` (default 10 %) of its length.
+  transverse deflection of a beam, ``max_x,t |sum_i Phi_i(x/L) q_i(t)|`` (in space the length of
+  the deflection vector ``(v, w)`` along the section's principal axes, each summed over the modes of
+  its bending plane), exceeds ``simulation.deflection_warning`` (default 10 %) of its length.
 * **slow spin without geometric stiffening.** Without the foreshortening of the beam axis
   (``geometric_stiffening = true``) the linear modes miss the centrifugal stiffening of a spinning
   beam; the error grows like the square of the spin over the first bending frequency (Kane, Ryan and
   Banerjee 1987; at 11 % of it the chapter's beam is off by 9 % of its tip deflection). A run warns
-  when the angular velocity of a beam's root frame exceeds ``simulation.spin_warning`` (default 10 %)
-  of the beam's first bending frequency.
+  when the angular velocity of a beam's root frame about the axes normal to the beam (planar: about
+  z; in space: ``sqrt(w_y^2 + w_z^2)`` in the root frame's axes, a spin about the beam's own axis
+  stretches nothing) exceeds ``simulation.spin_warning`` (default 10 %) of the beam's first bending
+  frequency (in space the lower of its two bending planes').
+
+Both checks read the bending planes of a beam from one table, :data:`BENDING_PLANES` (one plane in
+the plane, two in space), so planar and spatial beams are checked by the same code.
 
 And one of the integration: the Euler parameters of a spherical or free joint keep unit norm only to
 the solver's tolerance (their kinematic equations preserve it exactly); a run warns when
@@ -28,13 +34,17 @@ import math
 
 import numpy as np
 
-__all__ = ["QUATERNION_NORM_WARNING", "beam_checks", "first_bending_frequency", "run_warnings", "spin_expressions",
+__all__ = ["BENDING_PLANES", "QUATERNION_NORM_WARNING", "beam_checks", "first_bending_frequency", "run_warnings", "spin_expressions",
            "validity_warnings"]
 
 #: Largest departure of a joint's Euler parameters from unit norm before a run warns [-].
 QUATERNION_NORM_WARNING = 1e-6
 #: Stations per beam at which the deflection is sampled, as fractions of its length.
 _STATIONS = np.linspace(0.0, 1.0, 41)
+#: The bending planes of a beam by the chain's dimensions: (coordinate role, shape field, rigidity
+#: field). A spatial beam's deflection along y_p (``shape_y``) bends it about z_p (``EI_z``).
+BENDING_PLANES = {2: (("mode", "shape", "EI"),),
+                  3: (("mode_y", "shape_y", "EI_z"), ("mode_z", "shape_z", "EI_y"))}
 
 
 def first_bending_frequency(family, n: int, L: float, EI: float, rho: float) -> float:
@@ -82,14 +92,30 @@ def spin_expressions(eom) -> dict:
 
     out = {}
     known = {eom.t, *eom.q, *eom.u, *eom.constants, *(s for s, _ in getattr(eom, "intermediates", ()))}
+    roles = [role for role, _, _ in BENDING_PLANES[eom.chain.dimensions]]
     for name, beam in eom.model.beams.items():
-        if beam.geometric_stiffening or not eom.chain.beam_modes(name):
+        if beam.geometric_stiffening or not any(eom.chain.of(name, role) for role in roles):
             continue
-        omega = sp.sympify(eom.kinematics.beams[name].frame.omega).xreplace(eom.substitutions or {})
-        omega = omega.xreplace(eom.dependent_speeds)
+        omega = _transverse_spin(eom.kinematics.beams[name].frame.omega)
+        omega = omega.xreplace(eom.substitutions or {}).xreplace(eom.dependent_speeds)
         if omega != 0 and omega.free_symbols <= known:
             out[name] = omega
     return out
+
+
+def _transverse_spin(omega):
+    """The angular velocity of a beam's root frame about the axes normal to the beam's axis x
+    [rad/s]: planar frames turn about z only (``omega`` is that scalar); a spatial frame's
+    ``(w_x, w_y, w_z)`` along its own axes gives ``sqrt(w_y^2 + w_z^2)``."""
+    import sympy as sp
+
+    if isinstance(omega, (tuple, list)):
+        transverse = [sp.sympify(c) for c in omega[1:]]
+        nonzero = [c for c in transverse if c != 0]
+        if len(nonzero) == 1:
+            return nonzero[0]
+        return sp.sqrt(sp.Add(*[c ** 2 for c in transverse]))
+    return sp.sympify(omega)
 
 
 def beam_checks(eom, model, spins) -> list[dict]:
@@ -107,9 +133,10 @@ def beam_checks(eom, model, spins) -> list[dict]:
     Returns
     -------
     list of dict
-        JSON-able entries ``{"beam", "modes" (state indices), "L" [m], "phi" (modes x stations, the
-        shape functions at :data:`_STATIONS` of the length), "p1" [rad/s] or None}``; ``p1``, the
-        first bending frequency, only for the beams in ``spins``.
+        JSON-able entries ``{"beam", "L" [m], "planes", "p1" [rad/s] or None}``, ``planes`` one
+        ``{"modes" (state indices), "phi" (modes x stations, the shape functions at
+        :data:`_STATIONS` of the length)}`` per bending plane with modes (:data:`BENDING_PLANES`);
+        ``p1``, the lowest first bending frequency of the planes, only for the beams in ``spins``.
     """
     from .model.field_values import FieldValues
     from .modes.from_spec import shape_family
@@ -119,16 +146,22 @@ def beam_checks(eom, model, spins) -> list[dict]:
     params = fields.parameters
     checks = []
     for name, beam in model.beams.items():
-        modes = [q.name for q in eom.chain.beam_modes(name)]
-        if not modes:
-            continue
         path = f"beams.{name}"
-        L, EI, rho = (fields.value(beam.L, f"{path}.L"), fields.value(beam.EI, f"{path}.EI"),
-                      fields.value(beam.rho, f"{path}.rho"))
-        family = shape_family(beam.shape, f"{path}.shape", params)
-        p1 = first_bending_frequency(family, len(modes), L, EI, rho) if name in spins else None
-        checks.append({"beam": name, "modes": [names.index(m) for m in modes], "L": L,
-                       "phi": np.asarray(family.phi(_STATIONS, len(modes)), dtype=float).tolist(), "p1": p1})
+        planes, frequencies = [], []
+        for role, shape_key, rigidity_key in BENDING_PLANES[eom.chain.dimensions]:
+            modes = [c.q.name for c in eom.chain.of(name, role)]
+            if not modes:
+                continue
+            family = shape_family(getattr(beam, shape_key), f"{path}.{shape_key}", params)
+            planes.append({"modes": [names.index(m) for m in modes],
+                           "phi": np.asarray(family.phi(_STATIONS, len(modes)), dtype=float).tolist()})
+            if name in spins:
+                L, EI, rho = (fields.value(beam.L, f"{path}.L"), fields.value(getattr(beam, rigidity_key),
+                              f"{path}.{rigidity_key}"), fields.value(beam.rho, f"{path}.rho"))
+                frequencies.append(first_bending_frequency(family, len(modes), L, EI, rho))
+        if planes:
+            checks.append({"beam": name, "L": fields.value(beam.L, f"{path}.L"), "planes": planes,
+                           "p1": min(frequencies) if frequencies else None})
     for joint in eom.chain.joints:
         euler = [c.q.name for c in eom.chain.of(joint.name) if c.role in ("e0", "e1", "e2", "e3")]
         if euler:
@@ -173,9 +206,9 @@ def run_warnings(checks: list[dict], simulation, t: np.ndarray, state: np.ndarra
                     "accurate; tighten rtol and atol")
             continue
         name, L = check["beam"], check["L"]
-        q = state[:, check["modes"]]
-        with np.errstate(all="ignore"):
-            y = np.abs(q @ np.array(check["phi"], dtype=float))                   # (N, stations)
+        with np.errstate(all="ignore"):   # the deflection vector's length over the bending planes
+            y = np.sqrt(sum((state[:, plane["modes"]] @ np.array(plane["phi"], dtype=float)) ** 2
+                            for plane in check["planes"]))                         # (N, stations)
         peak = np.max(np.where(np.isfinite(y), y, np.inf), axis=1)                # (N,)
         over = np.flatnonzero(peak > simulation.deflection_warning * L)
         if over.size:

@@ -402,9 +402,10 @@ def test_feedback_is_printed_by_name_in_the_equations():
     eom = flexkane.derive(flexkane.builtin_model("flexible-arm-pid"))
     lines = format_equations(eom).splitlines()
     assert "F[u_shoulder]_loads = motor - tau_d" in lines          # F_r of the hub: the controller by name
-    assert "motor = Max(min_motor, Min(tau_max, -Kd*u_shoulder + Ki*error_integral + Kp*(-q_shoulder + "\
-        "theta_f)))" in lines
-    assert "error_integral' = -q_shoulder + theta_f" in lines
+    # each signal defined once, in terms of the signals defined before it (chains print in linear size)
+    assert "error = -q_shoulder + theta_f" in lines
+    assert "motor = Max(min_motor, Min(tau_max, -Kd*u_shoulder + Ki*error_integral + Kp*error))" in lines
+    assert "error_integral' = error" in lines
     assert eom.state_names[-1] == "error_integral" and list(eom.zdot) == [sp.Symbol("theta_f", real=True)
                                                                             - eom.q[0]]
 

@@ -2,9 +2,11 @@
 
 :func:`mutated_files` turns the example files and the built-in models into mutants, one or two
 changes each, drawn from a :class:`random.Random` of a given seed (the same seed gives the same
-files on every machine, so a failure reproduces). Changes of the data (through TOML) replace a value
-by an extreme number, a wrong type, a huge exponent or an unknown name, delete a key or a table, or
-misspell a key; changes of the text duplicate a table, truncate the file, flip or insert random
+files on every machine, so a failure reproduces). The bases include small models of the 3D and control
+features (:func:`feature_texts`: controllers, sensors, drivers, spatial beams and loops). Changes of the
+data (through TOML) replace a value by an extreme number, a wrong type, a huge exponent, an unknown
+name or a load with a pole, delete a key or a table, misspell a key or a name it refers to, or rename a part, a sensor or a
+controller state after a result column; changes of the text duplicate a table, truncate the file, flip or insert random
 bytes. :func:`runnable_mutant` keeps the structure of a model (shape functions, expressions) and
 changes only numbers and a few keys, with a short end time, for ``flexkane run``.
 """
@@ -40,7 +42,16 @@ HOSTILE_EXPRESSIONS = ("9**9**9", "2**1000", "(3*t)**50", "(t + sin(t) + cos(t) 
                        "+".join(f"t*{k}" for k in range(300)), "H_11", "m_link", "q1", "u_pivot", "unknown_name",
                        "__import__('os')", "().__class__", "lambda: 1", "[1 for _ in (1,)]", "t if t else 1",
                        "x", "xi", "t", "pi", "L*", "(", "1e-320", "tan(pi/2)", "(-8)**(1/3)",
-                       "20:80:50000", "20:80:100001", "0:1:0", "1:1:1", "a:b:c", "20:80:1e9", "-1:1:3", "1:2:3:4")
+                       "20:80:50000", "20:80:100001", "0:1:0", "1:1:1", "a:b:c", "20:80:1e9", "-1:1:3", "1:2:3:4",
+                       "0.001/(x - 0.35)**2", "1/sqrt(abs(x - 0.5))", "tan(20*x)",
+                       "abs(abs(abs(abs(abs(abs(t - 0.01) - 0.01) - 0.01) - 0.01) - 0.01) - 0.01)",
+                       "c1 + sin(c1)", "energy", "x_cm")
+#: Names of result columns that a part, a coordinate or a controller state may not take.
+COLUMN_NAMES = ("energy", "kinetic", "work", "energy_balance", "x_cm", "p_y", "H_z", "t", "yaw_arm", "e0_bus",
+                "x_hub", "tip_link", "sensor_tip", "controller_motor", "effort_shoulder", "q_hinge", "u_pivot_wx")
+#: Tables whose keys are names of parts, sensors or controllers, and tables of named controller states.
+NAMED_TABLES = ("bodies", "beams", "joints", "loads", "distributed_loads", "springs", "constraints", "sensors",
+                "controllers", "states")
 #: Names a misspelt or invented key may take.
 UNKNOWN_KEYS = ("varry", "n_mode", "EII", "masss", "typ", "parnet", "t_ned", "dt-out", "H_11", "m_link",
                 "q_pivot", "u_pivot", "../x", "", " ", "a.b", "ü")
@@ -62,6 +73,7 @@ def base_texts() -> dict[str, str]:
     from flexkane.builtin import builtin_names
 
     texts = {p.stem: p.read_text("utf-8") for p in sorted((ROOT / "examples").glob("*.toml"))}
+    texts.update({f"feature:{name}": text for name, text in feature_texts().items()})
     for path in sorted((ROOT / "tests" / "validation" / "untrusted_models").glob("*.toml")):
         text = path.read_text("utf-8")   # valid files of the corpus (sweeps, drivers with kinks, powers)
         if path.name in VALID_CORPUS_FILES:
@@ -70,6 +82,23 @@ def base_texts() -> dict[str, str]:
         text = builtin_text(name)
         if text not in texts.values():
             texts[f"builtin:{name}"] = text
+    return texts
+
+
+def feature_texts() -> dict[str, str]:
+    """Small models of the 3D and control features, by name: a hinge with a PID controller, a filter
+    and point and joint sensors; a free body under an attitude law with integral states; a clamped
+    spatial beam with a sensor of every beam kind; the spatial loops of the loop-closure tests (point on
+    a line, welded pair, RSSR, slider-crank); the planar PID arm (a driver-free controller chain)."""
+    from spatial_control_models import (ATTITUDE, ATTITUDE_PI, HINGE, HINGE_SENSORS, INTEGRAL, PID, SENSED_BEAM,
+                                        SPRING)
+
+    texts = {"hinge-pid-sensors": HINGE.replace("{effort}", PID) + HINGE_SENSORS,
+             "hinge-spring": HINGE.replace("{effort}", SPRING),
+             "attitude-integral": ATTITUDE.replace("{torque}", ATTITUDE_PI) + INTEGRAL,
+             "sensed-beam": SENSED_BEAM}
+    for path in sorted((ROOT / "tests" / "kane" / "spatial_loops").glob("*.toml")):
+        texts[f"loop-{path.stem}"] = path.read_text("utf-8")
     return texts
 
 
@@ -109,8 +138,14 @@ def _change_data(rng: random.Random, data: dict) -> str:
         return "invent"
     path, value = rng.choice(entries)
     parent, key = _parent(data, path), path[-1]
-    kind = rng.choice(("number", "number", "type", "expression", "power", "delete", "rename", "name"))
-    if kind == "number":
+    kind = rng.choice(("number", "number", "type", "expression", "power", "delete", "rename", "name", "column",
+                       "typo"))
+    named = [p for p, _ in entries if len(p) >= 2 and p[-2] in NAMED_TABLES and isinstance(p[-1], str)]
+    if kind == "column" and named:   # a part, a controller state or a sensor named like a result column
+        path = rng.choice(named)
+        parent = _parent(data, path)
+        parent[rng.choice(COLUMN_NAMES)] = parent.pop(path[-1])
+    elif kind == "number":
         parent[key] = rng.choice(EXTREME_NUMBERS)
     elif kind == "type":
         parent[key] = copy.deepcopy(rng.choice(WRONG_TYPES))
@@ -122,6 +157,12 @@ def _change_data(rng: random.Random, data: dict) -> str:
         del parent[key]
     elif kind == "rename" and isinstance(key, str):
         parent[_misspell(rng, key)] = parent.pop(key)
+    elif kind == "typo":   # a misspelt reference, often in a list of names (dependent speeds, coordinates)
+        names = [(p, v) for p, v in entries if isinstance(v, str) and v.isidentifier()]
+        listed = [(p, v) for p, v in names if isinstance(p[-1], int)]
+        if names:
+            path, value = rng.choice(listed if listed and rng.random() < 0.5 else names)
+            _parent(data, path)[path[-1]] = _misspell(rng, value)
     elif kind == "name" and isinstance(value, str):   # an unknown or generated name inside an expression
         parent[key] = f"{value} + {rng.choice(('nope', 'H_11', 'm_rod', 'q_pivot', 't', 'xi', 'x'))}"
     else:

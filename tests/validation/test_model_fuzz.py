@@ -1,6 +1,8 @@
 """Mutated model files and mutated models give a clean ModelError or a model that derives.
 
-Starting from built-in model files, hypothesis drops keys, misspells them, replaces values by wrong
+Starting from built-in model files (planar, 3D, and small models of the control and 3D features:
+controllers, sensors, drivers, spatial beams and loops), hypothesis drops keys, misspells them or the
+names they refer to, renames parts and controller states after result columns, replaces values by wrong
 types, negative, huge or non-finite numbers, stray text and random expressions (including attempts
 to reach Python objects), and deletes parts that others refer to. Whatever it produces, reading
 the file raises :class:`~flexkane.errors.ModelError` or gives a model that ``derive`` accepts (or
@@ -13,6 +15,7 @@ import string
 import tomllib
 
 import numpy as np
+import pytest
 import tomli_w
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -21,9 +24,17 @@ import flexkane
 from flexkane.builtin import builtin_text
 from flexkane.errors import ModelError
 from flexkane.model.paths import set_value
+from model_mutations import COLUMN_NAMES, NAMED_TABLES, feature_texts
 
 BASES = ("pendulum-beam", "falling-beam-exact", "flexible-arm", "four-bar")
-DATA = {name: tomllib.loads(builtin_text(name)) for name in BASES}
+#: 3D built-in models, the built-in models with controllers and sensors, and the small models of the 3D and
+#: control features (:func:`model_mutations.feature_texts`: controllers, sensors, drivers, spatial beams and
+#: loops); the small ones are derived when a mutant is valid.
+FEATURES = feature_texts()
+FEATURE_BASES = ("robot-arm-3d", "spacecraft-slew", "spacecraft-flexible-slew", "flexible-arm-pid",
+                 "flexible-arm-pd", *(f"feature:{name}" for name in FEATURES))
+DATA = {name: tomllib.loads(FEATURES[name.removeprefix("feature:")] if name.startswith("feature:")
+                            else builtin_text(name)) for name in (*BASES, *FEATURE_BASES)}
 #: Most shape functions of a mutated model that is derived (a valid larger one is only validated): the
 #: work of a derivation grows steeply with them (40, the limit of a model, takes minutes), and the
 #: work of each example is bounded by this cap rather than by a clock.
@@ -42,7 +53,8 @@ def _nodes(node, path=()):
 
 PATHS = {name: [p for p in _nodes(data) if p[0] != "sweep"] for name, data in DATA.items()}
 PARTS = {name: [p for p in PATHS[name] if len(p) == 2 and p[0] in
-                ("bodies", "beams", "joints", "loads", "springs", "constraints")] for name in BASES}
+                ("bodies", "beams", "joints", "loads", "springs", "constraints", "sensors", "controllers",
+                 "distributed_loads")] for name in DATA}
 
 # ------------------------------------------------------------------------------- strategies
 _atoms = st.one_of(
@@ -106,8 +118,22 @@ def _parent(data, path):
 def _mutate(draw, base: str) -> dict:
     data = copy.deepcopy(DATA[base])
     for _ in range(draw(st.integers(1, 2))):
-        op = draw(st.sampled_from(["drop", "rename", "replace", "number", "number", "delete_part"]))
+        op = draw(st.sampled_from(["drop", "rename", "replace", "number", "number", "delete_part", "column",
+                                   "typo"]))
         paths = [p for p in _nodes(data) if p[0] != "sweep"]
+        named = [p for p in paths if len(p) >= 2 and p[-2] in NAMED_TABLES and isinstance(p[-1], str)]
+        if op == "column" and named:   # a part, sensor or controller state named like a result column
+            path = draw(st.sampled_from(named))
+            parent = _parent(data, path)
+            parent[draw(st.sampled_from(COLUMN_NAMES))] = parent.pop(path[-1])
+            continue
+        references = [p for p in paths if isinstance(_parent(data, p)[p[-1]], str)
+                      and _parent(data, p)[p[-1]].isidentifier()]
+        listed = [p for p in references if isinstance(p[-1], int)]   # lists of names: dependent speeds, ...
+        if op == "typo" and references:   # a misspelt name of a part, a speed, a signal
+            path = draw(st.sampled_from(listed if listed and draw(st.booleans()) else references))
+            _parent(data, path)[path[-1]] = _typo(_parent(data, path)[path[-1]], draw)
+            continue
         if op == "delete_part":
             parts = [p for p in paths if len(p) == 2 and p in PARTS[base]]
             paths = parts or paths
@@ -130,14 +156,20 @@ def _clean(exc: ModelError) -> None:
     assert exc.path and str(exc).startswith(f"{exc.path}: expected "), str(exc)
 
 
-def _derive_if_valid(model) -> None:
-    """A valid model derives, and saving it gives a file that reads back to the same file."""
+def _shapes(model) -> int:
+    """Shape functions of the model's beams (bending in each plane, torsion, axial)."""
+    keys = ("n_modes", "n_modes_y", "n_modes_z", "n_torsion", "n_axial")
+    return sum(getattr(beam, key, 0) or 0 for beam in model.beams.values() for key in keys)
+
+
+def _derive_if_valid(model, derive: bool = True) -> None:
+    """A valid model derives (when ``derive``), and saving it gives a file that reads back to the same file."""
     try:
         model.validate()
     except ModelError as exc:
         _clean(exc)
         return
-    if sum(beam.n_modes + beam.n_axial for beam in model.beams.values()) <= MAX_DERIVED_SHAPES:
+    if derive and _shapes(model) <= MAX_DERIVED_SHAPES:
         try:
             flexkane.derive(model)
         except ModelError as exc:
@@ -151,7 +183,13 @@ def _derive_if_valid(model) -> None:
 @SETTINGS
 @given(st.data())
 def test_mutated_model_files_give_a_model_error_or_a_model_that_derives(data):
-    base = data.draw(st.sampled_from(BASES), label="base")
+    _mutant_file(data, BASES, derive=lambda base: True)
+
+
+def _mutant_file(data, bases, derive) -> None:
+    """A mutant of one of ``bases`` read back: a clean ModelError or a valid model, derived when
+    ``derive(base)``."""
+    base = data.draw(st.sampled_from(bases), label="base")
     mutated = _mutate(data.draw, base)
     try:
         text = tomli_w.dumps(mutated)
@@ -162,7 +200,7 @@ def test_mutated_model_files_give_a_model_error_or_a_model_that_derives(data):
     except ModelError as exc:
         _clean(exc)
         return
-    _derive_if_valid(model)
+    _derive_if_valid(model, derive=derive(base))
 
 
 @SETTINGS
@@ -197,3 +235,21 @@ def test_random_expressions_in_value_fields_give_a_model_error_or_a_model_that_d
             continue
         state = flexkane.derive(trial).initial_state(trial)
         assert np.all(np.isfinite(state))
+
+
+def _feature_test(examples: int, derive: bool):
+    """A test of ``examples`` mutants of the 3D and control bases (controllers, sensors, drivers,
+    spatial beams and loops); ``derive``: the valid mutants of the small feature models are derived
+    (a 3D built-in model takes tens of seconds)."""
+    @settings(max_examples=examples, deadline=None, database=None,
+              suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+    @given(st.data())
+    def test(data):
+        _mutant_file(data, FEATURE_BASES, derive=lambda base: derive and base.startswith("feature:"))
+    return test
+
+
+#: A cheap sample, validated only; the slow marker a larger one, derived.
+test_mutated_3d_and_control_models_give_a_model_error_or_a_valid_model = _feature_test(100, derive=False)
+test_many_mutated_3d_and_control_models_give_a_model_error_or_a_model_that_derives = pytest.mark.slow(
+    _feature_test(300, derive=True))

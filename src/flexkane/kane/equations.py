@@ -170,7 +170,7 @@ class EquationsOfMotion:
         driven = [r for r, c in enumerate(speed_coords) if c.driver is not None]
         self.q = [c.q for c in coords if c.driver != "coordinate"]
         u_free = [speed_coords[r].u for r in free]
-        qdot = sp.Matrix([sub(chain.qdot[q]) for q in self.q])
+        qdot = sp.Matrix(len(self.q), 1, [sub(chain.qdot[q]) for q in self.q])   # (0, 1) when every q is driven
         self.z = list(chain.controller_states)
         zdot = sp.Matrix(len(self.z), 1, [sub(chain.controller_rates[z]) for z in self.z])
         # M's entries formed when read where nothing here needs them (no drivers, no closed loops)
@@ -188,7 +188,7 @@ class EquationsOfMotion:
         else:
             M = LazyMassMatrix(inertia, free, chain.intermediates) if lazy else \
                 sp.Matrix(len(free), len(free), lambda i, j: sub(Mfull[free[i], free[j]]))
-            forcing = sp.Matrix([sub(F_total[r] - inertia.remainder[r]
+            forcing = sp.Matrix(len(free), 1, [sub(F_total[r] - inertia.remainder[r]
                                      - sp.Add(*[Mfull[r, d] * a for d, a in zip(driven, ud_driven)]))
                                  for r in free])
         efforts = {}    # generalized force each driver supplies

@@ -211,9 +211,14 @@ class Intermediates:
         return self._rate[s]
 
     # ------------------------------------------------------------------ evaluation
-    def expand(self, expr) -> sp.Expr:
-        """``expr`` with every intermediate replaced by its definition, recursively."""
+    def expand(self, expr, keep=frozenset()) -> sp.Expr:
+        """``expr`` with every intermediate replaced by its definition, recursively; the symbols of
+        ``keep`` stay as they are (a printed definition of a controller output names the outputs it
+        uses instead of writing each out again: twenty chained outputs print in linear size)."""
         expr = sp.sympify(expr)
+        if keep:
+            used = needed_definitions([(s, d) for s, d in self.definitions.items() if s not in keep], [expr])
+            return expr.xreplace(written_out(used)) if used else expr
         used = needed_definitions(self.definitions.items(), [expr])
         if not used:
             return expr

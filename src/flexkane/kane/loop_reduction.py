@@ -24,6 +24,7 @@ import numpy as np
 import sympy as sp
 
 from ..expressions import bounded_expand
+from ..model.columns import ColumnTable
 from .chain import BEAM_ROLES
 from .constraints import ConstraintSet, choose_dependent
 from .speed_reduction import dependent_speed_reduction
@@ -183,11 +184,11 @@ def reduce_by_loops(chain, constraints: ConstraintSet, mass_matrix: sp.Matrix, f
         column = sp.Matrix([sub(chain.partial(g, coord.u)) for g in g_raw])
         efforts[owner] = effort - (column.T * lam)[0]
     M_reduced, f_reduced = dependent_speed_reduction(mass_matrix, forcing, P, e)
-    out = dict(outputs)
+    out = ColumnTable(outputs)     # each name once (flexkane.model.columns)
     for owner, effort in efforts.items():
-        out[f"effort_{owner}"] = effort
-    out["power_nonconservative"] = power(efforts)
-    out = {k: v.xreplace(ud_subs).xreplace(dep_subs) for k, v in out.items()}
+        out.replace(f"effort_{owner}", effort)
+    out.replace("power_nonconservative", power(efforts))
+    out = ColumnTable({k: v.xreplace(ud_subs).xreplace(dep_subs) for k, v in out.items()})
     for name, ph in zip(cons.names, phi):
         out[f"constraint_{name}"] = ph
     for s, expr in dep_subs.items():

@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from ..model.columns import ColumnTable
 from .active import gravity_vector, moving_rest
 from .controllers import signal_outputs
 from .kinematics import rot
@@ -49,7 +50,7 @@ def output_expressions(eom) -> dict:
     kin = eom.kinematics
     chain = eom.chain
     model = chain.model
-    out: dict = {}
+    out = ColumnTable()    # each name once (flexkane.model.columns)
     kinetic = []
     mass_total = []
     first_moment = [[], []]

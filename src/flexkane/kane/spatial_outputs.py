@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from ..model.columns import ColumnTable
 from .active import moving_rest
 from .controllers import signal_outputs
 from .rotation import yaw_pitch_roll
@@ -41,7 +42,7 @@ def spatial_output_expressions(eom) -> dict:
     kin = eom.kinematics
     chain = eom.chain
     model = chain.model
-    out: dict = {}
+    out = ColumnTable()    # each name once (flexkane.model.columns)
     kinetic, masses = [], []
     first = (sp.Integer(0),) * 3
     momentum = (sp.Integer(0),) * 3

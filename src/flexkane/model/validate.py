@@ -345,6 +345,9 @@ def validate_model(model, *, units: dict | None = None) -> None:
     problems.raise_found(final=True)   # the structure needs a valid tree of valid parts
     coordinates = _check_structure(model, values)
     _check_signals(model, values, lengths, coordinates)
+    from .columns import result_columns
+
+    result_columns(model, coordinates)   # one name per column of the results
 
 
 # ---------------------------------------------------------------------------------------- parts
@@ -657,7 +660,15 @@ def _check_load(model, load: Load, values: _Values, lengths: dict) -> None:
     _choice(f"{path}.frame", load.frame, FRAMES)
 
 
+def _run_times(simulation) -> tuple[float, ...]:
+    """The start and, when it is a finite number, the end of the run [s]."""
+    end = simulation.t_end
+    return (0.0, float(end)) if _is_finite(end) and end > 0 else (0.0,)
+
+
 def _check_distributed_load(model, load: DistributedLoad, values: _Values, lengths: dict) -> None:
+    from .load_integrability import check_integrable
+
     path = f"distributed_loads.{load.name}"
     beams = list(model.beams)
     if not isinstance(load.beam, str) or load.beam not in model.beams:
@@ -684,6 +695,7 @@ def _check_distributed_load(model, load: DistributedLoad, values: _Values, lengt
             except ModelError as exc:
                 raise ModelError(f"{path}.{key}", f"{kind}, finite at t = 0 along the beam", value,
                                  f"at x = {x:g} m: {exc.hint or exc.expected}") from None
+        check_integrable(f"{path}.{key}", value, values.parameters, length, _run_times(model.simulation))
     if all(isinstance(v, (int, float)) and v == 0 for v in (getattr(load, key) for key in keys)):
         raise ModelError(path, f"a non-zero component {' or '.join(keys)} [N/m]", None, show_given=False)
 
@@ -976,7 +988,7 @@ def _check_structure(model, values: _Values) -> list:
         from .initial import initial_values
 
         initial_values(model, values)   # orientations as tables, Euler parameters (all four, not zero)
-    free = {c.u for c in coordinates if c.driver is None}
+    free = {c.u for c in coordinates if c.driver is None and c.u is not None}   # e0 of a 3D joint: no speed
     chosen: dict[str, str] = {}
     for con in model.constraints.values():
         for i, name in enumerate(con.dependent or []):
