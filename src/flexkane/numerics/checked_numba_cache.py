@@ -1,0 +1,144 @@
+"""Numba's on-disk cache of flexkane's functions, each file checked against its digest before it is loaded.
+
+Numba keeps the machine code of an ``@njit(cache=True)`` function in two kinds of pickles beside
+its source (``__pycache__``): an index (``<function>.nbi``: which data file holds which signature)
+and the data (``<function>.<n>.nbc``). A truncated or changed file made the first call raise
+``UnpicklingError`` (or ``EOFError``, ...) as a traceback, or could load damaged machine code.
+:func:`guard` makes a dispatcher's cache write these files through
+:func:`flexkane.checked_cache.write_checked` (a digest listed beside each one) and read them through
+:func:`flexkane.checked_cache.read_checked`: a damaged index or data file, or one without a digest,
+is deleted before anything in it is unpickled, a note names it, and Numba compiles the function
+again (and stores it, checked). A failure to unpickle a file whose digest matched is treated the
+same way.
+
+The generated modules (:func:`flexkane.numerics.jit_module.build_module`) and the package's
+integrator loops and linear algebra (:mod:`~flexkane.numerics.dop853`,
+:mod:`~flexkane.numerics.radau`, :mod:`~flexkane.numerics.linear_algebra`,
+:mod:`~flexkane.numerics.mass_assembly`) guard their functions; Numba's caches of other code are
+left as they are.
+
+This reaches into Numba's cache classes (``numba.core.caching.IndexDataCacheFile``: ``_load_index``,
+``_load_data``, ``_open_for_write``, and a dispatcher's ``_cache._cache_file``, the same in Numba
+0.59 to 0.68): :func:`guard` checks that they are there with the expected arguments and otherwise
+leaves the dispatcher as it is (:func:`available` says which).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import inspect
+import io
+import pickle
+from pathlib import Path
+
+from flexkane.checked_cache import discard, note_damage, read_checked, write_checked
+
+__all__ = ["available", "guard", "guard_namespace"]
+
+_REMEDY = "compiled again"
+#: Exceptions of a file that unpickles badly (its digest matched, yet it is not Numba's).
+_UNPICKLING = (EOFError, ValueError, TypeError, AttributeError, ImportError, IndexError, KeyError,
+               MemoryError, pickle.UnpicklingError)
+
+
+def _what(path: str) -> str:
+    """What a file of Numba's cache holds, by module (one note per module): ``dop853.dop853_chunk-218.py311.nbi``
+    is Numba's compiled code of ``dop853``."""
+    return f"Numba's compiled code of {Path(path).name.split('.')[0]}"
+
+
+def _checked_class():
+    """The subclass of Numba's ``IndexDataCacheFile`` whose files carry digests; None if Numba differs."""
+    try:
+        from numba.core.caching import IndexDataCacheFile
+    except ImportError:
+        return None
+    expected = {"_load_index": ["self"], "_load_data": ["self", "name"], "_open_for_write": ["self", "filepath"],
+                "_data_path": ["self", "name"]}
+    for name, arguments in expected.items():
+        method = getattr(IndexDataCacheFile, name, None)
+        if method is None or list(inspect.signature(method).parameters) != arguments:
+            return None
+
+    class CheckedIndexDataCacheFile(IndexDataCacheFile):
+        """Numba's index and data files, written with their digests and checked before unpickling."""
+
+        def _load_index(self):
+            path = self._index_path
+            if read_checked(path, _what(path), _REMEDY) is None:
+                return {}
+            try:
+                return super()._load_index()
+            except _UNPICKLING as exc:
+                discard(path)
+                note_damage(path, _what(path), type(exc).__name__, _REMEDY)
+                return {}
+
+        def _load_data(self, name):
+            path = self._data_path(name)
+            if read_checked(path, _what(path), _REMEDY) is None:
+                return None        # Numba's load() returns it: the function is compiled again
+            try:
+                return super()._load_data(name)
+            except _UNPICKLING as exc:
+                discard(path)
+                note_damage(path, _what(path), type(exc).__name__, _REMEDY)
+                return None
+
+        @contextlib.contextmanager
+        def _open_for_write(self, filepath):
+            buffer = io.BytesIO()
+            yield buffer
+            write_checked(filepath, buffer.getvalue())
+
+    return CheckedIndexDataCacheFile
+
+
+_CHECKED = _checked_class()
+
+
+def available() -> bool:
+    """Whether this Numba's cache classes are those :func:`guard` was written for."""
+    return _CHECKED is not None
+
+
+def guard(dispatcher) -> bool:
+    """Check the on-disk cache files of one Numba function against their digests (idempotent).
+
+    Parameters
+    ----------
+    dispatcher : numba dispatcher
+        An ``@njit(cache=True)`` function, before or after its first call.
+
+    Returns
+    -------
+    bool
+        Whether its cache files are now written with digests and checked before loading (False for
+        a function without an on-disk cache, or when this Numba differs: then nothing is changed).
+    """
+    cache_file = getattr(getattr(dispatcher, "_cache", None), "_cache_file", None)
+    if _CHECKED is None or cache_file is None:
+        return False
+    if not isinstance(cache_file, _CHECKED):
+        if type(cache_file) is not _CHECKED.__mro__[1]:
+            return False       # a cache of another kind: left alone
+        cache_file.__class__ = _CHECKED     # same state, checked loading and writing
+    return True
+
+
+def guard_namespace(namespace: dict) -> int:
+    """:func:`guard` every Numba function with an on-disk cache among the values of ``namespace``.
+
+    Parameters
+    ----------
+    namespace : dict
+        A module's ``globals()`` or ``__dict__``.
+
+    Returns
+    -------
+    int
+        How many functions are guarded.
+    """
+    from numba.core.dispatcher import Dispatcher
+
+    return sum(guard(value) for value in list(namespace.values()) if isinstance(value, Dispatcher))
