@@ -95,6 +95,7 @@ def test_truncated_numba_files_of_a_model_compile_again_with_a_note(filled, tmp_
     err = rerun(filled, tmp_path)
     assert "flexkane: note: damaged cache file " in err and "(Numba's compiled code of flexkane_generated_" in err
     assert "compiled again" in err
+    assert "compiling the right-hand side of this model structure" in err   # found before the import: a child
     assert rerun(filled, tmp_path / "repaired") == ""      # stored again with digests
 
 

@@ -89,6 +89,26 @@ def test_a_damaged_cache_file_compiles_again_with_a_note(tmp_path, capsys, damag
     assert capsys.readouterr().err == ""
 
 
+def test_an_entry_is_intact_only_when_its_index_and_data_match_their_digests(tmp_path, capsys):
+    path, _, data = cached_function(tmp_path)
+    function = fresh_import(path)
+    types = (numba.float64,)
+    assert checked_numba_cache.entry_intact(function, types)
+    assert checked_numba_cache.files_intact(path)
+    assert not checked_numba_cache.entry_intact(function, (numba.int32,))     # another signature: not cached
+    data.write_bytes(data.read_bytes()[:-1])
+    assert not checked_numba_cache.entry_intact(function, types) and not data.exists()
+    assert "digest mismatch); compiled again" in capsys.readouterr().err
+    assert function(1.0) == 2.25 and function.stats.cache_misses
+
+
+def test_a_damaged_file_beside_a_module_is_found_before_the_import(tmp_path, capsys):
+    path, index, _ = cached_function(tmp_path)
+    index.write_bytes(b"")
+    assert not checked_numba_cache.files_intact(path) and not index.exists()
+    assert f"damaged cache file {index} " in capsys.readouterr().err
+
+
 def test_a_cache_file_without_a_digest_is_compiled_again(tmp_path, capsys):
     path, index, _ = cached_function(tmp_path)
     checked_cache.digest_path(index).unlink()

@@ -33,7 +33,7 @@ from pathlib import Path
 
 from flexkane.checked_cache import discard, note_damage, read_checked, write_checked
 
-__all__ = ["available", "guard", "guard_namespace"]
+__all__ = ["available", "entry_intact", "files_intact", "guard", "guard_namespace"]
 
 _REMEDY = "compiled again"
 #: Exceptions of a file that unpickles badly (its digest matched, yet it is not Numba's).
@@ -142,3 +142,54 @@ def guard_namespace(namespace: dict) -> int:
     from numba.core.dispatcher import Dispatcher
 
     return sum(guard(value) for value in list(namespace.values()) if isinstance(value, Dispatcher))
+
+
+def entry_intact(dispatcher, types: tuple) -> bool:
+    """Whether Numba's disk cache holds an intact entry of a guarded function for the argument ``types``.
+
+    Parameters
+    ----------
+    dispatcher : numba dispatcher
+        A function given to :func:`guard`.
+    types : tuple of numba types
+        The argument types of the call.
+
+    Returns
+    -------
+    bool
+        True when the index names a data file for the call and both files match their digests (a call
+        loads rather than compiles); False otherwise: a damaged file is deleted, with a note, so that
+        the caller compiles it again (in a child process, see :mod:`flexkane.numerics.jit_module`).
+    """
+    cache = dispatcher._cache
+    cache_file = cache._cache_file
+    name = cache_file._load_index().get(cache._index_key(types, dispatcher.targetctx.codegen()))
+    if name is None:
+        return False
+    if _CHECKED is None or not isinstance(cache_file, _CHECKED):
+        return True     # no digests to check
+    path = cache_file._data_path(name)
+    return read_checked(path, _what(path), _REMEDY) is not None
+
+
+def files_intact(source: Path) -> bool:
+    """Whether Numba's cache files beside the module at ``source`` (its ``__pycache__``) match their digests.
+
+    Parameters
+    ----------
+    source : pathlib.Path
+        A generated module's file, whose functions are guarded.
+
+    Returns
+    -------
+    bool
+        False when a file was damaged (it is deleted, with a note) so that the module's functions are
+        compiled again before they are imported; True otherwise (no file at all included, or when this
+        Numba's cache classes differ and files carry no digests).
+    """
+    if _CHECKED is None:
+        return True
+    intact = True
+    for path in sorted((source.parent / "__pycache__").glob(f"{source.stem}.*.nb[ic]")):
+        intact = read_checked(path, _what(str(path)), _REMEDY) is not None and intact
+    return intact

@@ -59,7 +59,7 @@ from flexkane._version import __version__
 from flexkane.checked_cache import note_damage, read_checked, write_checked
 from flexkane.forking import fork_allowed as _fork_allowed   # may a compiling child be a fork
 from flexkane.numerics import linear_algebra, scalar_typing
-from flexkane.numerics.checked_numba_cache import guard_namespace
+from flexkane.numerics.checked_numba_cache import entry_intact, files_intact, guard_namespace
 from flexkane.numerics.system_function import SIGNATURE
 
 __all__ = ["TEMPLATE_BEGIN", "TEMPLATE_END", "build_module", "compile_in_subprocess", "compose_module_source",
@@ -433,7 +433,7 @@ def build_module(source: str, key: str, cache_dir: Path | None = None, *,
     if in_subprocess is None:
         in_subprocess = bool(_in_subprocess)
     if in_subprocess:
-        compiled = _is_marked(path, text)
+        compiled = _is_marked(path, text) and files_intact(path)   # a damaged file: compiled in the child
         integrators = integrators_compiled()
         if not (compiled and integrators):
             extra = None
@@ -485,13 +485,13 @@ def _compiled_or_cached(dispatcher, types: tuple) -> bool:
     """Whether a Numba dispatcher is compiled for the argument ``types`` here or in its disk cache.
 
     The disk cache counts when its index (for the function's current source) has the entry that a
-    call with these types on this machine would load.
+    call with these types on this machine would load, and its files match their digests (a damaged
+    one is deleted, with a note: the caller compiles it again).
     """
     if types in dispatcher.overloads:
         return True
     try:  # a private API of Numba (the key its cache looks up)
-        cache = dispatcher._cache
-        return cache._index_key(types, dispatcher.targetctx.codegen()) in cache._cache_file._load_index()
+        return entry_intact(dispatcher, types)
     except Exception:  # noqa: BLE001 - unknown means "not cached"
         return False
 
