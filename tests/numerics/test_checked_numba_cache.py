@@ -121,3 +121,11 @@ def test_the_integrator_loops_are_guarded():
     for function, _ in integrator_signatures():
         assert isinstance(function, numba.core.registry.CPUDispatcher)
         assert type(function._cache._cache_file).__name__ == "CheckedIndexDataCacheFile", function
+
+
+def test_a_file_with_a_matching_digest_that_numba_cannot_read_is_compiled_again(tmp_path, capsys):
+    path, index, _ = cached_function(tmp_path)
+    checked_cache.write_checked(index, b"not a pickle")
+    function = fresh_import(path)
+    assert function(1.0) == 2.25 and function.stats.cache_misses
+    assert "(Numba's compiled code of cached_case: UnpicklingError); compiled again" in capsys.readouterr().err

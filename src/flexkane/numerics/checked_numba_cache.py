@@ -18,14 +18,17 @@ integrator loops and linear algebra (:mod:`~flexkane.numerics.dop853`,
 left as they are.
 
 This reaches into Numba's cache classes (``numba.core.caching.IndexDataCacheFile``: ``_load_index``,
-``_load_data``, ``_open_for_write``, and a dispatcher's ``_cache._cache_file``, the same in Numba
-0.59 to 0.68): :func:`guard` checks that they are there with the expected arguments and otherwise
-leaves the dispatcher as it is (:func:`available` says which).
+``_load_data``, ``_open_for_write``, ``_data_path``; a dispatcher's ``_cache._cache_file`` and
+``_cache._index_key``), checked with Numba 0.68 (``pyproject.toml`` keeps Numba below 0.69 until a newer
+one is checked): :func:`guard` checks that they are there with the expected arguments and otherwise
+leaves the dispatcher as it is (:func:`available` says which); files then carry no digests and are
+not checked.
 """
 
 from __future__ import annotations
 
 import contextlib
+import functools
 import inspect
 import io
 import pickle
@@ -47,6 +50,19 @@ def _what(path: str) -> str:
     return f"Numba's compiled code of {Path(path).name.split('.')[0]}"
 
 
+def _load_checked(path: str, load, nothing):
+    """``load()`` (Numba's unpickling of the file at ``path``) when the file matches its digest, else
+    ``nothing``; a file that fails to unpickle all the same is deleted too. Either is noted."""
+    if read_checked(path, _what(path), _REMEDY) is None:
+        return nothing
+    try:
+        return load()
+    except _UNPICKLING as exc:
+        discard(path)
+        note_damage(path, _what(path), type(exc).__name__, _REMEDY)
+        return nothing
+
+
 def _checked_class():
     """The subclass of Numba's ``IndexDataCacheFile`` whose files carry digests; None if Numba differs."""
     try:
@@ -64,26 +80,10 @@ def _checked_class():
         """Numba's index and data files, written with their digests and checked before unpickling."""
 
         def _load_index(self):
-            path = self._index_path
-            if read_checked(path, _what(path), _REMEDY) is None:
-                return {}
-            try:
-                return super()._load_index()
-            except _UNPICKLING as exc:
-                discard(path)
-                note_damage(path, _what(path), type(exc).__name__, _REMEDY)
-                return {}
+            return _load_checked(self._index_path, super()._load_index, {})
 
-        def _load_data(self, name):
-            path = self._data_path(name)
-            if read_checked(path, _what(path), _REMEDY) is None:
-                return None        # Numba's load() returns it: the function is compiled again
-            try:
-                return super()._load_data(name)
-            except _UNPICKLING as exc:
-                discard(path)
-                note_damage(path, _what(path), type(exc).__name__, _REMEDY)
-                return None
+        def _load_data(self, name):   # None: Numba's load() returns it and the function is compiled again
+            return _load_checked(self._data_path(name), functools.partial(super()._load_data, name), None)
 
         @contextlib.contextmanager
         def _open_for_write(self, filepath):
