@@ -20,8 +20,8 @@ PACKAGE = "flexkane"
 #: The layers, earliest first: (name, modules or packages in it).
 LAYERS = [
     ("foundation", ["flexkane.errors", "flexkane._version", "flexkane.interruption", "flexkane.natural_order",
-                    "flexkane.atomic", "flexkane.progress", "flexkane.extras", "flexkane.forking",
-                    "flexkane.garbage_collection", "flexkane.limits"]),
+                    "flexkane.atomic", "flexkane.checked_cache", "flexkane.progress", "flexkane.extras",
+                    "flexkane.forking", "flexkane.garbage_collection", "flexkane.limits"]),
     # the expression language of model files: parsing and evaluating user text, without a model
     ("expression language", ["flexkane.expression_syntax", "flexkane.expressions", "flexkane.expression_values"]),
     # shape functions of beams: mathematics that knows no model (the model's validation asks them)

@@ -34,8 +34,11 @@ in canonical form), which is what makes loading cheap.
 The cache directory is ``<default_cache_dir()>/derived`` (``$FLEXKANE_CACHE_DIR`` or
 ``~/.cache/flexkane``); when that is a file, cannot be created or is read-only, a temporary cache
 is used with a warning (:func:`flexkane.numerics.jit_module.usable_cache_dir`). Files are written
-atomically; an unreadable file is derived again and replaced. Like any pickle, the files must come from a trusted source: they are only ever written by
-flexkane into the user's own cache.
+atomically, each with its digest beside it (:mod:`flexkane.checked_cache`), and read only when the
+digest matches: a changed, truncated or unreadable file is derived (or generated) again and replaced,
+with a note. The digest guards against damage, not against someone who can write to the cache: like
+any pickle, the files must come from a trusted source; they are only ever written by flexkane into
+the user's own cache.
 """
 
 from __future__ import annotations
@@ -51,7 +54,7 @@ from functools import lru_cache
 from pathlib import Path
 
 from ._version import __version__
-from .atomic import atomic_write_bytes, atomic_write_text
+from .checked_cache import read_checked, write_checked
 from .model import Model
 
 __all__ = ["VALUE_FIELDS", "Derivation", "cache_path", "cached_derive", "cached_rhs_source", "derive",
@@ -87,7 +90,7 @@ _NUMBERS = (re.compile(r"parameters|initial"), re.compile(r"controllers\.[^.]+\.
                        r"(mass_ratio|inertia_ratio)"))
 # A beam length is a value field, but its text names the constants at the tip (``Phi_1(L)``).
 _BEAM_LENGTH = re.compile(r"beams\.[^.]+\.L")
-_FORMAT = 1  # layout of the cache files
+_FORMAT = 2  # layout of the cache files (2: with digests)
 # Sources that compute a run's numbers, its manifest and its generated module beside the equations.
 _RUN_SOURCES = ("modes/*.py", "report.py", "validity.py", "run_manifest.py", "plots.py", "natural_order.py",
                 "expression_syntax.py", "expression_values.py", "simulation.py", "derivation_cache.py",
@@ -284,6 +287,29 @@ class _ExpressionPickler(pickle.Pickler):
         return NotImplemented
 
 
+def _store(path: Path, data: bytes) -> None:
+    """Write a cache file with its digest (:func:`flexkane.checked_cache.write_checked`); a read-only
+    cache only costs speed."""
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        write_checked(path, data)
+    except OSError:
+        pass
+
+
+def _read_text(path: Path, what: str, remedy: str) -> str | None:
+    """A checked cache file as text (UTF-8), or None."""
+    data = read_checked(path, what, remedy)
+    try:
+        return None if data is None else data.decode("utf-8")
+    except UnicodeDecodeError:
+        return None
+
+
+#: What the cached generated code is (for the note when it was damaged).
+_SOURCE = ("the generated code of this model structure", "generated again")
+
+
 def _dumps(obj) -> bytes:
     buffer = io.BytesIO()
     _ExpressionPickler(buffer, protocol=pickle.HIGHEST_PROTOCOL).dump(obj)
@@ -369,24 +395,19 @@ def cached_derive(model: Model, cache_dir=None, *, announce=None):
     model.validate()
     path = cache_path(model, cache_dir)
     eom = None
-    try:
-        with open(path, "rb") as handle:
-            stored = pickle.load(handle)
-        if stored.get("format") == _FORMAT:
-            eom = stored["eom"]
-    except FileNotFoundError:
-        pass
-    except Exception:  # noqa: BLE001 - a damaged or incompatible file is derived again
-        eom = None
+    data = read_checked(path, "the equations of this model structure", "derived again")   # checked before unpickling
+    if data is not None:
+        try:
+            stored = pickle.loads(data)
+            if stored.get("format") == _FORMAT:
+                eom = stored["eom"]
+        except Exception:  # noqa: BLE001 - an incompatible file (another SymPy) is derived again
+            eom = None
     if eom is None:
         if announce is not None:
             announce()
         eom = derive_afresh(model)
-        try:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            atomic_write_bytes(path, _dumps({"format": _FORMAT, "eom": eom}))
-        except OSError:
-            pass  # a read-only cache only costs speed
+        _store(path, _dumps({"format": _FORMAT, "eom": eom}))
     eom = _bind(eom, model)
     eom.derivation_key = path.stem
     return eom
@@ -457,36 +478,27 @@ def cached_rhs_source(eom, cache_dir=None) -> str:
     if not key:
         return model_source(eom)
     path = _source_path(_cache_root(cache_dir), key)
-    try:
-        return path.read_text(encoding="utf-8")
-    except (FileNotFoundError, UnicodeDecodeError):
-        pass
-    source = model_source(eom)
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        atomic_write_text(path, source)
-    except OSError:
-        pass
+    source = _read_text(path, *_SOURCE)
+    if source is None:
+        source = model_source(eom)
+        _store(path, source.encode("utf-8"))
     return source
 
 
-def _read_json(path: Path):
+def _read_json(path: Path, what: str, remedy: str):
     """A stored JSON file of this layout, or None (missing, damaged, other layout)."""
     from .run_manifest import MANIFEST_FORMAT
 
+    text = _read_text(path, what, remedy)
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, ValueError):
+        data = None if text is None else json.loads(text)
+    except ValueError:
         return None
     return data if isinstance(data, dict) and data.get("format") == MANIFEST_FORMAT else None
 
 
 def _write_json(path: Path, data: dict) -> None:
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        atomic_write_bytes(path, json.dumps(data, separators=(",", ":")).encode("utf-8"))
-    except OSError:
-        pass  # a read-only cache only costs speed
+    _store(path, json.dumps(data, separators=(",", ":")).encode("utf-8"))
 
 
 def _is_printed(data: dict) -> bool:
@@ -562,7 +574,8 @@ class Derivation:
         """The run manifest of the structure (:func:`flexkane.run_manifest.manifest_of`)."""
         if self._manifest is None:
             path = self._root / "derived" / f"{self.key}-{_run_digest()[:16]}.manifest.json" if self.key else None
-            manifest = _read_json(path) if path is not None else None
+            manifest = _read_json(path, "the run manifest of this model structure", "made again") \
+                if path is not None else None
             if manifest is None:
                 from .run_manifest import manifest_of
 
@@ -572,12 +585,12 @@ class Derivation:
             self._manifest = manifest
         return self._manifest
 
-    def _of_structure(self, name: str, make, valid) -> dict:
+    def _of_structure(self, name: str, make, valid, what: str) -> dict:
         """Plain data of the structure made by ``make()`` from the equations (with SymPy), stored once
         per structure beside the manifest as ``<key>-<run digest>.<name>.json``; read from there when
-        it is stored (and ``valid``)."""
+        it is stored (and ``valid``). ``what`` names the data in the note on a damaged file."""
         path = self._root / "derived" / f"{self.key}-{_run_digest()[:16]}.{name}.json" if self.key else None
-        data = _read_json(path) if path is not None else None
+        data = _read_json(path, what, "rendered again") if path is not None else None
         if data is None or not valid(data):
             from .run_manifest import MANIFEST_FORMAT
 
@@ -596,7 +609,8 @@ class Derivation:
 
                 return printed_structure(self.eom)
 
-            self._printed = self._of_structure("equations", render, _is_printed)
+            self._printed = self._of_structure("equations", render, _is_printed,
+                                               "the printed equations of this model structure")
         return self._printed
 
     def forces_text(self, latex: bool = False) -> str:
@@ -614,7 +628,8 @@ class Derivation:
             return {"text": format_equations(self.eom, latex=latex)}
 
         data = self._of_structure("forces-latex" if latex else "forces-text", render,
-                                  lambda stored: isinstance(stored.get("text"), str))
+                                  lambda stored: isinstance(stored.get("text"), str),
+                                  "the printed forces of this model structure")
         return data["text"]
 
     def equations(self, model: Model, *, remember: bool = False) -> dict:
@@ -645,10 +660,9 @@ class Derivation:
         if not self.key:
             return model_source(self.eom)
         if self._eom is None:
-            try:
-                return _source_path(self._root, self.key).read_text(encoding="utf-8")
-            except (FileNotFoundError, UnicodeDecodeError):
-                pass
+            source = _read_text(_source_path(self._root, self.key), *_SOURCE)
+            if source is not None:
+                return source
         return cached_rhs_source(self.eom, self._cache_dir)
 
     def _numbers_path(self, model: Model) -> Path | None:
@@ -684,7 +698,8 @@ class Derivation:
         path = None
         if known is None:
             path = self._numbers_path(model)
-            known = (_read_json(path) if path is not None else None) or {}
+            known = (_read_json(path, "the numbers of this model", "computed again") if path is not None
+                     else None) or {}
             known.pop("format", None)
             self._numbers = {text: known}   # the last model only (a sweep runs many)
         missing = [f for f in fields if f not in known]

@@ -168,7 +168,7 @@ def test_the_child_compiles_and_announces_what_is_missing(tmp_path, monkeypatch,
         path.parent.mkdir(parents=True)
         text = compose_module_source(source, key)
         path.write_text(text, encoding="utf-8")
-        jit_module._compiled_marker(path).write_text(jit_module._text_digest(text), encoding="utf-8")
+        jit_module._write_marker(path)
     said = []
     extra = {"announce_integrators": lambda: said.append("integrators")} if callbacks == "both" else {}
     with jit_module.compile_in_subprocess(announce=lambda: said.append("model"), **extra):
@@ -264,8 +264,7 @@ def test_the_callers_meanwhile_work_runs_while_a_child_compiles_and_the_child_sk
         build_module(source, key, tmp_path)
     assert done == [True] and children == [not integrators]
     path = tmp_path / key / f"flexkane_generated_{key}.py"
-    jit_module._compiled_marker(path).write_text(jit_module._text_digest(path.read_text(encoding="utf-8")),
-                                                 encoding="utf-8")
+    jit_module._write_marker(path)
     monkeypatch.setattr(jit_module, "integrators_compiled", lambda: True)
     with jit_module.compile_in_subprocess(meanwhile=lambda: done.append(True)):
         build_module(source, key, tmp_path)   # compiled: no child, no meanwhile work

@@ -43,6 +43,8 @@ import math
 import numpy as np
 from numba import njit
 
+from flexkane.numerics.checked_numba_cache import guard_namespace
+
 __all__ = ["DOP853_A", "DOP853_B", "DOP853_C", "DOP853_D", "DOP853_E3", "DOP853_E5", "all_finite",
            "dop853_chunk", "dop853_dense_fill", "fill_rows_at", "rms_norm", "starting_step"]
 
@@ -356,3 +358,6 @@ def dop853_chunk(system_rhs, t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_
             rejected = True
             failure = 0
             nreject += 1
+
+
+guard_namespace(globals())   # their files in Numba's cache are checked before loading

@@ -9,9 +9,13 @@ structure compiles only its own functions. Every Numba function in the module is
 ``@njit(cache=True)``, so Numba stores the machine code beside the file
 (``<cache_dir>/<key>/__pycache__``) and a later process importing the same key loads it instead
 of compiling (Numba's typing of scalar arithmetic is memoized for these compiles,
-:mod:`~flexkane.numerics.scalar_typing`). Numba checks the file's modification time and size, so the file is written only
+:mod:`~flexkane.numerics.scalar_typing`). Numba checks the file's source, so the file is written only
 when it is missing or different, through a temporary file and ``os.replace`` (atomic): two
-processes building the same key at once both end up with a complete, identical file.
+processes building the same key at once both end up with a complete, identical file. The file is
+compared with the text it must hold again just before it is imported (a different file is noted and
+written again), and Numba's index and machine code of its functions are checked against their digests
+before they are loaded (:mod:`~flexkane.numerics.checked_numba_cache`): a damaged cache is compiled
+again, with a note, instead of raising or loading damaged code.
 
 The cache directory must be a writable directory. When ``$FLEXKANE_CACHE_DIR`` is a file, cannot
 be created or is read-only, flexkane warns once (naming the path and the reason) and uses a
@@ -36,6 +40,7 @@ from __future__ import annotations
 import atexit
 import contextlib
 import hashlib
+import importlib.machinery
 import importlib.util
 import os
 import shutil
@@ -51,9 +56,10 @@ from types import ModuleType
 import numba
 
 from flexkane._version import __version__
-from flexkane.atomic import atomic_write_text
+from flexkane.checked_cache import note_damage, read_checked, write_checked
 from flexkane.forking import fork_allowed as _fork_allowed   # may a compiling child be a fork
 from flexkane.numerics import linear_algebra, scalar_typing
+from flexkane.numerics.checked_numba_cache import entry_intact, files_intact, guard_namespace
 from flexkane.numerics.system_function import SIGNATURE
 
 __all__ = ["TEMPLATE_BEGIN", "TEMPLATE_END", "build_module", "compile_in_subprocess", "compose_module_source",
@@ -63,6 +69,9 @@ __all__ = ["TEMPLATE_BEGIN", "TEMPLATE_END", "build_module", "compile_in_subproc
 TEMPLATE_BEGIN = "# >>> flexkane template >>>"
 TEMPLATE_END = "# <<< flexkane template <<<"
 _KEY_LENGTH = 32  # hex digits of sha256 kept in keys (128 bits)
+#: Layout of a module's directory (2: every file carries a digest, :mod:`flexkane.checked_cache`); in the
+#: key, so that the files of another layout are never read.
+_LAYOUT = "2"
 
 
 def template_text(module: ModuleType) -> str:
@@ -157,7 +166,7 @@ def structure_key(*parts: str) -> str:
         follows their source.)
     """
     digest = hashlib.sha256()
-    for text in (__version__, numba.__version__, *(t for _, t in _templates()), *parts):
+    for text in (__version__, numba.__version__, _LAYOUT, *(t for _, t in _templates()), *parts):
         digest.update(text.encode("utf-8"))
         digest.update(b"\0")
     return digest.hexdigest()[:_KEY_LENGTH]
@@ -176,6 +185,32 @@ def compose_module_source(source: str, key: str) -> str:
 
 
 _in_subprocess: list = []
+
+
+class _CheckedSourceLoader(importlib.machinery.SourceFileLoader):
+    """Imports a generated module; Python's bytecode cache of it (``__pycache__/*.pyc``, in flexkane's cache)
+    is written with its digest and read only when the digest matches, like every cache file."""
+
+    def get_data(self, path):
+        if not str(path).endswith(".pyc"):
+            return super().get_data(path)
+        data = read_checked(path, "Python's bytecode of a generated module", "compiled again")
+        if data is None:    # missing or damaged: Python compiles the source (and stores the bytecode again)
+            raise OSError(f"no checked bytecode at {path}")
+        return data
+
+    def set_data(self, path, data, *, _mode=0o666):
+        if not str(path).endswith(".pyc"):
+            super().set_data(path, data, _mode=_mode)
+            return
+        with contextlib.suppress(OSError):    # as Python's own loader: a bytecode cache only saves time
+            Path(path).parent.mkdir(parents=True, exist_ok=True)
+            write_checked(path, data)
+
+
+def _module_spec(name: str, path: Path):
+    """The import spec of the generated module at ``path`` (:class:`_CheckedSourceLoader`)."""
+    return importlib.util.spec_from_file_location(name, path, loader=_CheckedSourceLoader(name, str(path)))
 
 
 @contextlib.contextmanager
@@ -226,10 +261,11 @@ def _compile_file(path: str, loops: bool = True, part: str = "all") -> None:
 
     scalar_typing.install()
     path = Path(path)
-    spec = importlib.util.spec_from_file_location(path.stem, path)
+    spec = _module_spec(path.stem, path)
     module = importlib.util.module_from_spec(spec)
     sys.modules[path.stem] = module
     spec.loader.exec_module(module)
+    guard_namespace(module.__dict__)
     if part == "outputs":
         compile_outputs(module)
         return
@@ -240,7 +276,27 @@ def _compile_file(path: str, loops: bool = True, part: str = "all") -> None:
 
 def _write_marker(path: Path) -> None:
     """Mark the module at ``path`` as compiled (its text's digest: a changed text is not)."""
-    atomic_write_text(_compiled_marker(path), _text_digest(path.read_text(encoding="utf-8")))
+    write_checked(_compiled_marker(path), _text_digest(path.read_text(encoding="utf-8")).encode("ascii"))
+
+
+def _is_marked(path: Path, text: str) -> bool:
+    """Whether the module at ``path`` is marked compiled with ``text``."""
+    marker = read_checked(_compiled_marker(path), "the mark of a compiled module", "compiled again")
+    return marker is not None and marker == _text_digest(text).encode("ascii")
+
+
+def _ensure_module_file(path: Path, text: str) -> None:
+    """Make the file at ``path`` hold ``text`` (written with its digest when it does not: a changed file
+    is noted as damaged)."""
+    data = text.encode("utf-8")
+    try:
+        current = path.read_bytes()
+    except FileNotFoundError:
+        current = None
+    if current != data:
+        if current is not None:
+            note_damage(path, "a generated module", "its text is not the one generated", "written again")
+        write_checked(path, data)
 
 
 #: The parts of a module that two forks compile side by side (:func:`_compile_in_fork`): the motion
@@ -373,20 +429,11 @@ def build_module(source: str, key: str, cache_dir: Path | None = None, *,
     if loaded is not None and getattr(loaded, "__file__", None) == str(path) \
             and getattr(loaded, "__flexkane_source__", None) == text:
         return loaded
-    try:
-        current = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        current = None
-    if current != text:
-        atomic_write_text(path, text)
+    _ensure_module_file(path, text)
     if in_subprocess is None:
         in_subprocess = bool(_in_subprocess)
     if in_subprocess:
-        marker = _compiled_marker(path)
-        try:
-            compiled = marker.read_text(encoding="utf-8") == _text_digest(text)
-        except (OSError, UnicodeDecodeError):
-            compiled = False
+        compiled = _is_marked(path, text) and files_intact(path)   # a damaged file: compiled in the child
         integrators = integrators_compiled()
         if not (compiled and integrators):
             extra = None
@@ -413,7 +460,8 @@ def build_module(source: str, key: str, cache_dir: Path | None = None, *,
                     extra()
 
             _compile_in_child(path, meanwhile=meanwhile, loops=not integrators)
-    spec = importlib.util.spec_from_file_location(module_name, path)
+    _ensure_module_file(path, text)   # checked again just before the import (a child may have run meanwhile)
+    spec = _module_spec(module_name, path)
     module = importlib.util.module_from_spec(spec)
     sys.modules[module_name] = module
     try:
@@ -428,6 +476,7 @@ def build_module(source: str, key: str, cache_dir: Path | None = None, *,
     except BaseException:
         del sys.modules[module_name]
         raise
+    guard_namespace(module.__dict__)   # Numba's files of its functions are checked before loading
     module.__flexkane_source__ = text
     return module
 
@@ -436,13 +485,13 @@ def _compiled_or_cached(dispatcher, types: tuple) -> bool:
     """Whether a Numba dispatcher is compiled for the argument ``types`` here or in its disk cache.
 
     The disk cache counts when its index (for the function's current source) has the entry that a
-    call with these types on this machine would load.
+    call with these types on this machine would load, and its files match their digests (a damaged
+    one is deleted, with a note: the caller compiles it again).
     """
     if types in dispatcher.overloads:
         return True
     try:  # a private API of Numba (the key its cache looks up)
-        cache = dispatcher._cache
-        return cache._index_key(types, dispatcher.targetctx.codegen()) in cache._cache_file._load_index()
+        return entry_intact(dispatcher, types)
     except Exception:  # noqa: BLE001 - unknown means "not cached"
         return False
 

@@ -26,6 +26,8 @@ Status codes returned: 0 success, 2 non-finite entry, 4 singular (pivot not posi
 the integrator's codes, see :mod:`flexkane.numerics.integrate`.
 """
 
+from flexkane.numerics.checked_numba_cache import guard_namespace
+
 # >>> flexkane template >>>
 import math
 
@@ -290,3 +292,6 @@ def lu_solve(LU, piv, b):
             s -= LU[i, k] * b[k]
         b[i] = s / LU[i, i]
 # <<< flexkane template <<<
+
+
+guard_namespace(globals())   # their files in Numba's cache are checked before loading

@@ -35,6 +35,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from flexkane.numerics.checked_numba_cache import guard_namespace
+
 __all__ = ["AssemblyTables", "assemble_mass_matrix", "assembly_tables", "source_digest", "work_size"]
 
 # Operations of one step of each loop (counted as in codegen: + - * /).
@@ -228,3 +230,6 @@ def source_digest() -> str:
     import sys
 
     return hashlib.sha256(inspect.getsource(sys.modules[__name__]).encode("utf-8")).hexdigest()[:16]
+
+
+guard_namespace(globals())   # their files in Numba's cache are checked before loading

@@ -30,6 +30,7 @@ import math
 import numpy as np
 from numba import njit
 
+from flexkane.numerics.checked_numba_cache import guard_namespace
 from flexkane.numerics.dop853 import all_finite, fill_rows_at, rms_norm, starting_step
 from flexkane.numerics.linear_algebra import lu_factor, lu_solve
 
@@ -381,3 +382,6 @@ def radau5_chunk(system_rhs, t, y, h, t_out, p, rtol, atol, max_steps, Y_out, t_
         if t >= t_stop > t_start:
             return t, y, h_new, 0, nfev, naccept, nreject, nlu
         h = h_new
+
+
+guard_namespace(globals())   # their files in Numba's cache are checked before loading
