@@ -718,8 +718,9 @@ def printed_structure(eom) -> dict:
     Returns
     -------
     dict
-        Plain JSON data: ``md`` and ``tex`` (the text between the title and the table of constants)
-        and ``constants`` (:func:`constant_columns`, as lists).
+        Plain JSON data: ``md`` and ``tex`` (the text between the title and the table of constants),
+        ``constants`` (:func:`constant_columns`, as lists) and ``constants_source`` (where the chapter
+        defines the modal constants, as the table's introduction cites it).
     """
     parts = _printed_parts(eom)
     return {"md": _markdown_body(eom, parts), "tex": _latex_body(eom, parts),
