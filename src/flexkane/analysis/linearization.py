@@ -62,7 +62,7 @@ from ..kane.loop_closure import closure_unknowns
 from ..model import Model
 from ..model.coordinates import BEAM_ROLES
 from .equilibrium import EquilibriumCheck, NoEquilibriumError, check_equilibrium, find_equilibrium
-from .jacobian import forward_jacobian
+from .jacobian import forward_jacobian, numeric_function
 from .linear_model import LinearModel, linear_outputs
 from .prepare import ABOUT, prepare_model
 from .reduction import closure_map, loop_columns
@@ -161,7 +161,7 @@ class Linearization:
 
     def __init__(self, model: Model, *, about: str = "equilibrium", spin: float | None = None,
                  hub: str | None = None, t0: float = 0.0, spin_axis=None):
-        from ..kane import derive
+        from ..derivation_cache import derive
 
         if isinstance(t0, bool) or not (isinstance(t0, (int, float)) and np.isfinite(t0)):
             raise ModelError("t0", "a finite time [s]", t0)
@@ -358,14 +358,14 @@ class Linearization:
         self.dropped_values = np.array([self._dropped_value(q, state0[index[q]]) for q in self.dropped])
         args = [*self.q_all, *self.dropped, *self.u, *self.z, self.t, *self.parameters]
         fj = self._forward
-        self._f_forcing = sp.lambdify(args, [fj.values, fj.jacobian], modules="numpy", cse=fj.cse)
-        self._f_mass = sp.lambdify(args, self.M, modules="numpy", cse=True)
+        self._f_forcing = numeric_function(args, [fj.values, fj.jacobian], fj)
+        self._f_mass = numeric_function(args, self.M)
         kinematic = [self.qdot0, self.W, self.V, self.phi, self.phi_q]
         if self.reduction is not None and self.loop_columns is None:   # rates and their Jacobian at the
             # speeds u0 of a free spin (refused with loops: u0 = 0, where they are qdot0 and V)
             qdot = sp.Matrix([self.eom.qdot[k] for k, q in enumerate(self.eom.q) if q not in self.dropped])
             kinematic[0], kinematic[2] = qdot, qdot.jacobian(self.q_all)
-        self._f_kinematic = sp.lambdify(args, kinematic, modules="numpy", cse=True)
+        self._f_kinematic = numeric_function(args, kinematic)
         self._args_symbols = args
         self._cache = (None, None)
 
@@ -429,8 +429,7 @@ class Linearization:
         if self._f_outputs is None:   # formed once, on first use (campbell diagrams need no outputs)
             fy = forward_jacobian([self.eom.outputs[name] for name in self.output_names],
                                   [*self.q_all, *self.u, *self.ud, *self.z, *self.r], prefix="_fy")
-            self._f_outputs = sp.lambdify([*self._args_symbols, *self.ud], [fy.values, fy.jacobian],
-                                          modules="numpy", cse=fy.cse)
+            self._f_outputs = numeric_function([*self._args_symbols, *self.ud], [fy.values, fy.jacobian], fy)
         with np.errstate(all="ignore"):
             values, jacobian = self._f_outputs(*self._args(w, p, u0), *np.zeros(n))
         J = np.array(jacobian, dtype=float).reshape(k, n_all + 2 * n + nz + m)
