@@ -298,6 +298,10 @@ def markdown(results) -> str:
         from startup import markdown as startup_markdown
 
         md += [""] + startup_markdown(results["startup"], info)
+    if "rows" in results.get("analysis_cache", {}):
+        from analysis_cache import markdown as analysis_cache_markdown
+
+        md += [""] + analysis_cache_markdown(results["analysis_cache"], info)
     return "\n".join(md) + "\n"
 
 

@@ -17,6 +17,7 @@ Sections (one script each, also runnable alone):
 (j) ``chain_scaling.py``  derive, code generation and compilation of chain_model(k), k = 1 ... 20;
 (k) ``spatial_chains.py``  spatial chains: a rigid three-joint arm, spherical chains, the flexible
     three-joint arm (issue 17's Performance targets) and its growth with flexible links and modes;
+(l) ``analysis_cache.py``  first against repeated linearize, campbell and converge (issue 25);
 and, when the sweep module and Dask are installed, ``sweep_throughput.py`` (variants per second).
 
 Compiled models go to a fresh cache directory, so compile times are those of a first run.
@@ -127,6 +128,8 @@ def main() -> dict:
     _section("sweep", _sweep, results, quick)
     import startup
     _section("startup", startup.run, results, quick)
+    import analysis_cache
+    _section("analysis_cache", analysis_cache.run, results, quick)
     results["machine"]["load_average_end"] = os.getloadavg()[0]
     results["total_seconds"] = time.perf_counter() - start
     summary = report.summary_lines(results)

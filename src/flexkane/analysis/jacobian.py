@@ -188,4 +188,11 @@ def numeric_function(args: Sequence[sp.Symbol], exprs, jacobian: ForwardJacobian
         args = [names.get(a, a) for a in args]
         exprs = _renamed(exprs, names)
         assignments = [(s, e.xreplace(names)) for s, e in assignments]
-    return sp.lambdify(args, exprs, modules="numpy", cse=ForwardJacobian(assignments, None, None).cse)
+    from sympy.printing.numpy import NumPyPrinter
+
+    # the printer lambdify makes for NumPy, but for the order of terms: as SymPy keeps them (its canonical
+    # order, the same on every run), not sorted again for reading, which took half of the printing
+    printer = NumPyPrinter({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
+                            "user_functions": {}, "order": "none"})
+    return sp.lambdify(args, exprs, modules="numpy", printer=printer,
+                       cse=ForwardJacobian(assignments, None, None).cse)

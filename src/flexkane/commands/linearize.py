@@ -135,8 +135,8 @@ def _handle(args) -> int:
 
 def answer_and_print(args, analysis: str, model, out: Path, compute) -> int:
     """The result from the cache of analysis results, else ``compute(out)``
-    (:func:`flexkane.analysis.result_cache.answer`); its lines printed unless --quiet. Exit code 0."""
-    from ..analysis.result_cache import analysis_options, answer
+    (:func:`flexkane.result_cache.answer`); its lines printed unless --quiet. Exit code 0."""
+    from ..result_cache import analysis_options, answer
 
     result = answer(analysis, model, analysis_options(args), out, compute, cache=not args.no_cache)
     if not args.quiet:

@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
 
-from ..model import Model
+from .model import Model
 
 __all__ = ["AnalysisResult", "LIMIT", "analysis_options", "answer", "load_result", "result_key", "result_path", "store_result"]
 
@@ -59,7 +59,7 @@ class AnalysisResult:
 
     def write(self, out: Path) -> None:
         """Write the files to the directory ``out`` (atomically, each)."""
-        from ..atomic import atomic_write_bytes
+        from .atomic import atomic_write_bytes
 
         for name, data in self.files.items():
             atomic_write_bytes(Path(out) / name, data)
@@ -81,7 +81,7 @@ def code_digest() -> str:
     Every source file, not only the analyses': the equations, their numbers, the labels of the modes
     and the figures all come from the package.
     """
-    root = Path(__file__).resolve().parents[1]
+    root = Path(__file__).resolve().parent
     digest = hashlib.sha256(f"{_FORMAT}\0{sys.version}\0".encode())
     for name in _LIBRARIES:
         digest.update(f"{name}={_version(name)}\0".encode())
@@ -107,8 +107,8 @@ def result_key(analysis: str, model: Model, options: dict) -> str:
     str
         64 hex digits.
     """
-    from ..derivation_cache import structure_signature
-    from ..model import dumps_model
+    from .derivation_cache import structure_signature
+    from .model import dumps_model
 
     text = json.dumps({"analysis": analysis, "options": options}, sort_keys=True, default=repr)
     digest = hashlib.sha256()
@@ -118,7 +118,7 @@ def result_key(analysis: str, model: Model, options: dict) -> str:
 
 
 def _root(cache_dir=None) -> Path:
-    from ..numerics.jit_module import usable_cache_dir
+    from .numerics.jit_module import usable_cache_dir
 
     return usable_cache_dir(cache_dir) / "analyses"
 
@@ -176,7 +176,7 @@ def load_result(key: str, cache_dir=None) -> AnalysisResult | None:
 def store_result(key: str, result: AnalysisResult, cache_dir=None) -> None:
     """Store ``result`` under ``key`` (atomically), removing the oldest results beyond :data:`LIMIT`.
     A cache that cannot be written only costs the time of computing again."""
-    from ..atomic import atomic_write_text
+    from .atomic import atomic_write_text
 
     files = {name: base64.b64encode(data).decode("ascii") for name, data in result.files.items()}
     lines = list(result.lines)

@@ -1,5 +1,6 @@
-"""The cache of analysis results: a repeated linearize, campbell or converge is answered from disk with the
-same files and lines; a changed value or option, a damaged file or --no-cache computes again."""
+"""The cache of analysis results (flexkane.result_cache): a repeated linearize, campbell or converge is
+answered from disk with the same files and lines; a changed value or option, a damaged file or --no-cache
+computes again."""
 
 import base64
 import json
@@ -7,7 +8,7 @@ import json
 import pytest
 
 import flexkane.analysis
-from flexkane.analysis import result_cache
+from flexkane import result_cache
 from flexkane.analysis.linearization import Linearization
 from flexkane.cli import main
 
