@@ -4,7 +4,8 @@ Each case is a new process (``python -m flexkane ...``, as a user types it), int
 that starts empty: the first command derives the equations, forms and evaluates the Jacobians; the
 same command again is answered from the cache of analysis results
 (:mod:`flexkane.result_cache`); a changed value (``--set``) computes again, with the
-equations from the cache of derived equations. Cases:
+equations from the cache of derived equations and the code of the Jacobians from the cache of numeric
+functions (:mod:`flexkane.analysis.function_cache`). Cases:
 
 * ``linearize robot-arm-3d-flexible``: first, repeated, with ``--set m_load=3``;
 * ``campbell rotor-blade --spin 0:20:4``: first, repeated;
@@ -89,7 +90,7 @@ def markdown(result: dict, machine: dict | None = None) -> list[str]:
     text = (f"Measured by `benchmarks/analysis_cache.py` on {result['date']}: every case is a new process "
             "(`python -m flexkane ... --quiet`) into one cache directory that starts empty; `first` derives and "
             "computes, `repeated` is the same command again (answered from the cache of analysis results), "
-            "`value changed` a new value (computed, the equations from the cache of derived equations). "
+            "`value changed` a new value (computed, the equations and the code of the Jacobians from their caches). "
             f"CPU = user + system time of the process. Load average {result['load_average']:.2f} at the start, "
             f"{result['load_average_end']:.2f} at the end.")
     if machine:

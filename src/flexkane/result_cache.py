@@ -33,7 +33,8 @@ from pathlib import Path
 
 from .model import Model
 
-__all__ = ["AnalysisResult", "LIMIT", "analysis_options", "answer", "load_result", "result_key", "result_path", "store_result"]
+__all__ = ["AnalysisResult", "LIMIT", "analysis_options", "answer", "load_result", "prune", "result_key",
+           "result_path", "store_result"]
 
 #: Number of analysis results kept in the cache directory; storing one more removes the oldest.
 LIMIT = 200
@@ -186,11 +187,16 @@ def store_result(key: str, result: AnalysisResult, cache_dir=None) -> None:
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         atomic_write_text(path, text)
-        stored = sorted(path.parent.glob("*.json"), key=lambda p: (p.stat().st_mtime_ns, p.name))
-        for old in stored[:max(0, len(stored) - LIMIT)]:
-            old.unlink(missing_ok=True)
+        prune(path.parent, LIMIT)
     except OSError:
         pass
+
+
+def prune(directory: Path, limit: int) -> None:
+    """Remove the oldest ``*.json`` files of ``directory`` beyond the ``limit`` newest."""
+    stored = sorted(Path(directory).glob("*.json"), key=lambda p: (p.stat().st_mtime_ns, p.name))
+    for old in stored[:max(0, len(stored) - limit)]:
+        old.unlink(missing_ok=True)
 
 
 def answer(analysis: str, model: Model, options: dict, out: Path, compute, *, cache: bool = True,

@@ -158,3 +158,59 @@ def test_repeated_spin_and_mode_count_studies_are_answered_from_the_cache(
     assert len(calls) == 1 and second == first and sorted(first[2]) == files
     third = run([*argv, *changed], tmp_path / "third", capsys)
     assert len(calls) == 2 and third[2][files[0]] != first[2][files[0]]
+
+
+def _forward_jacobians(monkeypatch):
+    """Counts the forward Jacobians formed by linearizations."""
+    import flexkane.analysis.linearization as linearization
+
+    calls = []
+    forward_jacobian = linearization.forward_jacobian
+
+    def counted(*args, **kwargs):
+        calls.append(kwargs.get("prefix", "_fj"))
+        return forward_jacobian(*args, **kwargs)
+
+    monkeypatch.setattr(linearization, "forward_jacobian", counted)
+    return calls
+
+
+def _matrices(linear):
+    return [linear.M, linear.C, linear.K, linear.B, linear.W, linear.V, linear.C_out, linear.D_out, linear.y0]
+
+
+def test_new_values_of_a_structure_reuse_its_numeric_functions_with_the_same_numbers(cache_dir, monkeypatch):
+    """The code of the Jacobians depends on the structure only: a linearization with another value
+    forms none (the forcing's and the outputs'), and its matrices are those formed afresh, bit for bit."""
+    import numpy as np
+
+    from flexkane import builtin_model
+
+    model = builtin_model("flexible-arm").with_modes(1)
+    stiffer = model.with_values({"EI": 20.0})
+    calls = _forward_jacobians(monkeypatch)
+    Linearization(model).at()
+    assert len(calls) == 2          # the forcing's and the outputs'
+    loaded = Linearization(stiffer).at()
+    assert len(calls) == 2
+    (cache_dir / "analyses" / "functions").rename(cache_dir / "kept")
+    fresh = Linearization(stiffer).at()
+    assert len(calls) == 4
+    for a, b in zip(_matrices(loaded), _matrices(fresh)):
+        np.testing.assert_array_equal(a, b)
+    assert not np.array_equal(loaded.K, Linearization(model).at().K)
+
+
+def test_a_damaged_numeric_function_is_formed_again(cache_dir, monkeypatch):
+    from flexkane import builtin_model
+
+    model = builtin_model("flexible-arm").with_modes(1)
+    calls = _forward_jacobians(monkeypatch)
+    first = Linearization(model).at()
+    (forcing,) = (cache_dir / "analyses" / "functions").glob("*-forcing.json")
+    stored = json.loads(forcing.read_text())
+    stored["source"] = stored["source"].replace("return", "return 2 *", 1)      # the digest no longer matches
+    forcing.write_text(json.dumps(stored))
+    again = Linearization(model).at()
+    assert calls.count("_fj") == 2
+    assert (again.K == first.K).all() and (again.M == first.M).all()

@@ -171,6 +171,8 @@ def numeric_function(args: Sequence[sp.Symbol], exprs, jacobian: ForwardJacobian
     Returns
     -------
     callable
+        With the attribute ``module_imports``: the names its code imports, by module
+        (``{"functools": ["reduce"]}``).
     """
     if jacobian is None:     # as lambdify(cse=True) finds them
         assignments, exprs = sp.cse(exprs, list=False)
@@ -194,5 +196,8 @@ def numeric_function(args: Sequence[sp.Symbol], exprs, jacobian: ForwardJacobian
     # order, the same on every run), not sorted again for reading, which took half of the printing
     printer = NumPyPrinter({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
                             "user_functions": {}, "order": "none"})
-    return sp.lambdify(args, exprs, modules="numpy", printer=printer,
-                       cse=ForwardJacobian(assignments, None, None).cse)
+    function = sp.lambdify(args, exprs, modules="numpy", printer=printer,
+                           cse=ForwardJacobian(assignments, None, None).cse)
+    # what the code imports beyond NumPy's names (functools.reduce for a Max, ...), for a copy of it
+    function.module_imports = {module: sorted(names) for module, names in printer.module_imports.items()}
+    return function
