@@ -45,7 +45,8 @@ when it does, the linear model freezes it at its value at t0 (and a steady spin 
 
 :class:`Linearization` forms the Jacobians once, symbolically (:mod:`flexkane.analysis.jacobian`),
 and evaluates them for any operating point, which serves Campbell diagrams (one derivation, many spin
-rates).
+rates); their code is kept per structure (:mod:`flexkane.analysis.function_cache`), so another value
+of the same model loads it.
 """
 
 from __future__ import annotations
@@ -382,7 +383,6 @@ class Linearization:
             qdot = sp.Matrix([self.eom.qdot[k] for k, q in enumerate(self.eom.q) if q not in self.dropped])
             kinematic[0], kinematic[2] = qdot, qdot.jacobian(self.q_all)
         return kinematic
-        self._cache = (None, None)
 
     def _dropped_value(self, q, initial: float) -> float:
         """Value of a coordinate with prescribed speed at t0 (its initial value plus the integral)."""
