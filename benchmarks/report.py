@@ -302,6 +302,10 @@ def markdown(results) -> str:
         from iteration import markdown as iteration_markdown
 
         md += [""] + iteration_markdown(results["iteration"], info)
+    if "rows" in results.get("analysis_cache", {}):
+        from analysis_cache import markdown as analysis_cache_markdown
+
+        md += [""] + analysis_cache_markdown(results["analysis_cache"], info)
     return "\n".join(md) + "\n"
 
 

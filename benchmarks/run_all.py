@@ -19,6 +19,7 @@ Sections (one script each, also runnable alone):
     three-joint arm (issue 17's Performance targets) and its growth with flexible links and modes;
 (l) ``iteration.py``  a first run, an unchanged rerun and a value change (``--set``) of falling-beam and
     robot-arm-3d-flexible, whole processes (issue 25, item 1);
+(m) ``analysis_cache.py``  first against repeated linearize, campbell and converge (issue 25);
 and, when the sweep module and Dask are installed, ``sweep_throughput.py`` (variants per second).
 
 Compiled models go to a fresh cache directory, so compile times are those of a first run.
@@ -131,6 +132,8 @@ def main() -> dict:
     _section("startup", startup.run, results, quick)
     import iteration
     _section("iteration", iteration.run, results, quick)
+    import analysis_cache
+    _section("analysis_cache", analysis_cache.run, results, quick)
     results["machine"]["load_average_end"] = os.getloadavg()[0]
     results["total_seconds"] = time.perf_counter() - start
     summary = report.summary_lines(results)

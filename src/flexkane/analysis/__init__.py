@@ -10,8 +10,9 @@ The stages, one public function each::
     study = flexkane.analysis.convergence_study(model, [1, 2, 4, 8])   # frequencies against n
 
 Modules: :mod:`.prepare` (inputs and steady spin), :mod:`.equilibrium` (operating points),
-:mod:`.linearization` (symbolic Jacobians), :mod:`.rotation_reduction` (rotation coordinates of
-spatial orientations), :mod:`.linear_model` (numeric matrices, export),
+:mod:`.linearization` (symbolic Jacobians),
+:mod:`.rotation_reduction` (rotation coordinates of spatial orientations), :mod:`.linear_model`
+(numeric matrices, export),
 :mod:`.eigen` (modes), :mod:`.campbell`, :mod:`.convergence`, :mod:`.mode_plot` (drawings).
 """
 

@@ -15,11 +15,12 @@ Jacobian entries in terms of them, ready for ``sympy.lambdify(..., cse=...)``.
 
 from __future__ import annotations
 
+import keyword
 from collections.abc import Sequence
 
 import sympy as sp
 
-__all__ = ["ForwardJacobian", "forward_jacobian"]
+__all__ = ["ForwardJacobian", "forward_jacobian", "numeric_function"]
 
 
 class ForwardJacobian:
@@ -139,3 +140,59 @@ def forward_jacobian(exprs: Sequence[sp.Expr], variables: Sequence[sp.Symbol],
         for j, d in gradient(expr).items():
             jacobian[i][j] = d
     return ForwardJacobian(assignments, list(reduced), jacobian)
+
+
+def _renamed(exprs, names: dict):
+    """``exprs`` (an expression, a matrix or nested lists and tuples of them) with ``names`` replaced."""
+    if isinstance(exprs, (list, tuple)):
+        return type(exprs)(_renamed(e, names) for e in exprs)
+    return exprs.xreplace(names) if hasattr(exprs, "xreplace") else exprs
+
+
+def numeric_function(args: Sequence[sp.Symbol], exprs, jacobian: ForwardJacobian | None = None):
+    """``sympy.lambdify(args, exprs, modules="numpy")``, common subexpressions shared.
+
+    lambdify replaces an argument whose name is not a Python identifier (a modal constant
+    ``Phi_upper_y1(L1)``) by a dummy, walking the whole expression once per such argument, and walks
+    it again for implemented functions: with the 18 of a spatial arm's two beams that was a quarter
+    of its linearization. Here the common subexpressions are found first (``sympy.cse``, as
+    lambdify's ``cse=True``), and the arguments renamed in them together, in one walk of the
+    reduced expressions (``_arg0``, ``_arg1``, ...; the function is the same).
+
+    Parameters
+    ----------
+    args : sequence of sympy.Symbol
+        The arguments, in order.
+    exprs : sympy.Expr, sympy.Matrix or nested lists of them
+        What the function returns; with ``jacobian``, in terms of its assignments.
+    jacobian : ForwardJacobian, optional
+        Its assignments are the common subexpressions; without it ``sympy.cse`` finds them.
+
+    Returns
+    -------
+    callable
+    """
+    if jacobian is None:     # as lambdify(cse=True) finds them
+        assignments, exprs = sp.cse(exprs, list=False)
+    else:
+        assignments = list(jacobian.assignments)
+    taken = {str(a) for a in args}
+    names, k = {}, 0
+    for a in args:
+        if not (str(a).isidentifier() and not keyword.iskeyword(str(a))):
+            while f"_arg{k}" in taken:
+                k += 1
+            names[a] = sp.Symbol(f"_arg{k}", **a.assumptions0)
+            taken.add(f"_arg{k}")
+    if names:
+        args = [names.get(a, a) for a in args]
+        exprs = _renamed(exprs, names)
+        assignments = [(s, e.xreplace(names)) for s, e in assignments]
+    from sympy.printing.numpy import NumPyPrinter
+
+    # the printer lambdify makes for NumPy, but for the order of terms: as SymPy keeps them (its canonical
+    # order, the same on every run), not sorted again for reading, which took half of the printing
+    printer = NumPyPrinter({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
+                            "user_functions": {}, "order": "none"})
+    return sp.lambdify(args, exprs, modules="numpy", printer=printer,
+                       cse=ForwardJacobian(assignments, None, None).cse)

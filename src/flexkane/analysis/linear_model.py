@@ -46,6 +46,8 @@ from ..kane.inputs import InputChannel
 __all__ = ["LinearModel", "linear_outputs", "load_control"]
 
 _SAFE_NAME = re.compile(r"[^0-9A-Za-z_]")
+#: Descriptive text of a MAT-file's header (116 bytes), written instead of scipy's, which ends with the time.
+_MAT_HEADER = b"MATLAB 5.0 MAT-file, written by flexkane".ljust(116, b" ")
 
 #: Outputs of the equations that are not outputs of a linear model: energies and power are
 #: quadratic (their first-order change at an equilibrium says nothing), momenta are integrals of the
@@ -294,7 +296,8 @@ class LinearModel:
             np.savez(temporary, **data)
 
     def save_mat(self, path) -> None:
-        """Write :meth:`arrays` to a MATLAB ``.mat`` file (``scipy.io.savemat``; names as cell arrays)."""
+        """Write :meth:`arrays` to a MATLAB ``.mat`` file (``scipy.io.savemat``; names as cell arrays;
+        the 116 bytes of the header's text without the date, :data:`_MAT_HEADER`)."""
         import scipy.io
 
         from ..atomic import atomic_writer
@@ -315,6 +318,8 @@ class LinearModel:
                               "InputName": data["input_names"], "OutputName": data["output_names"]}
         with atomic_writer(path, "path") as temporary:
             scipy.io.savemat(temporary, data, oned_as="column")
+            with open(temporary, "r+b") as handle:     # the header's text without the time of writing:
+                handle.write(_MAT_HEADER)               # the same model gives the same bytes
 
     def save_control(self, path) -> None:
         """Write the state space as python-control builds it, to a NumPy ``.npz`` file without pickles.

@@ -62,7 +62,7 @@ from ..kane.loop_closure import closure_unknowns
 from ..model import Model
 from ..model.coordinates import BEAM_ROLES
 from .equilibrium import EquilibriumCheck, NoEquilibriumError, check_equilibrium, find_equilibrium
-from .jacobian import forward_jacobian
+from .jacobian import forward_jacobian, numeric_function
 from .linear_model import LinearModel, linear_outputs
 from .prepare import ABOUT, prepare_model
 from .reduction import closure_map, loop_columns
@@ -161,7 +161,7 @@ class Linearization:
 
     def __init__(self, model: Model, *, about: str = "equilibrium", spin: float | None = None,
                  hub: str | None = None, t0: float = 0.0, spin_axis=None):
-        from ..kane import derive
+        from ..derivation_cache import derive
 
         if isinstance(t0, bool) or not (isinstance(t0, (int, float)) and np.isfinite(t0)):
             raise ModelError("t0", "a finite time [s]", t0)
@@ -235,9 +235,9 @@ class Linearization:
 
         self._units = units(eom)
         self.ud = [eom.chain.ud[u] for u in self.u]
-        # f and zdot and their Jacobian with respect to (q_all, u, z, r), in factored form for the
-        # numbers (the outputs' with respect to (q_all, u, u', z, r) on first use, :meth:`_output_numbers`)
-        self._forward = forward_jacobian(list(eom.forcing) + self.zdot, [*self.q_all, *self.u, *self.z, *self.r])
+        # f and zdot and their Jacobian with respect to (q_all, u, z, r), in factored form for the numbers
+        # (:meth:`_forcing_jacobian`; the outputs' with respect to (q_all, u, u', z, r) on first use,
+        # :meth:`_output_numbers`), formed when their code is not in the cache (:meth:`_compile`)
         self._f_outputs = None
         self._symbolic = None
 
@@ -357,17 +357,27 @@ class Linearization:
         self.z_initial = np.array(state0[nq + nu:nq + nu + len(self.z)], dtype=float)
         self.dropped_values = np.array([self._dropped_value(q, state0[index[q]]) for q in self.dropped])
         args = [*self.q_all, *self.dropped, *self.u, *self.z, self.t, *self.parameters]
-        fj = self._forward
-        self._f_forcing = sp.lambdify(args, [fj.values, fj.jacobian], modules="numpy", cse=fj.cse)
-        self._f_mass = sp.lambdify(args, self.M, modules="numpy", cse=True)
-        kinematic = [self.qdot0, self.W, self.V, self.phi, self.phi_q]
-        if self.reduction is not None and self.loop_columns is None:   # rates and their Jacobian at the
-            # speeds u0 of a free spin (refused with loops: u0 = 0, where they are qdot0 and V)
-            qdot = sp.Matrix([self.eom.qdot[k] for k, q in enumerate(self.eom.q) if q not in self.dropped])
-            kinematic[0], kinematic[2] = qdot, qdot.jacobian(self.q_all)
-        self._f_kinematic = sp.lambdify(args, kinematic, modules="numpy", cse=True)
+        self._f_forcing = numeric_function(args, *self._forcing_jacobian())
+        self._f_mass = numeric_function(args, self.M)
+        self._f_kinematic = numeric_function(args, self._kinematic_matrices())
         self._args_symbols = args
         self._cache = (None, None)
+
+    def _forcing_jacobian(self) -> tuple:
+        """f and zdot and their Jacobian with respect to (q_all, u, z, r), in factored form
+        (:func:`~flexkane.analysis.jacobian.forward_jacobian`): the arguments ``(exprs, jacobian)`` of
+        :func:`~flexkane.analysis.jacobian.numeric_function`."""
+        fj = forward_jacobian(list(self.eom.forcing) + self.zdot, [*self.q_all, *self.u, *self.z, *self.r])
+        return [fj.values, fj.jacobian], fj
+
+    def _kinematic_matrices(self) -> list:
+        """qdot at rest, W, V, the loop constraints and their Jacobian; with a free spin, the rates and
+        their Jacobian at the spin's speeds u0 (refused with loops: u0 = 0, where they are qdot0 and V)."""
+        kinematic = [self.qdot0, self.W, self.V, self.phi, self.phi_q]
+        if self.reduction is not None and self.loop_columns is None:
+            qdot = sp.Matrix([self.eom.qdot[k] for k, q in enumerate(self.eom.q) if q not in self.dropped])
+            kinematic[0], kinematic[2] = qdot, qdot.jacobian(self.q_all)
+        return kinematic
 
     def _dropped_value(self, q, initial: float) -> float:
         """Value of a coordinate with prescribed speed at t0 (its initial value plus the integral)."""
@@ -429,8 +439,7 @@ class Linearization:
         if self._f_outputs is None:   # formed once, on first use (campbell diagrams need no outputs)
             fy = forward_jacobian([self.eom.outputs[name] for name in self.output_names],
                                   [*self.q_all, *self.u, *self.ud, *self.z, *self.r], prefix="_fy")
-            self._f_outputs = sp.lambdify([*self._args_symbols, *self.ud], [fy.values, fy.jacobian],
-                                          modules="numpy", cse=fy.cse)
+            self._f_outputs = numeric_function([*self._args_symbols, *self.ud], [fy.values, fy.jacobian], fy)
         with np.errstate(all="ignore"):
             values, jacobian = self._f_outputs(*self._args(w, p, u0), *np.zeros(n))
         J = np.array(jacobian, dtype=float).reshape(k, n_all + 2 * n + nz + m)

@@ -17,7 +17,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ._common import add_model_arguments, add_out_arguments, model_from_args
-from .linearize import spin_axis_argument
+from .linearize import add_no_result_cache_argument, answer_and_print, spin_axis_argument
 
 __all__ = ["register"]
 
@@ -42,32 +42,36 @@ def register(subparsers) -> None:
                    help="3D models: spin freely about this axis of the child frame of a spherical or free joint")
     add_out_arguments(p, "out/MODEL_NAME-campbell")
     p.add_argument("--quiet", action="store_true", help="print nothing but errors")
+    add_no_result_cache_argument(p)
     p.set_defaults(handler=_handle)
 
 
 def _handle(args) -> int:
-    from ..atomic import atomic_write_text
     from ._common import default_out, prepare_out
-    from ..analysis import campbell_diagram
     from ..analysis.campbell import parse_spin_range
 
     spins = parse_spin_range(args.spin)
     model = model_from_args(args)
     out = prepare_out(Path(args.out) if args.out else default_out(model.name, "-campbell"), force=args.force)
+    return answer_and_print(args, "campbell", model, out, lambda out: _campbell(args, model, spins, out))
+
+
+def _campbell(args, model, spins, out: Path) -> tuple[list[str], list[str]]:
+    """The diagram, its files written to ``out``; the lines to print and the names of the files."""
+    from ..atomic import atomic_write_text
+    from ..analysis import campbell_diagram
+
     diagram = campbell_diagram(model, spins, hub=args.hub, spin_axis=args.spin_axis)
     atomic_write_text(out / "campbell.csv", diagram.csv_text())
     atomic_write_text(out / "campbell_modes.csv", diagram.modes_csv_text())
     atomic_write_text(out / "campbell.json", diagram.json_text())
     diagram.plot(out / "campbell.png")
-    if not args.quiet:
-        print(f"{model.name}: Campbell diagram, joint {diagram.hub} spinning at {spins.size} rates "
-              f"from {spins[0]:g} to {spins[-1]:g} rad/s")
-        for note in diagram.notes:
-            print(f"note: {note}")
-        if diagram.unstable.any():
-            unstable = diagram.spins[diagram.unstable]
-            print(f"unstable (a mode grows) from Omega = {unstable.min():g} rad/s "
-                  f"({int(diagram.unstable.sum())} of {spins.size} rates)")
-        print(diagram.table())
-        print(f"wrote 4 files to {out}")
-    return 0
+    lines = [f"{model.name}: Campbell diagram, joint {diagram.hub} spinning at {spins.size} rates "
+             f"from {spins[0]:g} to {spins[-1]:g} rad/s"]
+    lines += [f"note: {note}" for note in diagram.notes]
+    if diagram.unstable.any():
+        unstable = diagram.spins[diagram.unstable]
+        lines.append(f"unstable (a mode grows) from Omega = {unstable.min():g} rad/s "
+                     f"({int(diagram.unstable.sum())} of {spins.size} rates)")
+    lines.append(diagram.table())
+    return lines, ["campbell.csv", "campbell_modes.csv", "campbell.json", "campbell.png"]

@@ -17,7 +17,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .linearize import add_operating_point_arguments, operating_point
+from .linearize import add_no_result_cache_argument, add_operating_point_arguments, answer_and_print, \
+    operating_point
 from ._common import add_out_arguments
 
 __all__ = ["register"]
@@ -44,13 +45,12 @@ def register(subparsers) -> None:
                         "converged [default: 1e-3]")
     add_out_arguments(p, "out/MODEL_NAME-converge")
     p.add_argument("--quiet", action="store_true", help="print nothing but errors")
+    add_no_result_cache_argument(p)
     p.set_defaults(handler=_handle)
 
 
 def _handle(args) -> int:
-    from ..atomic import atomic_write_text
     from ..errors import ModelError
-    from ..analysis import convergence_study
     from ..analysis.convergence import DEFAULT_TOLERANCE, check_tolerance, parse_mode_counts
     from ._common import default_out, model_from_args, prepare_out
 
@@ -59,17 +59,22 @@ def _handle(args) -> int:
     if args.count < 1:
         raise ModelError("--count", "a positive number of frequencies", args.count)
     model = model_from_args(args)          # MODEL and --set (--n-modes is the range here)
-    about, spin = operating_point(args)
     out = prepare_out(Path(args.out) if args.out else default_out(model.name, "-converge"), force=args.force)
+    return answer_and_print(args, "converge", model, out, lambda out: _converge(args, model, counts, tolerance, out))
+
+
+def _converge(args, model, counts, tolerance: float, out: Path) -> tuple[list[str], list[str]]:
+    """The study with its verdicts at relative ``tolerance``, its files written to ``out``; the lines to
+    print and the names of the files."""
+    from ..atomic import atomic_write_text
+    from ..analysis import convergence_study
+
+    about, spin = operating_point(args)
     study = convergence_study(model, counts, about=about, spin=spin, hub=args.hub, count=args.count,
                               output=args.output, at=args.at, tolerance=tolerance)
     atomic_write_text(out / "convergence.csv", study.csv_text())
     atomic_write_text(out / "convergence_verdicts.csv", study.verdicts_csv_text())
-    if not args.quiet:
-        print(f"{model.name}: convergence with the number of modes per beam, linearized about {about}")
-        for note in study.notes:
-            print(f"note: {note}")
-        print(study.table())
-        print(study.verdicts_text())
-        print(f"wrote 2 files to {out}")
-    return 0
+    lines = [f"{model.name}: convergence with the number of modes per beam, linearized about {about}"]
+    lines += [f"note: {note}" for note in study.notes]
+    lines += [study.table(), study.verdicts_text()]
+    return lines, ["convergence.csv", "convergence_verdicts.csv"]

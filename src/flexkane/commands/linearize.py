@@ -23,7 +23,7 @@ from pathlib import Path
 
 from ._common import add_model_arguments, add_out_arguments, model_from_args
 
-__all__ = ["register", "add_operating_point_arguments", "EXPORTS"]
+__all__ = ["register", "add_operating_point_arguments", "add_no_result_cache_argument", "answer_and_print", "EXPORTS"]
 
 #: Formats of ``--export``, with the file each writes.
 EXPORTS = {"control": "statespace.npz"}
@@ -47,6 +47,13 @@ def add_operating_point_arguments(parser, *, spin: bool = True, spin_axis: bool 
         parser.add_argument("--spin-axis", default=None, metavar="X,Y,Z", type=spin_axis_argument,
                             help="3D models: spin freely about this axis of the child frame of a spherical or "
                                  "free joint (--hub; a torque-free body, a top) instead of driving a revolute hub")
+
+
+def add_no_result_cache_argument(parser) -> None:
+    """``--no-cache``: compute the analysis afresh instead of answering from the cache of results."""
+    parser.add_argument("--no-cache", action="store_true",
+                        help="compute afresh instead of answering from the cache of analysis results (a repeated "
+                             "analysis with the same model, values and options), and store nothing there")
 
 
 def spin_axis_argument(text: str) -> tuple:
@@ -87,6 +94,7 @@ def register(subparsers) -> None:
                         "for python-control (flexkane.analysis.load_control reads it)")
     add_out_arguments(p, "out/MODEL_NAME-linearized")
     p.add_argument("--quiet", action="store_true", help="print nothing but errors")
+    add_no_result_cache_argument(p)
     p.set_defaults(handler=_handle)
 
 
@@ -112,41 +120,61 @@ def describe(linear) -> list[str]:
 
 
 def _handle(args) -> int:
-    from ..atomic import atomic_write_text
     from ..errors import ModelError
-    from ..analysis import Linearization, modal_analysis, plot_mode_shapes
     from ._common import default_out, prepare_out
 
     model = model_from_args(args)
-    about, spin = operating_point(args)
     if args.plot_modes < 1:
         raise ModelError("--plot-modes", "a positive number of modes", args.plot_modes)
     for export in args.export:
         if export not in EXPORTS:
             raise ModelError("--export", "one of " + ", ".join(EXPORTS), export)
     out = prepare_out(Path(args.out) if args.out else default_out(model.name, "-linearized"), force=args.force)
+    return answer_and_print(args, "linearize", model, out, lambda out: _linearize(args, model, out))
+
+
+def answer_and_print(args, analysis: str, model, out: Path, compute) -> int:
+    """The result from the cache of analysis results, else ``compute(out)``
+    (:func:`flexkane.result_cache.answer`); its lines printed unless --quiet. Exit code 0."""
+    from ..result_cache import analysis_options, answer
+
+    result = answer(analysis, model, analysis_options(args), out, compute, cache=not args.no_cache)
+    if not args.quiet:
+        for line in result.lines:
+            print(line)
+        count = len(result.files)
+        print(f"wrote {count} file{'s' if count != 1 else ''} to {out}")
+    return 0
+
+
+def _linearize(args, model, out: Path) -> tuple[list[str], list[str]]:
+    """Linearize, write the files to ``out``; the lines to print and the names of the files."""
+    from ..atomic import atomic_write_text
+    from ..analysis import Linearization, modal_analysis, plot_mode_shapes
+
+    about, spin = operating_point(args)
     linear = Linearization(model, about=about, spin=spin, hub=args.hub, t0=args.t0, spin_axis=args.spin_axis).at()
     modal = modal_analysis(linear)
+    names = ["linear_model.npz", "linear_model.mat", "modes.csv"]
     linear.save_npz(out / "linear_model.npz")
     linear.save_mat(out / "linear_model.mat")
     atomic_write_text(out / "modes.csv", modal.csv_text())
     spatial = model.dimensions == 3 and not model.beams     # rigid 3D chains: shapes in modes.csv only
     if not spatial:
         plot_mode_shapes(modal, out / "mode_shapes.png", count=args.plot_modes)
+        names.append("mode_shapes.png")
     exports = sorted(set(args.export))
     if "control" in exports:
         linear.save_control(out / EXPORTS["control"])
-    if not args.quiet:
-        for line in describe(linear):
-            print(line)
-        rigid = len(modal.rigid)
-        if rigid:
-            print(f"{rigid} rigid-body mode{'s' if rigid > 1 else ''} (zero frequency)")
-        if not modal.stable:
-            print("the operating point is unstable (a mode grows)")
-        print(modal.table())
-        if spatial:
-            print("note: mode_shapes.png is drawn for planar models and spatial models with beams only "
-                  "(the shapes are in modes.csv)")
-        print(f"wrote {4 - spatial + len(exports)} files to {out}")
-    return 0
+        names.append(EXPORTS["control"])
+    lines = describe(linear)
+    rigid = len(modal.rigid)
+    if rigid:
+        lines.append(f"{rigid} rigid-body mode{'s' if rigid > 1 else ''} (zero frequency)")
+    if not modal.stable:
+        lines.append("the operating point is unstable (a mode grows)")
+    lines.append(modal.table())
+    if spatial:
+        lines.append("note: mode_shapes.png is drawn for planar models and spatial models with beams only "
+                     "(the shapes are in modes.csv)")
+    return lines, names
