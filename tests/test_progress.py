@@ -271,3 +271,13 @@ def test_campbell_reports_each_spin_rate_and_converge_each_mode_count(tmp_path, 
         "flexkane: convergence study of flexible-arm: 2/2, 2 modes per beam"]
     assert main(["converge", "flexible-arm", "--n-modes", "1..2", "--out", str(tmp_path / "q"), "--quiet"]) == 0
     assert capsys.readouterr().err == ""
+
+
+def test_linearize_reports_its_stages_in_order(tmp_path, monkeypatch, capsys):
+    monkeypatch.setattr(progress, "_clock", Minutes())
+    assert main(["linearize", "flexible-arm", "--out", str(tmp_path / "l")]) == 0
+    ended = [line.split(" ... done in ")[0] for line in flexkane_lines(capsys.readouterr().err) if " ... done in " in line]
+    assert ended == [f"flexkane: {stage} of flexible-arm" for stage in (
+        "deriving the equations of motion", "forming the Jacobians",
+        "generating the numeric functions of the linearization", "finding the operating point",
+        "forming the Jacobians of the outputs", "eigenvalues and mode shapes", "drawing the mode shapes")]
