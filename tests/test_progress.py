@@ -281,3 +281,16 @@ def test_linearize_reports_its_stages_in_order(tmp_path, monkeypatch, capsys):
         "deriving the equations of motion", "forming the Jacobians",
         "generating the numeric functions of the linearization", "finding the operating point",
         "forming the Jacobians of the outputs", "eigenvalues and mode shapes", "drawing the mode shapes")]
+
+
+def test_an_activity_of_another_thread_is_silent():
+    clock, stream = FakeClock(), Stream(terminal=False)
+    with reporting(stream=stream, clock=clock):
+        def work():
+            with activity("deriving in a worker thread", delay=0):
+                clock.now += 10.0
+
+        worker = threading.Thread(target=work)
+        worker.start()
+        worker.join()
+    assert stream.getvalue() == "" and progress._active == []

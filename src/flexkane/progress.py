@@ -112,10 +112,9 @@ class Activity:
 
     # ---------------------------------------------------------------- context
     def __enter__(self) -> "Activity":
-        settings = _reporting[-1] if _reporting else None
-        if settings is None or settings.quiet:
+        if not enabled():
             return self
-        self._settings = settings
+        settings = self._settings = _reporting[-1]
         if _active:
             _active[-1]._stop_ticker()    # the innermost activity is the one shown
         _active.append(self)
@@ -244,8 +243,9 @@ def activity(text: str, *, delay: float = LONG, thread: bool = True) -> Activity
 
 
 def enabled() -> bool:
-    """Whether an activity opened now would report (within :func:`reporting`, not quiet)."""
-    return bool(_reporting) and not _reporting[-1].quiet
+    """Whether an activity opened now would report (within :func:`reporting`, not quiet, in the main
+    thread: the work of other threads, e.g. a pool's, is not shown)."""
+    return bool(_reporting) and not _reporting[-1].quiet and threading.current_thread() is threading.main_thread()
 
 
 def tick() -> None:
@@ -294,10 +294,9 @@ class Steps:
         self._settings = None
 
     def __enter__(self) -> "Steps":
-        settings = _reporting[-1] if _reporting else None
-        if settings is not None and not settings.quiet:
-            self._settings = settings
-            self._start = self._last = settings.clock()
+        if enabled():
+            self._settings = _reporting[-1]
+            self._start = self._last = self._settings.clock()
         return self
 
     def __exit__(self, *exc) -> None:
