@@ -67,8 +67,8 @@ def test_a_terminal_line_shows_the_progress_of_an_integration_and_is_not_drawn_b
             clock.now += 1.0
             bar.update(2.5, 5.0, "s")
             clock.now += 1.0
-    assert stream.getvalue() == ("\rflexkane: integrating the arm (2.5 of 5 s) ... 1 s"
-                                 "\rflexkane: integrating the arm (2.5 of 5 s) ... done in 2.5 s\n")
+    assert stream.getvalue() == ("\rflexkane: integrating the arm [##########----------] 2.5/5 s ... 1 s"
+                                 "\rflexkane: integrating the arm [##########----------] 2.5/5 s ... done in 2.5 s\n")
 
 
 def test_a_quick_phase_that_was_never_shown_leaves_nothing_on_a_terminal():
@@ -242,7 +242,7 @@ def test_run_reports_derivation_code_generation_compilation_and_integration_and_
     lines = flexkane_lines(capsys.readouterr().err)
     announced = ["deriving the equations of motion of tiny-pendulum", "generating the code of tiny-pendulum",
                  COMPILING_MESSAGE]     # known to be long: a start line at once, an end line (a minute)
-    integration = "integrating tiny-pendulum to t = 0.1 s (0.1 of 0.1 s)"    # may be quick: an end line
+    integration = "integrating tiny-pendulum to t = 0.1 s [####################] 0.1/0.1 s"   # an end line
     for phase in announced:
         assert [line for line in lines if phase in line and line.endswith(" ...")], lines
     for phase in announced + [integration]:

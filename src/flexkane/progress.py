@@ -38,6 +38,7 @@ __all__ = ["Activity", "LONG", "ProgressBar", "Steps", "activity", "each_reporte
 #: Seconds from which a finished activity leaves an end line on a non-terminal [s].
 LONG = 2.0
 _PREFIX = "flexkane: "
+_BAR = 20   # characters of a progress bar (Activity.update)
 
 
 class _Reporting:
@@ -165,9 +166,10 @@ class Activity:
                 settings.stream.flush()
 
     def update(self, done: float, total: float, unit: str = "") -> None:
-        """Progress ``done`` of ``total`` (e.g. simulated time, ``unit`` "s"), shown after the text
-        on a terminal (updated once per second) and in the end line."""
-        self.detail = f" ({done:.4g} of {total:.4g}{' ' + unit if unit else ''})"
+        """Progress ``done`` of ``total`` (e.g. simulated time, ``unit`` "s"), shown after the text as
+        a bar and ``done/total unit`` (on a terminal updated once per second) and in the end line."""
+        filled = int(round(min(max(done / total if total else 1.0, 0.0), 1.0) * _BAR))
+        self.detail = f" [{'#' * filled}{'-' * (_BAR - filled)}] {done:.4g}/{total:.4g}{' ' + unit if unit else ''}"
         self.tick()
 
     def _show(self, elapsed: float) -> None:
