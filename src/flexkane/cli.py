@@ -59,9 +59,10 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_USAGE
     from .garbage_collection import long_lived_objects
     from .interruption import StopRequest
+    from .progress import reporting
 
-    try:
-        with StopRequest(), long_lived_objects():  # SIGTERM as Ctrl-C in every phase of every command (exit 130)
+    try:   # SIGTERM as Ctrl-C in every phase of every command (exit 130); the long phases report on stderr
+        with StopRequest(), long_lived_objects(), reporting(quiet=getattr(args, "quiet", False)):
             try:
                 return int(args.handler(args) or EXIT_OK)
             except BaseException:

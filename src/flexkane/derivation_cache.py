@@ -447,13 +447,15 @@ def model_source(eom) -> str:
         :func:`flexkane.validity.spin_expressions`).
     """
     from .numerics.codegen import generate_outputs_source, generate_rhs_source
+    from .progress import activity
     from .validity import spin_expressions
 
-    parts = [generate_rhs_source(eom, quadratures=work_integrands(eom)),
-             generate_outputs_source(eom.compact.outputs if hasattr(eom, "compact") else eom.outputs, eom)]
-    spins = spin_expressions(eom)
-    if spins:
-        parts.append(generate_outputs_source(spins, eom, name="spin_rates"))
+    with activity(f"generating the code of {eom.model.name}", delay=0):   # on stderr (flexkane.progress)
+        parts = [generate_rhs_source(eom, quadratures=work_integrands(eom)),
+                 generate_outputs_source(eom.compact.outputs if hasattr(eom, "compact") else eom.outputs, eom)]
+        spins = spin_expressions(eom)
+        if spins:
+            parts.append(generate_outputs_source(spins, eom, name="spin_rates"))
     return "\n\n".join(parts)
 
 

@@ -14,6 +14,7 @@ cache when they are there, so that a repeated run imports no SymPy.
 
 from __future__ import annotations
 
+import contextlib
 import time
 from dataclasses import dataclass
 
@@ -229,6 +230,7 @@ def compile_model(eom, cache_dir=None, *, announce=None, outputs: bool = True) -
         raise ModelError("outputs", "True or False (compile the outputs functions now)", outputs)
     from .numerics.integrate import compile_integrators
     from .numerics.jit_module import build_module, integrators_compiled, is_compiled, structure_key
+    from .progress import activity, enabled
 
     start = time.perf_counter()
     if not derivation.manifest["state_names"]:   # derive serves inverse dynamics; a run needs a state
@@ -238,11 +240,15 @@ def compile_model(eom, cache_dir=None, *, announce=None, outputs: bool = True) -
     source = derivation.source()
     key = structure_key(__version__, source)
     module = build_module(source, key, cache_dir)
-    if announce is not None and not integrators_compiled():
-        announce(INTEGRATORS_MESSAGE)
-    if announce is not None and not is_compiled(module):
-        announce(COMPILING_MESSAGE)
-    compile_integrators(module, outputs=outputs)
+    shown = []   # what Numba compiles here (a first use outside the command line's child process)
+    if (announce is not None or enabled()) and not integrators_compiled():
+        shown.append(INTEGRATORS_MESSAGE)
+    if (announce is not None or enabled()) and not is_compiled(module):
+        shown.append(COMPILING_MESSAGE)
+    for text in shown if announce is not None else ():
+        announce(text)
+    with activity("; ".join(shown), delay=0) if shown else contextlib.nullcontext():   # on stderr
+        compile_integrators(module, outputs=outputs)
     return CompiledModel(derivation, module, key, time.perf_counter() - start)
 
 

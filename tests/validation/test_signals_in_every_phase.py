@@ -116,9 +116,10 @@ def test_a_signal_while_a_plot_is_saved_exits_130_naming_the_complete_files(run_
 
 
 def test_sigterm_during_the_derivation_exits_130_without_writing_results(torque_pendulum_file, tmp_path):
-    """The derivation (pure Python, made long here by repeating it) stops at once."""
+    """The derivation (pure Python, made long here by repeating it) stops at once (the signal comes
+    once it is announced: from the function that derive runs within its progress line)."""
     out = tmp_path / "run"
-    process = _run_signalling("flexkane.kane:derive", ["run", str(torque_pendulum_file), "--out", str(out)],
+    process = _run_signalling("flexkane.kane.equations:_derive", ["run", str(torque_pendulum_file), "--out", str(out)],
                               loop=True, env={"FLEXKANE_CACHE_DIR": str(tmp_path / "cache")}, timeout=60)
     assert process.returncode == 130, process.stderr
     assert "Traceback" not in process.stderr and "flexkane: interrupted" in process.stderr

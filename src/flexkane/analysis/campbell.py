@@ -265,6 +265,7 @@ def campbell_diagram(model: Model, spins, *, hub: str | None = None, t0: float =
     -------
     CampbellDiagram
     """
+    from ..progress import each_reported
     from .linearization import Linearization
 
     from ..limits import check_count
@@ -276,7 +277,7 @@ def campbell_diagram(model: Model, spins, *, hub: str | None = None, t0: float =
     lin = Linearization(model, about="spin", spin=float(spins[0]), hub=hub, t0=t0, spin_axis=spin_axis)
     rows, growth = [], []
     q = None
-    for spin in spins:
+    for spin in each_reported(spins, f"Campbell diagram of {model.name}", "Omega = {:g} rad/s"):
         linear = lin.at(spin=float(spin), q_start=q, outputs=False)
         q = lin.full_operating_point(linear)
         modal = modal_analysis(linear)

@@ -333,6 +333,7 @@ def convergence_study(model: Model, n_modes, *, about: str = "equilibrium", spin
     ConvergenceStudy
     """
     from ..kane import derive
+    from ..progress import each_reported
     from ..simulation import compile_model, simulate
     from .linearization import Linearization
 
@@ -347,7 +348,7 @@ def convergence_study(model: Model, n_modes, *, about: str = "equilibrium", spin
     counts = checked_mode_counts(n_modes)
     rows, values, notes, labels = [], [], [], []
     sim = model.simulation
-    for n in counts:
+    for n in each_reported(counts, f"convergence study of {model.name}", "{} modes per beam"):
         variant = _study_variant(model, n, notes)
         lin = Linearization(variant, about=about, spin=spin, hub=hub)
         modal = modal_analysis(lin.at(outputs=False))

@@ -333,4 +333,7 @@ def modal_analysis(linear: LinearModel) -> ModalAnalysis:
     -------
     ModalAnalysis
     """
-    return ModalAnalysis(linear)
+    from ..progress import activity
+
+    with activity(f"eigenvalues and mode shapes of {linear.name}"):   # on stderr when long (flexkane.progress)
+        return ModalAnalysis(linear)

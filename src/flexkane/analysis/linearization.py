@@ -61,6 +61,7 @@ from ..kane.inputs import input_symbols
 from ..kane.loop_closure import closure_unknowns
 from ..model import Model
 from ..model.coordinates import BEAM_ROLES
+from ..progress import activity
 from .equilibrium import EquilibriumCheck, NoEquilibriumError, check_equilibrium, find_equilibrium
 from .jacobian import forward_jacobian, numeric_function
 from .linear_model import LinearModel, linear_outputs
@@ -211,10 +212,12 @@ class Linearization:
         self.inputs = list(self.prepared.inputs)
         self.r = [symbols[ch.name] for ch in self.inputs]
         self._symbols = None
-        self._form_matrices()
+        with activity(f"forming the matrices of {self.model.name}"):    # on stderr when long (flexkane.progress)
+            self._form_matrices()
         self._check_dropped()
         self._check_drivers()
-        self._compile()
+        with activity(f"forming the Jacobians and numeric functions of the linearization of {self.model.name}"):
+            self._compile()
 
     # ------------------------------------------------------------------ symbolic
     def _form_matrices(self) -> None:
@@ -437,9 +440,10 @@ class Linearization:
         """The outputs and their Jacobians at ``w = (q_all, z)``, speeds u0, u' = 0, t0 for constants p."""
         n, n_all, m, k, nz = len(self.u), len(self.q_all), len(self.r), len(self.output_names), len(self.z)
         if self._f_outputs is None:   # formed once, on first use (campbell diagrams need no outputs)
-            fy = forward_jacobian([self.eom.outputs[name] for name in self.output_names],
-                                  [*self.q_all, *self.u, *self.ud, *self.z, *self.r], prefix="_fy")
-            self._f_outputs = numeric_function([*self._args_symbols, *self.ud], [fy.values, fy.jacobian], fy)
+            with activity(f"forming the Jacobians of the outputs of {self.model.name}"):
+                fy = forward_jacobian([self.eom.outputs[name] for name in self.output_names],
+                                      [*self.q_all, *self.u, *self.ud, *self.z, *self.r], prefix="_fy")
+                self._f_outputs = numeric_function([*self._args_symbols, *self.ud], [fy.values, fy.jacobian], fy)
         with np.errstate(all="ignore"):
             values, jacobian = self._f_outputs(*self._args(w, p, u0), *np.zeros(n))
         J = np.array(jacobian, dtype=float).reshape(k, n_all + 2 * n + nz + m)
@@ -635,7 +639,8 @@ class Linearization:
         -------
         LinearModel
         """
-        check = self.operating_point(spin, q_start)
+        with activity(f"finding the operating point of {self.model.name}"):
+            check = self.operating_point(spin, q_start)
         p = self.parameter_values(spin)
         u0 = self.steady_speeds(spin)
         x = self._numbers(check.q, p, u0)

@@ -257,6 +257,14 @@ def plot_mode_shapes(modal: ModalAnalysis, path, count: int = 4) -> Path:
     -------
     pathlib.Path
     """
+    from ..progress import activity
+
+    with activity(f"drawing the mode shapes of {modal.linear.name}"):   # on stderr when long (flexkane.progress)
+        return _plot_mode_shapes(modal, path, count)
+
+
+def _plot_mode_shapes(modal: ModalAnalysis, path, count: int) -> Path:
+    """:func:`plot_mode_shapes`."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 

@@ -58,15 +58,15 @@ def _handle(args) -> int:
 def animate_run(results, out: Path, args, *, quiet: bool) -> list[Path]:
     """Animate ``results`` into ``out`` with the options of :func:`add_animation_arguments`."""
     from ..animation import animate
-    from ..progress import ProgressBar
+    from ..progress import activity
 
     if out.parent and not out.parent.is_dir():
         raise ModelError("--out", "a file in an existing directory", str(out))
     fps = getattr(args, "fps", 20.0)
     frames = getattr(args, "frames", 120)
-    with ProgressBar(frames, enabled=not quiet, unit="frames") as bar:
+    with activity(f"drawing the animation {out.name}", delay=1.0, thread=False) as bar:   # on stderr (--quiet: not)
         movie = animate(results, out, magnify=args.magnify, trace=args.trace, fps=fps, frames=frames,
-                        mp4=not getattr(args, "no_mp4", False), progress=bar.update,
+                        mp4=not getattr(args, "no_mp4", False), progress=lambda k, n: bar.update(k, n, "frames"),
                         view=getattr(args, "view", None))
     for message in movie.messages:
         print(f"flexkane: {message}", file=sys.stderr)

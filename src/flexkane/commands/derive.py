@@ -26,6 +26,7 @@ def register(subparsers) -> None:
     p.add_argument("--latex", action="store_true", help="print LaTeX instead of text")
     p.add_argument("--markdown", action="store_true", help="print the whole Markdown report (equations.md)")
     add_no_cache_argument(p)
+    p.add_argument("--quiet", action="store_true", help="print the equations only (no progress, no timing)")
     p.set_defaults(handler=_handle)
 
 
@@ -43,5 +44,6 @@ def _handle(args) -> int:
     else:
         print(derivation.forces_text(latex=args.latex))
     how = "derived" if derived else "loaded from the cache"
-    print(f"# {how} {len(eom.all_speeds)} equations in {elapsed:.3f} s", file=sys.stderr)
+    if not args.quiet:
+        print(f"# {how} {len(eom.all_speeds)} equations in {elapsed:.3f} s", file=sys.stderr)
     return 0

@@ -105,11 +105,6 @@ def run_model(model, out: Path, *, t_end=None, dt_out=None, rtol=None, atol=None
                            cache=cache)
 
 
-def _say(quiet: bool, text: str) -> None:
-    if not quiet:
-        print(f"flexkane: {text}", file=sys.stderr, flush=True)
-
-
 def _run_phases(model, out: Path, stop, *, t_end, dt_out, rtol, atol, method, max_steps, quiet, animation, pdf,
                 plots, cache) -> int:
     """The phases of :func:`run_model` under the command's stop request ``stop``.
@@ -125,13 +120,12 @@ def _run_phases(model, out: Path, stop, *, t_end, dt_out, rtol, atol, method, ma
     from ..derivation_cache import Derivation
     from ..model import dumps_model
     from ..numerics.jit_module import compile_in_subprocess
-    from ..progress import ProgressBar
+    from ..progress import activity
     from ..simulation import COMPILING_MESSAGE, INTEGRATORS_MESSAGE, compile_model, simulate
 
     started = time.perf_counter()
     # the equations as far as the run needs them: from the cache, SymPy only for what it lacks
-    derivation = Derivation(model, announce=lambda: _say(quiet, f"deriving the equations of motion of {model.name}"),
-                            cache=cache)
+    derivation = Derivation(model, cache=cache)   # deriving, generating, compiling: flexkane.progress says so
     derivation.manifest    # loaded, or made from the equations (derived or loaded first)
     derive_time = time.perf_counter() - started
 
@@ -143,14 +137,13 @@ def _run_phases(model, out: Path, stop, *, t_end, dt_out, rtol, atol, method, ma
             load_matplotlib()
 
     # a structure new to the cache compiles in a child process (a signal stops it at once)
-    with compile_in_subprocess(announce=lambda: _say(quiet, f"{COMPILING_MESSAGE} ..."),
-                               announce_integrators=lambda: _say(quiet, f"{INTEGRATORS_MESSAGE} ..."),
+    with compile_in_subprocess(announce=COMPILING_MESSAGE, announce_integrators=INTEGRATORS_MESSAGE,
                                meanwhile=meanwhile):
-        compiled = compile_model(derivation, announce=None if quiet else (lambda text: _say(quiet, f"{text} ...")))
+        compiled = compile_model(derivation)
     with stop.deferred():
-        with ProgressBar(t_end, enabled=not quiet, unit="s", delay=0.0) as bar:
+        with activity(f"integrating {model.name} to t = {t_end:g} s", delay=1.0, thread=False) as bar:
             def progress(t_reached, t_total):
-                bar.update(t_reached, t_total)
+                bar.update(t_reached, t_total, "s")
                 stop.check()
 
             results = simulate(compiled, t_end=t_end, dt_out=dt_out, rtol=rtol, atol=atol, method=method,

@@ -123,6 +123,7 @@ def _is_sweep_directory(directory: Path) -> bool:
 
 def _handle(args) -> int:
     from ..numerics.jit_module import compile_in_subprocess
+    from ..simulation import COMPILING_MESSAGE, INTEGRATORS_MESSAGE
     from ..sweep import SweepInterrupted, default_metric, describe_outcome, plot_metric, run_sweep
 
     model = model_from_args(args)
@@ -130,7 +131,7 @@ def _handle(args) -> int:
     out = prepare_out(args.out, force=args.force, resumable=_is_sweep_directory)
     try:
         # SIGTERM behaves as Ctrl-C: the table keeps what is finished; a first compilation can be stopped
-        with StopRequest(), compile_in_subprocess():
+        with StopRequest(), compile_in_subprocess(announce=COMPILING_MESSAGE, announce_integrators=INTEGRATORS_MESSAGE):
             outcome = run_sweep(model, spec, out=out, workers=args.workers, scheduler=args.scheduler,
                                 batch_size=args.batch_size, retry_failed=args.retry_failed,
                                 progress=not args.quiet, force=args.force)

@@ -347,6 +347,14 @@ def derive(model: Model, *, lazy_mass: bool | None = None) -> EquationsOfMotion:
         raise ModelError("model", "a flexkane Model (flexkane.load_model, flexkane.builtin_model)",
                          type(model).__name__)
     model.validate()
+    from ..progress import activity
+
+    with activity(f"deriving the equations of motion of {model.name}", delay=0):   # on stderr (flexkane.progress)
+        return _derive(model, lazy_mass)
+
+
+def _derive(model: Model, lazy_mass: bool | None) -> EquationsOfMotion:
+    """:func:`derive` of a validated model."""
     budget = DerivationBudget()   # bounded time and size (see flexkane.kane.budget)
     chain = build_chain(model)
     spatial = chain.dimensions == 3

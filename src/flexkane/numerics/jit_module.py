@@ -61,6 +61,7 @@ from flexkane.forking import fork_allowed as _fork_allowed   # may a compiling c
 from flexkane.numerics import linear_algebra, scalar_typing
 from flexkane.numerics.checked_numba_cache import entry_intact, files_intact, guard_namespace
 from flexkane.numerics.system_function import SIGNATURE
+from flexkane.progress import activity, tick, ticking
 
 __all__ = ["TEMPLATE_BEGIN", "TEMPLATE_END", "build_module", "compile_in_subprocess", "compose_module_source",
            "default_cache_dir", "integrators_compiled", "is_compiled", "structure_key", "template_text",
@@ -219,12 +220,13 @@ def compile_in_subprocess(announce=None, announce_integrators=None, meanwhile=No
 
     Parameters
     ----------
-    announce : callable, optional
+    announce : callable or str, optional
         Called without arguments just before a child process starts compiling a model structure
-        (e.g. to tell the user that a first compilation takes a while).
-    announce_integrators : callable, optional
-        Called without arguments just before a child process starts compiling the integrator
-        loops (once per installation, see :func:`integrators_compiled`); default ``announce``.
+        (e.g. to tell the user that a first compilation takes a while); a text instead: what the
+        :func:`flexkane.progress.activity` of the wait shows (with its time, on standard error).
+    announce_integrators : callable or str, optional
+        The same for the integrator loops (compiled once per installation, see
+        :func:`integrators_compiled`); default ``announce``.
     meanwhile : callable, optional
         Called without arguments in this process while a child compiles (at most once per child;
         not at all when nothing is compiled): work the caller needs later anyway and keeps (e.g.
@@ -332,7 +334,8 @@ def _compile_in_fork(path: Path, meanwhile=None, loops: bool = True) -> bool:
                     os._exit(status)
             pids.append(pid)
         if meanwhile is not None:
-            meanwhile()
+            with ticking():   # the children are forked: a thread may update the progress line now
+                meanwhile()
         while len(codes) < len(pids):
             for pid in pids:
                 if pid not in codes:
@@ -340,6 +343,7 @@ def _compile_in_fork(path: Path, meanwhile=None, loops: bool = True) -> bool:
                     if finished:
                         codes[pid] = code
             if len(codes) < len(pids):
+                tick()
                 time.sleep(0.02)
         ok = all(os.waitstatus_to_exitcode(code) == 0 for code in codes.values())
         if ok:
@@ -377,16 +381,40 @@ def _compile_in_child(path: Path, meanwhile=None, loops: bool = True) -> bool:
                                  start_new_session=True)
         try:
             if meanwhile is not None:
-                meanwhile()
+                with ticking():
+                    meanwhile()
             while True:
                 try:
                     return child.wait(timeout=0.1) == 0
                 except subprocess.TimeoutExpired:
-                    continue
+                    tick()
         finally:
             if child.poll() is None:
                 child.kill()
                 child.wait()
+
+
+def _compile_here_or_in_child(path: Path, integrators: bool, extra=None) -> None:
+    """The compilation of :func:`build_module` within :func:`compile_in_subprocess`: the module at
+    ``path`` in a child process, the integrator loops loaded here first when ``integrators`` (they
+    are cached), else compiled by the child too; ``extra``: the caller's ``meanwhile``."""
+    from flexkane.numerics.integrate import load_integrators
+
+    # this process loads the integrators it will need from their cache (0.05 s, after 0.3 s
+    # for Numba's machinery); when they are not cached, the child compiles them and this
+    # process must not. A fork is made after the loading: the child inherits the machinery
+    # instead of building it again; a new interpreter builds its own meanwhile.
+    fork = _fork_allowed()
+    if integrators and fork:
+        load_integrators()
+
+    def meanwhile():   # while the child compiles the structure
+        if integrators and not fork:
+            load_integrators()
+        if extra is not None:
+            extra()
+
+    _compile_in_child(path, meanwhile=meanwhile, loops=not integrators)
 
 
 def build_module(source: str, key: str, cache_dir: Path | None = None, *,
@@ -436,30 +464,20 @@ def build_module(source: str, key: str, cache_dir: Path | None = None, *,
         compiled = _is_marked(path, text) and files_intact(path)   # a damaged file: compiled in the child
         integrators = integrators_compiled()
         if not (compiled and integrators):
-            extra = None
+            extra, shown = None, []
             if _in_subprocess:
                 announce, announce_integrators, extra = _in_subprocess[-1]
-                if not integrators:
-                    announce_integrators()
-                if not compiled and not (announce is announce_integrators and not integrators):
-                    announce()  # (once, when one callable announces both)
-            from flexkane.numerics.integrate import load_integrators
-
-            # this process loads the integrators it will need from their cache (0.05 s, after 0.3 s
-            # for Numba's machinery); when they are not cached, the child compiles them and this
-            # process must not. A fork is made after the loading: the child inherits the machinery
-            # instead of building it again; a new interpreter builds its own meanwhile.
-            fork = _fork_allowed()
-            if integrators and fork:
-                load_integrators()
-
-            def meanwhile():   # while the child compiles the structure
-                if integrators and not fork:
-                    load_integrators()
-                if extra is not None:
-                    extra()
-
-            _compile_in_child(path, meanwhile=meanwhile, loops=not integrators)
+                due = ([] if integrators else [announce_integrators]) \
+                    + ([] if compiled or (announce is announce_integrators and not integrators) else [announce])
+                for what in due:   # (once, when one callable announces both)
+                    if isinstance(what, str):
+                        shown.append(what)
+                    else:
+                        what()
+            # what is compiled, with its time, on stderr while this process waits (a thread-less
+            # activity: a fork is made while no other thread runs)
+            with activity("; ".join(shown), delay=0, thread=False) if shown else contextlib.nullcontext():
+                _compile_here_or_in_child(path, integrators, extra)
     _ensure_module_file(path, text)   # checked again just before the import (a child may have run meanwhile)
     spec = _module_spec(module_name, path)
     module = importlib.util.module_from_spec(spec)
