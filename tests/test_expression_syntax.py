@@ -94,3 +94,21 @@ def test_field_value_gives_the_conversions_message():
         sympy_value("1/(t - t)", {"t": 0.0})
     assert fast.value.path == "loads.p.torque"
     assert fast.value.hint == slow.value.hint
+
+
+@pytest.mark.parametrize("text, unbounded", [
+    ("q0*min(t/T, 1)*(x/L)**(1/7) + gust*sin(2*pi*(x - c*t)/L)", False),   # wind-mast: divisions by L only
+    ("3*x**2 - exp(x) + abs(x - 1) + where(x < 1, 1, 2)", False),
+    (2.5, False),
+    ("0.001/(x - 0.35)**2", True),
+    ("(x - 0.35)**(-1)", True),
+    ("(x - 0.35)**n", True),                 # a power that is not a number may be negative
+    ("tan(x)", True),
+    ("log(1 + x)", True),
+    ("1/t + x", False),                      # singular in t alone: not along the beam
+    ("x +* 2", True),                        # outside the syntax: the conversion decides
+])
+def test_may_be_unbounded_finds_divisions_negative_powers_tan_and_log_of_the_variable(text, unbounded):
+    from flexkane.expression_syntax import may_be_unbounded
+
+    assert may_be_unbounded(text, "x") is unbounded

@@ -34,7 +34,7 @@ from .errors import ModelError
 
 __all__ = ["FUNCTIONS", "MAX_DEPTH", "MAX_EXPONENT", "MAX_INTEGER", "MAX_LENGTH", "MAX_NODES",
            "NeedsSymbolic", "RESERVED_NAMES", "check_parameter_name", "dependency_order",
-           "expression_names", "rename_names", "simple_names", "simple_value"]
+           "expression_names", "may_be_unbounded", "rename_names", "simple_names", "simple_value"]
 
 MAX_LENGTH = 2000  #: Maximum number of characters of an expression.
 MAX_NODES = 500  #: Maximum number of syntax elements (numbers, names, operations, calls).
@@ -505,6 +505,67 @@ def expression_names(text) -> set[str]:
     called = {id(node.func) for node in ast.walk(tree) if isinstance(node, ast.Call)}
     return {node.id for node in ast.walk(tree)
             if isinstance(node, ast.Name) and id(node) not in called and node.id != "pi"}
+
+
+def _constant_number(node) -> float | None:
+    """The value of a syntax tree of numbers alone (``1/7``, ``-2``), else None."""
+    if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) and not isinstance(node.value, bool):
+        return float(node.value)
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.UAdd, ast.USub)):
+        value = _constant_number(node.operand)
+        return None if value is None else (value if isinstance(node.op, ast.UAdd) else -value)
+    if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub, ast.Mult, ast.Div)):
+        a, b = _constant_number(node.left), _constant_number(node.right)
+        if a is None or b is None or (isinstance(node.op, ast.Div) and b == 0):
+            return None
+        return {ast.Add: a + b, ast.Sub: a - b, ast.Mult: a * b}.get(type(node.op), a / b if b else None)
+    return None
+
+
+def may_be_unbounded(text, name: str) -> bool:
+    """Whether an expression may be unbounded where the variable ``name`` is finite, from its syntax.
+
+    An expression built of numbers, names, sums, products, non-negative numeric powers and the functions
+    other than ``tan`` and ``log`` is bounded wherever its names are: it may be unbounded only through a
+    division by, a negative or non-numeric power of, or a ``tan`` or ``log`` of something that depends on
+    ``name``. Used to decide whether a distributed load needs the search for poles along its beam
+    (:mod:`flexkane.model.load_integrability`) without SymPy.
+
+    Parameters
+    ----------
+    text : str or number
+        The expression.
+    name : str
+        The variable (``"x"``, the position along a beam [m]).
+
+    Returns
+    -------
+    bool
+        True when such a construct depends on ``name``, and for a text outside the language's syntax
+        and limits (its conversion then decides); False when the expression is bounded for finite ``name``.
+    """
+    if isinstance(text, numbers.Real) and not isinstance(text, bool):
+        return False
+    try:
+        tree = _checked_tree(text)
+    except NeedsSymbolic:
+        return True
+
+    def depends(node) -> bool:
+        return any(isinstance(n, ast.Name) and n.id == name for n in ast.walk(node))
+
+    for node in ast.walk(tree):
+        if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Div, ast.FloorDiv, ast.Mod)) \
+                and depends(node.right):
+            return True
+        if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Pow) and depends(node):
+            exponent = _constant_number(node.right)
+            if exponent is None or exponent < 0:
+                return True
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in ("tan", "log") \
+                and any(depends(arg) for arg in node.args):
+            return True
+    return False
 
 
 def rename_names(text, names: Mapping[str, str]):

@@ -8,12 +8,21 @@ exception must not land at an arbitrary point, the signal is *deferred*: inside
 integration (the compiled integrator cannot be interrupted; the progress callback between its
 chunks calls :meth:`StopRequest.check`), the request is recorded and honoured at the next check.
 Only the first signal acts; later ones, while the command is cleaning up, are recorded and ignored.
+
+Python runs a signal handler between any two bytecodes of the main thread, also inside a finalizer
+(``__del__``, a weak reference's callback) that the garbage collector happens to run at that moment.
+An exception raised there cannot propagate: Python would print it as "Exception ignored in ..." with
+a traceback and go on. While a :class:`StopRequest` is active, such a lost :class:`KeyboardInterrupt`
+is silenced and raised again in the main thread's own code (:func:`_thread.interrupt_main`, called
+from a thread that ends at once).
 """
 
 from __future__ import annotations
 
+import _thread
 import contextlib
 import signal
+import sys
 import threading
 from collections.abc import Iterator
 
@@ -43,6 +52,8 @@ class StopRequest:
         self.signum = None
         self._deferred = 0
         self._previous = {}
+        self._previous_hook = None
+        self._again = False     # a KeyboardInterrupt lost in a finalizer: raise it again
 
     @property
     def requested(self) -> bool:
@@ -53,12 +64,28 @@ class StopRequest:
         first = self.signum is None
         if first:
             self.signum = signum
-        if first and self._deferred == 0:
+        again, self._again = self._again, False
+        if (first or again) and self._deferred == 0:
             raise KeyboardInterrupt
+
+    def _unraisable(self, unraisable) -> None:
+        """``sys.unraisablehook`` while active: a :class:`KeyboardInterrupt` of this request that a
+        finalizer swallowed is raised again in the main thread, silently; anything else is reported
+        as before."""
+        if issubclass(unraisable.exc_type, KeyboardInterrupt) and self.signum is not None:
+            self._again = True
+            # this handler again, from a short-lived thread: a signal made here would be handled at once,
+            # inside this hook, and lost again. The low-level start does not wait for the thread, which
+            # runs once this thread yields the interpreter, so the main thread handles it at a bytecode
+            # of its own (should the finalizer still run then, this repeats until it ends)
+            _thread.start_new_thread(_thread.interrupt_main, (signal.SIGINT,))
+            return
+        self._previous_hook(unraisable)
 
     def __enter__(self) -> "StopRequest":
         if threading.current_thread() is threading.main_thread():
             self._previous = {sig: signal.signal(sig, self) for sig in SIGNALS}
+            self._previous_hook, sys.unraisablehook = sys.unraisablehook, self._unraisable
             _active.append(self)
         return self
 
@@ -67,6 +94,7 @@ class StopRequest:
             for sig, handler in self._previous.items():
                 signal.signal(sig, handler)
             self._previous = {}
+            sys.unraisablehook, self._previous_hook = self._previous_hook, None
             _active.remove(self)
 
     @contextlib.contextmanager

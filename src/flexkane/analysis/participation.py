@@ -216,7 +216,7 @@ def _spin_axes(linear) -> dict:
     lin = linear.linearization
     if lin.model.dimensions != 3 or not lin.model.beams:
         return {}
-    import sympy as sp
+    from .jacobian import numeric_function
 
     beams = sorted(lin.model.beams)
     evaluate = _ANGULAR_VELOCITIES.get(lin)
@@ -233,7 +233,7 @@ def _spin_axes(linear) -> dict:
                 drivers[c.u] = c.law
         exprs = [[chain.intermediates.expand(c).xreplace(drivers) for c in lin.eom.kinematics.beams[b].frame.omega]
                  for b in beams]
-        evaluate = _ANGULAR_VELOCITIES[lin] = sp.lambdify(lin._args_symbols, exprs, modules="numpy")
+        evaluate = _ANGULAR_VELOCITIES[lin] = numeric_function(lin._args_symbols, exprs)
     w = np.concatenate([lin.full_operating_point(linear), np.asarray(linear.z0, dtype=float)])
     with np.errstate(all="ignore"):
         per_spin = [np.array(evaluate(*lin._args(w, lin.parameter_values(s), lin.steady_speeds(s))), dtype=float)

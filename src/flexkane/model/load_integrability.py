@@ -21,6 +21,11 @@ be bounded on ``[0, L]``: every zero of a denominator (any order ``m p > 0``) an
 of a ``log`` is refused, the message saying whether the integral diverges or is only out of reach of
 the rules. (Singularities at the beam's ends are already refused by the validation's evaluation of the
 load at ``0``, ``L/2`` and ``L``.)
+
+Both checks run only for a load that may be unbounded by its syntax
+(:func:`flexkane.expression_syntax.may_be_unbounded`: a division by, a negative or non-numeric power
+of, a ``tan`` or a ``log`` of something that depends on ``x``); any other load is bounded on
+``[0, L]`` and is accepted without SymPy or SciPy, so that ``flexkane check`` loads neither.
 """
 
 from __future__ import annotations
@@ -30,6 +35,7 @@ import warnings
 import numpy as np
 
 from ..errors import ModelError
+from ..expression_syntax import may_be_unbounded
 
 __all__ = ["check_integrable"]
 
@@ -61,8 +67,8 @@ def check_integrable(path: str, text, parameters: dict, length: float, times) ->
         Naming the component, a pole of the load on ``[0, L]`` (its position and order) or the
         quadrature's report.
     """
-    if not isinstance(text, str):
-        return
+    if not isinstance(text, str) or not may_be_unbounded(text, "x"):
+        return    # sums, products, non-negative powers and bounded functions of x: bounded on [0, L]
     import sympy as sp
 
     from ..expressions import parse_expression
