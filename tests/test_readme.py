@@ -40,3 +40,22 @@ def test_the_sweep_example_gives_a_metric_that_depends_on_the_swept_parameter(tm
     values = [row["max_abs_tip_link"] for row in read_table(out, as_rows=True)]
     assert all(a > 1.2 * b for a, b in zip(values, values[1:]))     # stiffer link, smaller deflection
     assert abs(values[0] - 0.110) < 0.001 and abs(values[-1] - 0.0151) < 0.0002
+
+
+def _anchor(heading: str) -> str:
+    """The anchor a Markdown renderer (GitHub's rule) gives a heading: lower case, punctuation but - and _
+    dropped, spaces as -."""
+    return re.sub(r"[^\w\- ]", "", heading.strip().lower()).replace(" ", "-")
+
+
+def test_the_table_of_contents_lists_every_section_in_order_with_working_links():
+    headings, fenced = [], False
+    for line in README.splitlines():
+        if line.startswith("```"):
+            fenced = not fenced
+        elif not fenced and re.match(r"#{2,3} ", line) and line != "## Contents":
+            headings.append(line.split(" ", 1)[1])
+    contents = README[README.index("## Contents"):README.index("## Quick start")]
+    entries = re.findall(r"^ *- \[(.+)\]\(#([^)]+)\)$", contents, flags=re.M)
+    assert [title for title, _ in entries] == headings
+    assert all(link == _anchor(title) for title, link in entries)
