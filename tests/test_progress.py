@@ -7,7 +7,10 @@ from __future__ import annotations
 import contextlib
 import io
 import os
+import pathlib
 import re
+import subprocess
+import sys
 import threading
 
 import pytest
@@ -166,7 +169,7 @@ def test_the_compilation_forks_while_no_ticker_thread_runs(tmp_path, monkeypatch
     from flexkane.numerics import jit_module
 
     if not fork_allowed():
-        pytest.skip("this process may not fork now (other threads)")
+        pytest.skip("this process may not fork now (other threads): the test runs in a fresh interpreter instead")
     path = tmp_path / "flexkane_generated_broken.py"
     path.write_text("raise RuntimeError('a module that cannot be imported')\n", encoding="utf-8")
     at_fork, meanwhile = [], []
@@ -182,6 +185,19 @@ def test_the_compilation_forks_while_no_ticker_thread_runs(tmp_path, monkeypatch
             with activity(COMPILING_MESSAGE, delay=0, thread=False):
                 ok = jit_module._compile_in_child(path, meanwhile=lambda: meanwhile.append(len(ticker_threads())))
     assert ok is False and at_fork == [0, 0] and meanwhile == [1] and not ticker_threads()
+
+
+def test_the_compilation_forks_while_no_ticker_thread_runs_in_a_fresh_interpreter():
+    """The test above, in a new interpreter (one thread) when earlier tests left threads in this one."""
+    if fork_allowed():
+        pytest.skip("the test runs in this process")
+    if not (sys.platform.startswith("linux") and hasattr(os, "fork")):
+        pytest.skip("the compiling fork needs Linux")
+    test = f"{__file__}::test_the_compilation_forks_while_no_ticker_thread_runs"
+    done = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", test],
+                          capture_output=True, text=True, cwd=pathlib.Path(__file__).resolve().parents[1])
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-2000:]
+    assert "1 passed" in done.stdout.splitlines()[-1], done.stdout[-3000:]
 
 
 PENDULUM = """\
