@@ -19,7 +19,6 @@ rotation (along the spin axis) and lag the bending in it.
 from __future__ import annotations
 
 import json
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -27,55 +26,13 @@ import numpy as np
 
 from ..errors import ModelError
 from ..model import Model
+from ..model.study_ranges import SPIN_LIMIT, parse_spin_range
 from .eigen import modal_analysis
 
 __all__ = ["CampbellDiagram", "campbell_diagram", "parse_spin_range"]
 
 #: Growth rates below this fraction of the largest frequency are rounding errors.
 _GROWTH_TOLERANCE = 1e-9
-
-
-#: The forms of ``--spin``.
-_SPIN_FORMS = "spin rates [rad/s] as START:STOP:COUNT (e.g. 0:8:33) or a list A,B,C"
-#: What ``--spin`` allows at most (:func:`flexkane.limits.check_count`).
-_SPIN_LIMIT = "at most {limit} spin rates (as many as the largest sweep has variants)"
-
-
-def parse_spin_range(text: str, flag: str = "--spin") -> np.ndarray:
-    """Spin rates from ``START:STOP:COUNT`` (COUNT rates from START to STOP) or ``A,B,C`` [rad/s].
-
-    The count is bounded by :data:`flexkane.limits.MAX_VARIANTS`, checked before the rates are made.
-
-    Returns
-    -------
-    numpy.ndarray
-        Shape (COUNT,).
-    """
-    from ..limits import check_count
-
-    text = str(text).strip()
-    count = text.count(",") + 1
-    try:
-        if ":" in text:
-            parts = text.split(":")
-            if len(parts) != 3:
-                raise ValueError
-            start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
-            if count < 1 or not (math.isfinite(start) and math.isfinite(stop)):
-                raise ValueError
-    except ValueError:
-        raise ModelError(flag, _SPIN_FORMS, text) from None
-    check_count(count, flag, _SPIN_LIMIT, text)
-    try:
-        if ":" in text:
-            values = np.linspace(start, stop, count)
-        else:
-            values = np.array([float(v) for v in text.split(",")], dtype=float)
-            if values.size == 0 or not np.all(np.isfinite(values)):
-                raise ValueError
-    except ValueError:
-        raise ModelError(flag, _SPIN_FORMS, text) from None
-    return values
 
 
 @dataclass
@@ -273,7 +230,7 @@ def campbell_diagram(model: Model, spins, *, hub: str | None = None, t0: float =
     spins = np.atleast_1d(np.asarray(spins, dtype=float))
     if spins.ndim != 1 or spins.size == 0 or not np.all(np.isfinite(spins)):
         raise ModelError("--spin", "one or more finite spin rates [rad/s]", spins)
-    check_count(spins.size, "--spin", _SPIN_LIMIT, f"{spins.size:,} spin rates")
+    check_count(spins.size, "--spin", SPIN_LIMIT, f"{spins.size:,} spin rates")
     lin = Linearization(model, about="spin", spin=float(spins[0]), hub=hub, t0=t0, spin_axis=spin_axis)
     rows, growth = [], []
     q = None

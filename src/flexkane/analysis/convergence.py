@@ -23,7 +23,6 @@ counts is not judged (:func:`convergence_verdict`).
 
 from __future__ import annotations
 
-import itertools
 import math
 from dataclasses import dataclass, field
 
@@ -31,56 +30,11 @@ import numpy as np
 
 from ..errors import ModelError, SolverFailure
 from ..model import Model
+from ..model.study_ranges import DEFAULT_TOLERANCE, check_tolerance, checked_mode_counts, parse_mode_counts
 from .eigen import modal_analysis
 
 __all__ = ["ConvergenceStudy", "Verdict", "convergence_study", "convergence_verdict", "parse_mode_counts",
            "checked_mode_counts", "DEFAULT_TOLERANCE"]
-
-#: Relative change per added count of modes under which a quantity is converged, unless stated.
-DEFAULT_TOLERANCE = 1e-3
-#: The forms of ``--n-modes`` in a convergence study.
-_COUNT_FORMS = "mode counts as 1..N, a list A,B,C (increasing) or N, each 1 to {limit}"
-
-
-def parse_mode_counts(text: str, flag: str = "--n-modes") -> list[int]:
-    """Mode counts from ``A..B`` (every count from A to B), ``A,B,C`` or ``N``.
-
-    Returns
-    -------
-    list of int
-        Increasing, each from 1 to :data:`~flexkane.model.validate.MAX_MODES`.
-    """
-    from ..model.validate import MAX_MODES
-
-    text = str(text).strip()
-    counts: list = []
-    try:
-        if ".." in text:
-            first, last = (int(v) for v in text.split(".."))
-            if 1 <= first <= last <= MAX_MODES:       # bounded before the range is made
-                counts = list(range(first, last + 1))
-        elif text.count(",") < MAX_MODES:
-            counts = [int(v) for v in text.split(",")]
-    except ValueError:
-        counts = []
-    try:
-        return checked_mode_counts(counts, flag)
-    except ModelError:
-        raise ModelError(flag, _COUNT_FORMS.format(limit=MAX_MODES), text) from None
-
-
-def checked_mode_counts(counts, flag: str = "--n-modes") -> list[int]:
-    """The mode counts of a study as a list: integers, increasing, each from 1 to
-    :data:`~flexkane.model.validate.MAX_MODES` (a ModelError naming ``flag`` otherwise)."""
-    from ..model.validate import MAX_MODES
-
-    counts = list(itertools.islice(iter(counts), MAX_MODES + 1))     # never more than one too many
-    counts = counts if len(counts) <= MAX_MODES else []
-    if (not counts or any(isinstance(c, bool) or not isinstance(c, (int, np.integer)) or not 1 <= c <= MAX_MODES
-                          for c in counts) or counts != sorted(set(counts))):
-        raise ModelError(flag, _COUNT_FORMS.format(limit=MAX_MODES), counts)
-    return [int(c) for c in counts]
-
 
 def relative_change(previous: float, value: float) -> float:
     """``|value - previous| / |value|`` [-]: 0 when both are 0, infinite when only ``value`` is,
@@ -126,14 +80,6 @@ class Verdict:
         if self.converged:
             return f"converged to {self.change:.1e} relative at n = {self.n_modes}"
         return f"not converged: last change {self.change:.1e} > {self.tolerance:g}"
-
-
-def check_tolerance(tolerance, flag: str = "--tolerance") -> float:
-    """The tolerance of a convergence verdict: a finite number between 0 and 1 [-] (a ModelError
-    naming ``flag`` otherwise)."""
-    if isinstance(tolerance, bool) or not isinstance(tolerance, (int, float)) or not 0 < tolerance < 1:
-        raise ModelError(flag, "a relative change between 0 and 1 (e.g. 1e-3)", tolerance)
-    return float(tolerance)
 
 
 def convergence_verdict(values, n_modes, tolerance: float = DEFAULT_TOLERANCE, quantity: str = "") -> Verdict:

@@ -48,7 +48,7 @@ def register(subparsers) -> None:
 
 def _handle(args) -> int:
     from ._common import default_out, prepare_out
-    from ..analysis.campbell import parse_spin_range
+    from ..model.study_ranges import parse_spin_range
 
     spins = parse_spin_range(args.spin)
     model = model_from_args(args)

@@ -51,7 +51,7 @@ def register(subparsers) -> None:
 
 def _handle(args) -> int:
     from ..errors import ModelError
-    from ..analysis.convergence import DEFAULT_TOLERANCE, check_tolerance, parse_mode_counts
+    from ..model.study_ranges import DEFAULT_TOLERANCE, check_tolerance, parse_mode_counts
     from ._common import default_out, model_from_args, prepare_out
 
     counts = parse_mode_counts(args.n_modes_range)
