@@ -189,3 +189,11 @@ def test_run_from_equilibrium_flag_starts_there_and_a_free_body_exits_2(tmp_path
     code = main(["run", "falling-beam", "--from-equilibrium", "--no-plots", "--out", str(tmp_path / "fall")])
     err = capsys.readouterr().err
     assert code == 2 and "initial.equilibrium" in err and "Traceback" not in err
+
+
+def test_a_run_from_an_unstable_equilibrium_warns():
+    model = flexkane.builtin_model("pendulum-beam").with_values(
+        {"initial.equilibrium": True, "initial.q_pivot": 1.2, "initial.q_rod_1": 0.01})
+    results = flexkane.simulate(flexkane.compile_model(flexkane.derive(model)), model=model, t_end=0.01, dt_out=0.01)
+    assert results["q_pivot"][0] == pytest.approx(np.pi, abs=1e-10) and results.solver["equilibrium"]["unstable"] == 1
+    assert any("unstable" in w and "[initial]" in w for w in results.warnings)
