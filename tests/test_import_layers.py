@@ -32,7 +32,7 @@ LAYERS = [
     ("numerics", ["flexkane.numerics"]),
     ("simulate / linearize", ["flexkane.simulation", "flexkane.results", "flexkane.validity",
                               "flexkane.derivation_cache", "flexkane.run_manifest", "flexkane.report",
-                              "flexkane.equations_document", "flexkane.result_cache",
+                              "flexkane.equations_document", "flexkane.result_cache", "flexkane.start_state",
                               "flexkane.analysis", "flexkane.c_export"]),
     ("sweep / post", ["flexkane.sweep", "flexkane.plots", "flexkane.plot_workers", "flexkane.animation"]),
     # the command line and the package root, which re-exports the public names on first use

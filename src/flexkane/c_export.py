@@ -219,6 +219,7 @@ def export_c(model, directory, *, prefix: str | None = None, force: bool = False
     from .atomic import atomic_write_text, directory_syncs_batched, prepare_output_dir
     from .derivation_cache import Derivation
     from .numerics.c_source import C_RESERVED, CModelInfo, c_identifier, c_sources, check_prefix
+    from .start_state import start_state
 
     if not isinstance(model, Model):
         raise ModelError("model", "a flexkane Model (flexkane.load_model, flexkane.builtin_model)",
@@ -235,12 +236,12 @@ def export_c(model, directory, *, prefix: str | None = None, force: bool = False
     derivation = Derivation(model, cache_dir)
     eom = derivation.eom
     manifest = derivation.manifest
-    numbers = derivation.numbers(model, ("y0",))
+    y0 = start_state(derivation, model).state   # [initial], or the static equilibrium it asks for
     unit_of = manifest["units"]
     outputs = getattr(eom, "compact", eom).outputs
     editable, frozen, derived = c_constants(eom, model)
     info = CModelInfo(model_name=model.name, editable=editable, frozen=frozen, derived=derived,
-                      y0=list(numbers["y0"]),
+                      y0=[float(v) for v in y0],
                       state_units=[unit_of.get(n, "") for n in manifest["state_names"]],
                       output_units=[unit_of.get(n, "") for n in outputs], version=__version__,
                       dimensions=model.dimensions)

@@ -675,18 +675,24 @@ class Derivation:
         digest = hashlib.sha256((_run_digest() + "\0" + dumps_model(model)).encode("utf-8")).hexdigest()[:32]
         return self._root / "derived" / f"{self.key}.numbers" / f"{digest}.json"
 
-    def numbers(self, model: Model, fields, *, remember: bool = False) -> dict:
+    def numbers(self, model: Model, fields, *, remember: bool = False, extra=None) -> dict:
         """Numbers of ``model`` (a model of this structure) for a run: fields of
-        :func:`flexkane.run_manifest.numbers_of`.
+        :func:`flexkane.run_manifest.numbers_of`, and others computed by the caller.
 
         Parameters
         ----------
         model : Model
         fields : collection of str
-            The fields wanted, among :data:`flexkane.run_manifest.NUMBER_FIELDS`.
+            The fields wanted, among :data:`flexkane.run_manifest.NUMBER_FIELDS` and the keys of
+            ``extra``.
         remember : bool
             Store the numbers in the cache (the command line's runs do, so that a run repeated
             with the same model needs no SymPy); the numbers stored already are read in any case.
+        extra : mapping of str to callable, optional
+            Fields computed by a later layer, each by a function without arguments returning JSON
+            data (the initial state at the static equilibrium,
+            :func:`flexkane.analysis.equilibrium_start.initial_state`); called only when the field
+            is not known for this model's text.
 
         Returns
         -------
@@ -708,7 +714,11 @@ class Derivation:
         if missing:
             from .run_manifest import MANIFEST_FORMAT, numbers_of
 
-            known.update(numbers_of(self.eom, model, missing, self.manifest["spins"]))
+            extra = extra or {}
+            standard = [f for f in missing if f not in extra]
+            if standard:
+                known.update(numbers_of(self.eom, model, standard, self.manifest["spins"]))
+            known.update({f: extra[f]() for f in missing if f in extra})
             if remember:
                 path = path or self._numbers_path(model)
                 if path is not None:

@@ -315,7 +315,9 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
         ``t_span`` the run goes from ``t_eval[0]`` to ``t_eval[-1]``.
     y0 : array_like, shape (n,), optional
         State ``[q, u]`` at ``t0`` in the order of ``Results.state_names`` (instead of the model's
-        ``[initial]`` table); used as given (in a model with loop constraints it must satisfy them).
+        ``[initial]`` table, or its static equilibrium with ``equilibrium = true``:
+        :mod:`flexkane.start_state`); used as given (in a model with loop constraints it must satisfy
+        them).
     remember : bool
         Store the model's numbers (constants, initial state) in the cache of its equations, so
         that a run of the same model again needs no SymPy (the command line's runs do).
@@ -376,10 +378,14 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
             raise ModelError("model", "a model with the structure of the derived one "
                              f"(coordinates {', '.join(manifest['coordinates'])})", ", ".join(names))
     state_names = manifest["state_names"]
-    numbers = derivation.numbers(model, ("p", "checks") if y0 is not None else ("p", "y0", "checks"),
-                                 remember=remember)
+    start = None
+    if y0 is None:      # [initial], or the static equilibrium (initial.equilibrium = true)
+        from .start_state import start_state
+
+        start = start_state(derivation, model, t0=float(grid[0]), remember=remember)
+    numbers = derivation.numbers(model, ("p", "checks"), remember=remember)
     p = np.array(numbers["p"], dtype=float)
-    y0 = np.array(numbers["y0"], dtype=float) if y0 is None else initial_state_vector(y0, state_names)
+    y0 = start.state if start is not None else initial_state_vector(y0, state_names)
     kwargs = {"rtol": rtol, "atol": atol, "method": method, "progress": progress}
     if max_steps is not None:
         kwargs["max_steps"] = max_steps
@@ -423,9 +429,13 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
               "wall_time": float(result.wall_time), "t_reached": float(result.t_reached),
               "compile_time": float(compiled.compile_time),
               "method_spans": {k: float(v) for k, v in sorted(result.method_spans.items())}}
+    if start is not None and start.equilibrium is not None:
+        solver["equilibrium"] = dict(start.equilibrium)   # the search of the start (start_state)
     from .validity import run_warnings
 
     warnings = run_warnings(numbers["checks"], model.simulation, t, state, spins)
+    if start is not None:
+        warnings = start.warnings + warnings
     if model.dimensions == 3:   # given Euler parameters normalized (flexkane.model.initial)
         from .model.initial import initial_values
 

@@ -67,10 +67,11 @@ def test_converge_refuses_a_bad_tolerance_before_deriving(tmp_path, capsys):
 
 # ---------------------------------------------------------------- initial values of the modes studied
 def test_with_modes_drops_the_initial_values_of_modes_beyond_the_count():
-    model = flexkane.builtin_model("rotor-blade")       # [initial] sets q_blade_z1 and q_blade_z2
+    model = flexkane.builtin_model("rotor-blade")       # [initial] equilibrium = true: the search's start
+    model.initial.update({"q_blade_z1": -7.564e-3, "q_blade_z2": -1.0667e-4})
     assert model.initial_beyond_modes(1) == ["q_blade_z2"] and model.initial_beyond_modes(2) == []
     one = model.with_modes(1).validate()
-    assert one.initial == {"q_blade_z1": model.initial["q_blade_z1"]}
+    assert one.initial == {"equilibrium": True, "q_blade_z1": model.initial["q_blade_z1"]}
     assert model.with_modes(3).validate().initial == model.initial
 
 

@@ -21,6 +21,7 @@ it has no equilibrium, and :class:`NoEquilibriumError` says so. Loop constraints
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -70,6 +71,8 @@ class EquilibriumCheck:
         Largest acceptable ``|u'|`` (module docstring).
     constraints : numpy.ndarray
         Loop-constraint residuals Phi(q), shape (c,) [m or rad] (empty for open chains).
+    iterations : int
+        Iterations of the search that found q (:func:`find_equilibrium`; 0 where none was made).
     """
 
     q: np.ndarray
@@ -77,6 +80,7 @@ class EquilibriumCheck:
     rates: np.ndarray
     tolerance: float
     constraints: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    iterations: int = 0
 
     @property
     def residual(self) -> float:
@@ -179,4 +183,5 @@ def find_equilibrium(q_start: np.ndarray, *, forcing: Evaluate, stiffness: Evalu
                                  xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=200 * (q_start.size + 1))
     q = solution.x if np.all(np.isfinite(solution.x)) else q_start
     found = check_equilibrium(q, **ev, start_accelerations=start.residual)
+    found = dataclasses.replace(found, iterations=int(solution.njev or solution.nfev))
     return found if found.ok or found.residual <= start.residual else start

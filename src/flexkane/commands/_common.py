@@ -1,4 +1,5 @@
-"""Options shared by the commands: MODEL, --n-modes, --set, --max-steps, and the --out directory.
+"""Options shared by the commands: MODEL, --n-modes, --set, --from-equilibrium, --max-steps, and the --out
+directory.
 
 Every command that writes files takes its directory through :func:`prepare_out` (refuses a non-empty
 directory without ``--force``, checks that it can be written before anything is computed) and derives
@@ -20,8 +21,9 @@ from pathlib import Path
 
 from ..errors import ModelError
 from ..model import Model
+from ..model.coordinates import EQUILIBRIUM_KEY
 
-__all__ = ["add_model_arguments", "model_from_args", "parse_assignment", "apply_settings", "parse_settings",
+__all__ = ["add_model_arguments", "add_equilibrium_argument", "model_from_args", "parse_assignment", "apply_settings", "parse_settings",
            "add_out_arguments", "add_max_steps_argument", "prepare_out", "default_out", "safe_folder_name",
            "OUT_ROOT", "cli_path", "remove_unused_out"]
 
@@ -46,6 +48,13 @@ def add_model_arguments(parser: argparse.ArgumentParser, default: str | None = "
                         help="override a parameter, an initial condition or any value by key path "
                              "(e.g. --set g=0 --set u3=2 --set beams.B.EI=40 --set 'bodies.RB.points.Q=[0.1, 0]'); "
                              "repeatable")
+
+
+def add_equilibrium_argument(parser: argparse.ArgumentParser) -> None:
+    """``--from-equilibrium``: start from the static equilibrium (``[initial] equilibrium = true``)."""
+    parser.add_argument("--from-equilibrium", action="store_true",
+                        help="start at rest in the static equilibrium under gravity, loads and drivers at t0 "
+                             "(as [initial] equilibrium = true; the [initial] values are where its search starts)")
 
 
 def _finite(key: str, value, text: str):
@@ -136,6 +145,8 @@ def model_from_args(args) -> Model:
     model = resolve_model(args.model)
     settings = list(getattr(args, "settings", None) or [])
     model = apply_settings(model, settings)
+    if getattr(args, "from_equilibrium", False):
+        model = model.with_values({f"initial.{EQUILIBRIUM_KEY}": True}, validate=False)
     n_modes = getattr(args, "n_modes", None)
     if n_modes is not None:
         if not model.beams:
@@ -164,9 +175,9 @@ def _check_bare_names(model: Model, bare: set[str]) -> None:
     for name in bare:
         probe.initial.pop(name, None)
     coordinates = coordinate_names(probe.validate())
-    names = initial_keys(coordinates)
+    names = [key for key in initial_keys(coordinates) if key != EQUILIBRIUM_KEY]
     for name in sorted(bare):
-        if name not in names:
+        if name not in names and name != EQUILIBRIUM_KEY:
             options = list(model.parameters) + names
             close = difflib.get_close_matches(name, options, n=1, cutoff=0.5)
             raise ModelError(f"--set {name}", f"a parameter ({', '.join(model.parameters) or 'none'}) or a "

@@ -13,7 +13,7 @@ documented in the header, the model's constants and initial state as default arr
 
 from __future__ import annotations
 
-from ._common import add_model_arguments, model_from_args
+from ._common import add_equilibrium_argument, add_model_arguments, model_from_args
 
 __all__ = ["register"]
 
@@ -25,6 +25,7 @@ def register(subparsers) -> None:
                     "and one source file that need only math.h, with the state, constants and outputs "
                     "documented in the header and the model's constants as a default array.")
     add_model_arguments(p, default=None)
+    add_equilibrium_argument(p)
     p.add_argument("--c", metavar="DIR", default=None, dest="c_dir",
                    help="directory to write <prefix>.h and <prefix>.c to (required)")
     p.add_argument("--prefix", default=None, metavar="NAME",

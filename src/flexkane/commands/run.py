@@ -9,7 +9,7 @@ from pathlib import Path
 from ..errors import ModelError, SolverFailure
 from ..interruption import StopRequest
 from ..model.parts import METHODS
-from ._common import add_max_steps_argument, add_model_arguments, default_out, model_from_args
+from ._common import add_equilibrium_argument, add_max_steps_argument, add_model_arguments, default_out, model_from_args
 from .animate import add_animation_arguments
 from .derive import add_no_cache_argument
 
@@ -29,6 +29,7 @@ def register(subparsers) -> None:
     p.add_argument("--method", default=None, choices=METHODS,
                    help="integration method [default: the model's, else auto]")
     add_max_steps_argument(p)
+    add_equilibrium_argument(p)
     p.add_argument("--force", action="store_true", help="write into an existing non-empty directory")
     p.add_argument("--animate", action="store_true",
                    help="also write animation.gif (and animation.mp4 where ffmpeg exists), as 'flexkane animate'")
@@ -192,6 +193,11 @@ def _run_phases(model, out: Path, stop, *, t_end, dt_out, rtol, atol, method, ma
         print(f"{model.name}: {s['method']}, {s['nsteps']} steps, {s['nfev']} evaluations, "
               f"derive {derive_time:.2f} s, compile {s['compile_time']:.2f} s, integrate {s['wall_time']:.3f} s"
               f"{drift}", file=stream)
+        if "equilibrium" in s:
+            e = s["equilibrium"]
+            print(f"started at rest in the static equilibrium: found in {e['iterations']} iterations, generalized "
+                  f"accelerations left {e['residual']:.3g} (m/s^2 or rad/s^2), {e['relative_residual']:.2g} of "
+                  "the forces' scale", file=stream)
         print(f"wrote {len(written)} files to {out}", file=stream)
     for warning in results.warnings:
         print(f"flexkane: warning: {warning}", file=sys.stderr)

@@ -9,7 +9,8 @@ from pathlib import Path
 from ..errors import ModelError
 from ..interruption import StopRequest
 from ..model.parts import METHODS
-from ._common import add_max_steps_argument, add_model_arguments, add_out_arguments, model_from_args, prepare_out
+from ._common import (add_equilibrium_argument, add_max_steps_argument, add_model_arguments, add_out_arguments,
+                      model_from_args, prepare_out)
 
 __all__ = ["register"]
 
@@ -69,6 +70,7 @@ def register(subparsers) -> None:
     p.add_argument("--atol", type=float, default=None, metavar="A", help="absolute tolerance")
     p.add_argument("--method", default=None, choices=METHODS, help="integration method")
     add_max_steps_argument(p)
+    add_equilibrium_argument(p)
     p.add_argument("--batch-size", type=int, default=None, metavar="K",
                    help="variants per Dask task [default: adaptive, about 0.25 s of work per task]")
     p.add_argument("--retry-failed", action="store_true", help="run again the variants recorded as failed")

@@ -24,7 +24,8 @@ from ..errors import ModelError
 from .parts import JOINT_DOFS_BY_DIMENSION, Joint
 
 __all__ = ["CoordinateName", "coordinate_names", "tree_order", "coordinate_unit", "speed_unit",
-           "orientation_key", "initial_keys", "EULER_ROLES"]
+           "orientation_key", "initial_keys", "EULER_ROLES", "EQUILIBRIUM_KEY",
+           "starts_at_equilibrium"]
 
 #: Roles of the Euler parameters of a spherical or free joint, scalar part first.
 EULER_ROLES = ("e0", "e1", "e2", "e3")
@@ -50,6 +51,28 @@ def speed_unit(role: str) -> str:
     return "rad/s" if role in EULER_ROLES else f"{_COORDINATE_UNIT[role]}/s"
 
 
+#: The ``[initial]`` key that asks for a start from the static equilibrium (true or false; no coordinate
+#: or speed has this name: theirs begin with q or u). See :mod:`flexkane.analysis.equilibrium_start`.
+EQUILIBRIUM_KEY = "equilibrium"
+
+
+def starts_at_equilibrium(model) -> bool:
+    """Whether the model's ``[initial]`` table asks for a start from the static equilibrium
+    (``equilibrium = true``).
+
+    Raises
+    ------
+    ModelError
+        Naming ``initial.equilibrium`` when its value is not true or false.
+    """
+    value = model.initial.get(EQUILIBRIUM_KEY, False)
+    if not isinstance(value, bool):
+        raise ModelError(f"initial.{EQUILIBRIUM_KEY}", "true or false (true: start from the static equilibrium "
+                         "under gravity, loads and drivers at t0, the other initial values being where its "
+                         "search starts)", value)
+    return value
+
+
 def orientation_key(joint_name: str) -> str:
     """The ``[initial]`` key that gives a spherical or free joint's orientation as a table
     (``q_<joint>``, whatever the naming of the coordinates)."""
@@ -57,12 +80,13 @@ def orientation_key(joint_name: str) -> str:
 
 
 def initial_keys(coordinates: list[CoordinateName]) -> list[str]:
-    """Every key ``[initial]`` may hold: the coordinates, the speeds (e0 has none), and the orientation
-    table ``q_<joint>`` of each spatial spherical or free joint (unless a coordinate has that name)."""
+    """Every key ``[initial]`` may hold: the coordinates, the speeds (e0 has none), the orientation
+    table ``q_<joint>`` of each spatial spherical or free joint (unless a coordinate has that name),
+    and :data:`EQUILIBRIUM_KEY`."""
     names = [c.q for c in coordinates] + [c.u for c in coordinates if c.u is not None]
     taken = set(names)
     oriented = [orientation_key(c.owner) for c in coordinates if c.role == "e0"]
-    return names + [key for key in oriented if key not in taken]
+    return names + [key for key in oriented if key not in taken] + [EQUILIBRIUM_KEY]
 
 
 def _joint_names(joint: Joint, roles: tuple, dimensions: int) -> list[tuple[str, str | None]]:
@@ -207,7 +231,8 @@ def coordinate_names(model) -> list[CoordinateName]:
         if key not in keys:
             close = difflib.get_close_matches(key, sorted(keys), n=1, cutoff=0.5)
             raise ModelError(f"initial.{key}", "the name of a generalized coordinate or speed of this model"
-                             f" ({', '.join(sorted(keys))})", key,
+                             f" ({', '.join(sorted(keys - {EQUILIBRIUM_KEY}))}) or {EQUILIBRIUM_KEY} (true or false)",
+                             key,
                              f"did you mean {close[0]!r}?" if close else None)
     for coord in coordinates:
         if coord.driver == "coordinate" and coord.q in model.initial:

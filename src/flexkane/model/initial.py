@@ -7,6 +7,10 @@ a joint's orientation may be given as a table under the key ``q_<joint>``
 ``{ sequence = "zyx", angles = [...] }``, converted to Euler parameters here; or as its four Euler
 parameters by name, normalized to unit norm (with a warning when their norm was off by more than
 :data:`NORM_TOLERANCE`); four zeros, or some of the four without the others, are refused.
+
+``equilibrium = true`` (:data:`~flexkane.model.coordinates.EQUILIBRIUM_KEY`) asks a run to start
+from the static equilibrium instead (:func:`~flexkane.model.coordinates.starts_at_equilibrium`; solved by
+:mod:`flexkane.analysis.equilibrium_start`), the values given here being where its search starts.
 """
 
 from __future__ import annotations

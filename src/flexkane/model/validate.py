@@ -295,6 +295,9 @@ def validate_model(model, *, units: dict | None = None) -> None:
     with problems.part(later=True):
         if not isinstance(model.initial, dict):
             raise ModelError("initial", "a table of initial values by coordinate or speed name", model.initial)
+        from .coordinates import starts_at_equilibrium
+
+        starts_at_equilibrium(model)     # initial.equilibrium: true or false
     problems.raise_found()   # values and parts are needed by every check below
     dimensions = model.dimensions
     with problems.part():
