@@ -160,17 +160,46 @@ class Table:
     fields: tuple
     named: bool = True
     _by_key: dict = field(default=None, init=False, repr=False, compare=False)
+    _of: dict = field(default=None, init=False, repr=False, compare=False)
+    _outside: dict = field(default=None, init=False, repr=False, compare=False)
+    _keys: dict = field(default=None, init=False, repr=False, compare=False)
+    _absent: dict = field(default=None, init=False, repr=False, compare=False)
+    _defaults: dict = field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self):
         object.__setattr__(self, "_by_key", {f.key: f for f in self.fields})
+        object.__setattr__(self, "_of", {d: tuple(f for f in self.fields if d in f.dimensions) for d in (2, 3)})
+        object.__setattr__(self, "_outside", {d: {f.key: f.outside for f in self.fields
+                                                  if d not in f.dimensions and f.outside is not ABSENT}
+                                              for d in (2, 3)})
+        object.__setattr__(self, "_keys", {d: tuple(f.key for f in fields) for d, fields in self._of.items()})
+        object.__setattr__(self, "_absent", {d: tuple(f for f in fields if f.required or f.form in ("shape", "table"))
+                                             for d, fields in self._of.items()})
+        parts = dataclasses.fields(self.part) if dataclasses.is_dataclass(self.part) else ()
+        object.__setattr__(self, "_defaults", {f.name: f.default for f in parts if f.default is not dataclasses.MISSING})
 
     def keys(self, dimensions: int) -> tuple[str, ...]:
         """The keys the table accepts in a model of ``dimensions`` dimensions, in declaration order."""
-        return tuple(f.key for f in self.fields if dimensions in f.dimensions)
+        return self._keys[dimensions] if dimensions in self._keys else ()
 
     def of(self, dimensions: int) -> tuple[Field, ...]:
         """The fields of a model of ``dimensions`` dimensions."""
-        return tuple(f for f in self.fields if dimensions in f.dimensions)
+        return self._of[dimensions] if dimensions in self._of else ()
+
+    def default(self, key: str):
+        """The part's default of the field ``key`` (None for a field whose default is made anew,
+        a list or a table: it is written when it is not empty)."""
+        return self._defaults.get(key)
+
+    def when_absent(self, dimensions: int) -> tuple[Field, ...]:
+        """The fields of ``dimensions`` whose absence means something: required ones, and those
+        whose absence gives a value other than the part's default (a shape family, an empty table)."""
+        return self._absent[dimensions]
+
+    def outside(self, dimensions: int) -> dict:
+        """The attributes of the fields that a model of ``dimensions`` dimensions does not have but
+        that its part needs (:attr:`Field.outside`)."""
+        return dict(self._outside.get(dimensions, ()))
 
     def field(self, key: str) -> Field:
         """The field of ``key`` (KeyError for an undeclared key)."""

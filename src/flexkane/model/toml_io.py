@@ -34,7 +34,6 @@ from __future__ import annotations
 
 import dataclasses
 import difflib
-import functools
 import numbers
 import tomllib
 from pathlib import Path
@@ -126,23 +125,18 @@ def _vectors(value):
 
 def _absent(field, table: dict, path: str, dimensions: int):
     """The value of a field the table does not give (:data:`_MISSING`: the part's default)."""
-    expected = field.missing_message(dimensions)
-    if expected is not None:
-        raise ModelError(_join(path, field.key), expected, None, "missing", show_given=False)
+    if field.required:
+        raise ModelError(_join(path, field.key), field.missing_message(dimensions), None, "missing",
+                         show_given=False)
     if field.form == "shape" and field.shape_default and (field.default_with is None
                                                           or table.get(field.default_with, 0)):
         return ShapeSpec(field.shape_default)
-    if field.form == "table":
-        return {}
-    return _MISSING
+    return {} if field.form == "table" else _MISSING
 
 
-def _read_field(field, table: dict, path: str, dimensions: int):
-    """One field of a part's table as the part keeps it (values as given, lists of numbers as
-    tuples, shapes and orientations as their classes), by the field's declared form."""
-    if field.key not in table:
-        return _absent(field, table, path, dimensions)
-    value, where = table[field.key], _join(path, field.key)
+def _read_given(field, value, table: dict, path: str, dimensions: int):
+    """A field the table gives, as the part keeps it (lists of numbers as tuples, shapes and
+    orientations as their classes), by the field's declared form."""
     form = field.form
     if form == "pair":
         return tuple(value) if isinstance(value, list) else value
@@ -154,6 +148,7 @@ def _read_field(field, table: dict, path: str, dimensions: int):
         return value if isinstance(value, list) else [value]
     if form == "float":
         return float(value) if isinstance(value, numbers.Real) and not isinstance(value, bool) else value
+    where = _join(path, field.key)
     if form == "shape":
         return _shape(value, where)
     if form == "orientation":
@@ -181,7 +176,7 @@ def read_part(declared, table: dict, name: str | None, path: str, dimensions: in
     declared : flexkane.model.schema.Table
         The declaration of the table.
     table : dict
-        The part's table, its keys checked.
+        The part's table, its keys checked (each a key of ``declared`` in ``dimensions``).
     name : str or None
         The part's name (None for a table of settings such as ``[gravity]``).
     path : str
@@ -189,15 +184,17 @@ def read_part(declared, table: dict, name: str | None, path: str, dimensions: in
     dimensions : int
         The model's number of dimensions.
     """
-    given = {} if name is None else {"name": name}
-    for field in declared.fields:
-        if dimensions not in field.dimensions:
-            if field.outside is not schema.ABSENT:
-                given[field.key] = field.outside
-            continue
-        value = _read_field(field, table, path, dimensions)
-        if value is not _MISSING:
-            given[field.key] = value
+    given = declared.outside(dimensions)
+    if name is not None:
+        given["name"] = name
+    for field in declared.when_absent(dimensions):
+        if field.key not in table:
+            value = _absent(field, table, path, dimensions)
+            if value is not _MISSING:
+                given[field.key] = value
+    for key, value in table.items():     # the keys were checked against the declaration
+        field = declared.field(key)
+        given[key] = value if field.form == "value" else _read_given(field, value, table, path, dimensions)
     return declared.part(**given)
 
 
@@ -292,15 +289,6 @@ def _drop_none(table: dict) -> dict:
     return {k: (list(v) if isinstance(v, tuple) else v) for k, v in table.items() if v is not None}
 
 
-@functools.lru_cache(maxsize=None)
-def _default(part: type, key: str):
-    """The default of a part's attribute (MISSING for none)."""
-    for f in dataclasses.fields(part):
-        if f.name == key:
-            return f.default_factory() if f.default_factory is not dataclasses.MISSING else f.default
-    return dataclasses.MISSING
-
-
 def _written(field, value):
     """A field's value as the model file writes it, by its declared form."""
     form = field.form
@@ -323,17 +311,15 @@ def write_part(declared, part, dimensions: int) -> dict:
     """A part as its table of the model file: the fields of ``dimensions`` in declaration order,
     each written when :mod:`flexkane.model.schema` says (given, changed from its default, not empty)."""
     out = {}
-    for field in declared.fields:
-        if dimensions not in field.dimensions:
-            continue
+    for field in declared.of(dimensions):
         value = getattr(part, field.key)
         if field.given_with is not None and not getattr(part, field.given_with):
             continue
         write = field.write
         if (write == "given" and value is None or write == "nonempty" and not value
-                or write == "changed" and value == _default(declared.part, field.key)):
+                or write == "changed" and value == declared.default(field.key)):
             continue
-        out[field.key] = _written(field, value)
+        out[field.key] = value if field.form == "value" and not isinstance(value, tuple) else _written(field, value)
     return out
 
 
