@@ -15,7 +15,6 @@ from flexkane.model.constant_names import MODAL_STEMS, generated_constant
 from flexkane.model.parameter_units import field_values, inferred_units
 from flexkane.model.parts import Beam, Driver, Orientation, ShapeSpec
 from flexkane.model.toml_io import _plain, read_part, write_part
-from flexkane.model.validate import _Values
 from flexkane.sweep.plot import column_units
 
 
@@ -155,27 +154,29 @@ class _BeamWithSkin(Beam):
     rho_skin: object = None
 
 
-def test_a_field_declared_once_is_read_written_validated_and_classified():
+def test_a_field_declared_once_is_read_written_validated_and_classified(monkeypatch):
+    import flexkane
+    from flexkane.model import validate
+
     skin = schema.Field("rho_skin", "mass of the skin per unit length", "kg/m", (2,), kind="value",
                         rule="non_negative")
     beams = schema.BEAMS.with_field(skin, _BeamWithSkin)
-    assert "rho_skin" in beams.keys(2) and "rho_skin" not in beams.keys(3)
-    table = {"L": 1.0, "EI": 2.0, "rho": 3.0, "n_modes": 1, "rho_skin": "m_skin"}
-    beam = read_part(beams, table, "b", "beams.b", 2)
-    assert beam.rho_skin == "m_skin"
-    assert write_part(beams, beam, 2) == {**table, "shape": "clamped-free"}
+    monkeypatch.setitem(schema.TABLES, "beams", beams)
+    monkeypatch.setattr(validate, "BEAMS", beams)
+    data = tomllib.loads(flexkane.dumps_model(builtin_model("pendulum-beam")))
+    beam = next(iter(data["beams"]))
+    data["beams"][beam]["rho_skin"] = "m_skin"
+    data["parameters"] = {**data.get("parameters", {}), "m_skin": 0.25}
+    model = flexkane.loads_model(tomli_w.dumps(data))
+    assert model.beams[beam].rho_skin == "m_skin"
+    assert tomllib.loads(flexkane.dumps_model(model))["beams"][beam]["rho_skin"] == "m_skin"
+    assert field_values(model)[f"beams.{beam}.rho_skin"] == ("m_skin", "kg/m")
+    assert inferred_units(field_values(model), model.parameters)["m_skin"] == "kg/m"
     value = schema.one_pattern(schema.value_path_patterns([beams]))
-    assert value.fullmatch("beams.b.rho_skin") and not value.fullmatch("beams.b.n_modes")
-
-    class Model:      # what the validation's evaluator reads of a model: its parameters
-        parameters = {"m_skin": -0.5}
-
-    values = _Values(Model())
-    values.units = {}
+    assert value.fullmatch(f"beams.{beam}.rho_skin") and not value.fullmatch(f"beams.{beam}.n_modes")
+    data["parameters"]["m_skin"] = -0.25
     with pytest.raises(ModelError) as err:
-        values.declared_rest(beams, beam, "beams.b", 2)
-    assert err.value.path == "beams.b.rho_skin"
+        flexkane.loads_model(tomli_w.dumps(data))
+    assert err.value.path == f"beams.{beam}.rho_skin"
     assert "a non-negative value [kg/m] (mass of the skin per unit length)" in str(err.value)
-    beam.rho_skin = 0.25
-    values.declared_rest(beams, beam, "beams.b", 2)
-    assert values.units["beams.b.rho_skin"] == "kg/m"
+    assert "rho_skin" in beams.keys(2) and "rho_skin" not in beams.keys(3)   # a planar field

@@ -176,7 +176,8 @@ class Table:
         object.__setattr__(self, "_absent", {d: tuple(f for f in fields if f.required or f.form in ("shape", "table"))
                                              for d, fields in self._of.items()})
         parts = dataclasses.fields(self.part) if dataclasses.is_dataclass(self.part) else ()
-        object.__setattr__(self, "_defaults", {f.name: f.default for f in parts if f.default is not dataclasses.MISSING})
+        object.__setattr__(self, "_defaults", {f.name: f.default for f in parts
+                                               if f.default is not dataclasses.MISSING})
 
     def keys(self, dimensions: int) -> tuple[str, ...]:
         """The keys the table accepts in a model of ``dimensions`` dimensions, in declaration order."""

@@ -31,7 +31,8 @@ import re
 
 from ..errors import ModelError, ModelErrors
 from .field_values import FieldValues
-from .schema import BEAMS, BODIES, GRAVITY, SPRINGS
+from . import schema
+from .schema import BEAMS, BODIES, GRAVITY, JOINTS, SPRINGS
 from .parts import (DIMENSIONS, DISTRIBUTED_FRAMES, ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES,
                     JOINT_TYPES_BY_DIMENSION, METHODS, NAMING_STYLES, SPATIAL_JOINT_TYPES, Beam, Controller,
                     DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody, Sensor,
@@ -338,31 +339,29 @@ def validate_model(model, *, units: dict | None = None) -> None:
     for body in bodies.values():
         with problems.part():
             _check_body(body, values, dimensions)
+            values.declared_rest(BODIES, body, f"bodies.{body.name}", dimensions)
     lengths = {}
     for beam in beams.values():
         with problems.part():
-            lengths[beam.name] = (_check_spatial_beam if dimensions == 3 else _check_beam)(beam, values)
+            length = (_check_spatial_beam if dimensions == 3 else _check_beam)(beam, values)
+            values.declared_rest(BEAMS, beam, f"beams.{beam.name}", dimensions)
+            lengths[beam.name] = length
     with problems.part():   # over the beams that passed their own checks
         _check_elastic_coordinates({name: beams[name] for name in lengths})
     problems.raise_found()   # joints and ends refer to parts and beam lengths
     for joint in model.joints.values():
         with problems.part():
             _check_joint(model, joint, values, lengths)
+            values.declared_rest(JOINTS, joint, f"joints.{joint.name}", dimensions)
     problems.raise_found()   # the tree is made of valid joints
     with problems.part():
         _check_tree(model)
-    for load in model.loads.values():
-        with problems.part():
-            _check_load(model, load, values, lengths)
-    for load in model.distributed_loads.values():
-        with problems.part():
-            _check_distributed_load(model, load, values, lengths)
-    for spring in model.springs.values():
-        with problems.part():
-            _check_spring(model, spring, values, lengths)
-    for con in model.constraints.values():
-        with problems.part():
-            _check_constraint(model, con, values, lengths)
+    for kind, check in (("loads", _check_load), ("distributed_loads", _check_distributed_load),
+                        ("springs", _check_spring), ("constraints", _check_constraint)):
+        for part in getattr(model, kind).values():
+            with problems.part():
+                check(model, part, values, lengths)
+                values.declared_rest(schema.table(kind), part, f"{kind}.{part.name}", dimensions)
     problems.raise_found(final=True)   # the structure needs a valid tree of valid parts
     coordinates = _check_structure(model, values)
     _check_signals(model, values, lengths, coordinates)
@@ -379,7 +378,6 @@ def _check_body(body: RigidBody, values: _Values, dimensions: int) -> None:
         from . import validate_spatial as spatial
 
         spatial.check_body(body, values)
-        values.declared_rest(BODIES, body, path, dimensions)
         return
     values.non_negative(f"{path}.inertia", body.inertia, "moment of inertia about the mass centre", "kg m^2")
     if not isinstance(body.points, dict):
@@ -391,7 +389,6 @@ def _check_body(body: RigidBody, values: _Values, dimensions: int) -> None:
         raise ModelError(f"{path}.outline", "a list of [x, y] vertices [m]", body.outline)
     for k, xy in enumerate(body.outline):
         values.pair(f"{path}.outline[{k}]", xy, "vertex coordinates from the mass centre", "m")
-    values.declared_rest(BODIES, body, path, dimensions)
 
 
 def _check_shape_spec(path: str, spec, values: _Values) -> None:
@@ -449,7 +446,6 @@ def _check_beam(beam: Beam, values: _Values) -> float:
     if beam.elastic_forces == "shear-moment" and (beam.geometric_stiffening or n_axial):
         raise ModelError(f"{path}.elastic_forces", "'strain-energy' with geometric_stiffening or axial modes",
                          beam.elastic_forces)
-    values.declared_rest(BEAMS, beam, path, 2)
     return length
 
 
@@ -509,7 +505,6 @@ def _check_spatial_beam(beam: Beam, values: _Values) -> float:
     if not any(counts.values()):
         raise ModelError(f"{path}.n_modes_y", "at least one shape function (n_modes_y, n_modes_z, n_torsion "
                          "or n_axial)", 0)
-    values.declared_rest(BEAMS, beam, path, 3)
     return length
 
 
