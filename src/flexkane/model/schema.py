@@ -66,9 +66,10 @@ LIST = r"\[\d+\]"
 COMPONENTS = r"\[[012]\]"
 
 
-@dataclass(frozen=True)
+@dataclass
 class Field:
-    """One field of a table of a model file.
+    """One field of a table of a model file (a declaration: not changed once made; a variant is a
+    copy, :func:`dataclasses.replace`).
 
     Parameters
     ----------
@@ -139,9 +140,10 @@ class Field:
         return self.required or None
 
 
-@dataclass(frozen=True)
+@dataclass
 class Table:
-    """A table of a model file: its fields, in the order they are written.
+    """A table of a model file: its fields, in the order they are written (a declaration, as
+    :class:`Field`).
 
     Parameters
     ----------
@@ -167,17 +169,15 @@ class Table:
     _defaults: dict = field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self):
-        object.__setattr__(self, "_by_key", {f.key: f for f in self.fields})
-        object.__setattr__(self, "_of", {d: tuple(f for f in self.fields if d in f.dimensions) for d in (2, 3)})
-        object.__setattr__(self, "_outside", {d: {f.key: f.outside for f in self.fields
-                                                  if d not in f.dimensions and f.outside is not ABSENT}
-                                              for d in (2, 3)})
-        object.__setattr__(self, "_keys", {d: tuple(f.key for f in fields) for d, fields in self._of.items()})
-        object.__setattr__(self, "_absent", {d: tuple(f for f in fields if f.required or f.form in ("shape", "table"))
-                                             for d, fields in self._of.items()})
+        self._by_key = {f.key: f for f in self.fields}
+        self._of = {d: tuple(f for f in self.fields if d in f.dimensions) for d in (2, 3)}
+        self._outside = {d: {f.key: f.outside for f in self.fields if d not in f.dimensions and f.outside is not ABSENT}
+                         for d in (2, 3)}
+        self._keys = {d: tuple(f.key for f in fields) for d, fields in self._of.items()}
+        self._absent = {d: tuple(f for f in fields if f.required or f.form in ("shape", "table"))
+                        for d, fields in self._of.items()}
         parts = dataclasses.fields(self.part) if dataclasses.is_dataclass(self.part) else ()
-        object.__setattr__(self, "_defaults", {f.name: f.default for f in parts
-                                               if f.default is not dataclasses.MISSING})
+        self._defaults = {f.name: f.default for f in parts if f.default is not dataclasses.MISSING}
 
     def keys(self, dimensions: int) -> tuple[str, ...]:
         """The keys the table accepts in a model of ``dimensions`` dimensions, in declaration order."""
