@@ -442,7 +442,8 @@ def _check_beam(beam: Beam, values: _Values) -> float:
                              None, show_given=False)
         _check_shape_spec(f"{path}.axial_shape", beam.axial_shape, values)
     if beam.rotary_inertia is not None:
-        values.declared(BEAMS, "rotary_inertia", beam, path)
+        values.non_negative(f"{path}.rotary_inertia", beam.rotary_inertia,
+                            "mass moment of inertia of the section per unit length, rho I", "kg m")
     if beam.elastic_forces == "shear-moment" and (beam.geometric_stiffening or n_axial):
         raise ModelError(f"{path}.elastic_forces", "'strain-energy' with geometric_stiffening or axial modes",
                          beam.elastic_forces)
