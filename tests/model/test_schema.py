@@ -180,3 +180,16 @@ def test_a_field_declared_once_is_read_written_validated_and_classified(monkeypa
     assert err.value.path == f"beams.{beam}.rho_skin"
     assert "a non-negative value [kg/m] (mass of the skin per unit length)" in str(err.value)
     assert "rho_skin" in beams.keys(2) and "rho_skin" not in beams.keys(3)   # a planar field
+
+
+def test_the_report_gives_a_value_field_the_unit_its_declaration_gives(monkeypatch):
+    import flexkane
+    from flexkane.report import constant_columns
+
+    eom = flexkane.derive(builtin_model("slider-crank"))
+    defined = {row[4]: row[6] for row in constant_columns(eom) if row[2] == "defined"}
+    assert defined == {"`bodies.crank.points.pin[0]`": "m", "`bodies.crank.points.pivot[0]`": "m"}
+    other = dataclasses.replace(schema.BODIES, fields=tuple(
+        dataclasses.replace(f, unit="km") if f.key == "points" else f for f in schema.BODIES.fields))
+    monkeypatch.setitem(schema.TABLES, "bodies", other)
+    assert {row[6] for row in constant_columns(eom) if row[2] == "defined"} == {"km"}
