@@ -24,7 +24,9 @@ a 3 x 3 tensor, a joint has ``axis = [ax, ay, az]`` (or ``axes`` for a universal
 a load's ``torque`` is a vector.
 
 Reading checks the layout of the file: tables where tables belong, no unknown key (a typo is
-reported with the nearest valid key), every required key present. Values are kept as given (a
+reported with the nearest valid key), every required key present. Every part is read and written as
+the model schema (:mod:`flexkane.model.schema`) declares its fields (:func:`read_part`,
+:func:`write_part`). Values are kept as given (a
 number or the text of an expression); :func:`flexkane.model.validate.validate_model` then checks
 their types and ranges with the unit of each field, and every reference, so that a model built in
 Python gets the same checks.
@@ -309,7 +311,22 @@ def _written(field, value):
 
 def write_part(declared, part, dimensions: int) -> dict:
     """A part as its table of the model file: the fields of ``dimensions`` in declaration order,
-    each written when :mod:`flexkane.model.schema` says (given, changed from its default, not empty)."""
+    each written when :mod:`flexkane.model.schema` says (given, changed from its default, not empty).
+
+    Parameters
+    ----------
+    declared : flexkane.model.schema.Table
+        The declaration of the part's table.
+    part : dataclass instance
+        The part (:mod:`flexkane.model.parts`), or the gravity or run settings.
+    dimensions : int
+        The model's number of dimensions.
+
+    Returns
+    -------
+    dict
+        Key -> value as the file writes it (lists for tuples, shape families as names or tables).
+    """
     out = {}
     for field in declared.of(dimensions):
         value = getattr(part, field.key)
