@@ -580,7 +580,7 @@ def constant_columns(eom) -> list[tuple[int, str, str, str, str, str, str]]:
         elif s.name in params:
             rows_other.append((index, s.name, "parameter", _latex_symbol(s.name), "parameter", "", ""))
         elif s in defined:    # a value field: its unit as the model schema declares it
-            unit = schema.unit_of_path(defined[s][0], eom.model.dimensions) or ""
+            unit = schema.unit_of_path(defined[s][0], eom.model.dimensions, eom.model) or ""
             rows_other.append((index, s.name, "defined", _latex_symbol(s.name), f"`{defined[s][0]}`", "", unit))
         else:
             rows_other.append((index, s.name, "", _latex_symbol(s.name), "", "", ""))

@@ -58,6 +58,7 @@ def test_every_attribute_of_a_part_is_declared_once(declared):
         assert field.rule in (None, *schema.RULES) and set(field.dimensions) <= {2, 3}
         if field.rule is not None:
             assert all(field.unit_in(d) for d in field.dimensions), field.key
+        assert field.unit is None or field.unit_by_type is None, field.key
 
 
 def test_a_key_no_table_declares_is_refused_with_the_nearest_declared_one():
@@ -115,7 +116,7 @@ def test_validation_records_the_declared_unit_of_every_field_it_checks():
     for name in builtin_names():
         model = builtin_model(name)
         for path, (_, unit) in field_values(model).items():
-            declared = schema.unit_of_path(path, model.dimensions)
+            declared = schema.unit_of_path(path, model.dimensions, model)
             if declared is not None:
                 assert unit == declared, (name, path)
                 checked += 1

@@ -79,7 +79,10 @@ class Field:
         What it is, as messages say it (``"flexural rigidity"``).
     unit : str, dict of int to str, or None
         Its unit (``"N m^2"``), by number of dimensions where they differ; None where the part's
-        type decides it or it has none.
+        type decides it (``unit_by_type``) or it has none.
+    unit_by_type : dict of str to str, optional
+        Its unit by the part's ``type`` where that decides it (a joint's stiffness: ``"N m/rad"``
+        for a revolute joint, ``"N/m"`` for a prismatic one); a type not listed has none.
     dimensions : tuple of int
         The numbers of dimensions of the models that have it.
     kind : str
@@ -126,10 +129,18 @@ class Field:
     default_with: str | None = None
     given_with: str | None = None
     constants: tuple = ()
+    unit_by_type: dict | None = None
 
     def unit_in(self, dimensions: int) -> str | None:
         """The unit in a model of ``dimensions`` dimensions."""
         return self.unit.get(dimensions) if isinstance(self.unit, dict) else self.unit
+
+    def unit_for(self, dimensions: int, kind: str | None = None) -> str | None:
+        """The unit in a model of ``dimensions`` dimensions, of a part of type ``kind`` where the type
+        decides it."""
+        if self.unit_by_type is not None:
+            return self.unit_by_type.get(kind)
+        return self.unit_in(dimensions)
 
     def missing_message(self, dimensions: int) -> str | None:
         """What a missing required field's message expects, or None if it is optional."""
@@ -316,9 +327,9 @@ JOINTS = Table("joints", Joint, (
     Field("child_point", "point of the child body"),
     Field("coordinates", "coordinate names"),
     Field("speeds", "speed names"),
-    Field("stiffness", "joint stiffness", kind="value"),
-    Field("damping", "joint damping", kind="value"),
-    Field("torque", "actuator torque or force"),
+    Field("stiffness", "joint stiffness", kind="value", unit_by_type={"revolute": "N m/rad", "prismatic": "N/m"}),
+    Field("damping", "joint damping", kind="value", unit_by_type={"revolute": "N m s/rad", "prismatic": "N s/m"}),
+    Field("torque", "actuator torque or force", unit_by_type={"revolute": "N m", "prismatic": "N"}),
     Field("angle", "angle of the child frame", "rad", _BOTH, kind="value", write="changed"),
     Field("axis", "slide direction angle (planar) or joint axis (spatial)", {2: "rad", 3: "-"}, kind="value",
           form="vectors", write="changed"),
@@ -327,7 +338,8 @@ JOINTS = Table("joints", Joint, (
           value_paths=(r"\.(angle|angles\[[012]\])",), form="orientation"),     # not its axes: structure
     Field("child_orientation", "orientation of the child frame", kind="value",
           value_paths=(r"\.(angle|angles\[[012]\])",), form="orientation"),
-    Field("rest", "rest position of the joint spring", kind="value", write="changed"),
+    Field("rest", "rest position of the joint spring", kind="value", write="changed",
+          unit_by_type={"revolute": "rad", "prismatic": "m"}),
     Field("driver", "prescribed motion", form="driver"),
 ))
 
@@ -494,17 +506,28 @@ def constant_stems(kind: str) -> dict[str, str]:
     return {stem: meaning for f in BEAMS.fields for k, stem, meaning in f.constants if k == kind}
 
 
-def unit_of_path(path: str, dimensions: int) -> str | None:
+def unit_of_path(path: str, dimensions: int, model=None) -> str | None:
     """The declared unit of the field at a key path (``beams.arm.EI``, ``bodies.hub.points.P[0]``),
-    None when the field has none or the part's type decides it."""
+    None when the field has none, or the part's type decides it and no ``model`` tells the type.
+
+    Parameters
+    ----------
+    path : str
+        The key path.
+    dimensions : int
+        The model's number of dimensions.
+    model : Model, optional
+        The model, whose parts' types decide some units (a joint's stiffness).
+    """
     parts = path.split(".")
     t = TABLES.get(parts[0])
-    if t is None:
+    if t is None or len(parts) < (3 if t.named else 2):
         return None
-    key = parts[2] if t.named and len(parts) > 2 else parts[1] if not t.named and len(parts) > 1 else None
-    if key is None:
-        return None
-    key = key.split("[")[0]
+    key = (parts[2] if t.named else parts[1]).split("[")[0]
     if key not in t._by_key or dimensions not in t.field(key).dimensions:
         return None
-    return t.field(key).unit_in(dimensions)
+    field = t.field(key)
+    if field.unit_by_type is None:
+        return field.unit_in(dimensions)
+    part = getattr(model, t.name, {}).get(parts[1].split("[")[0]) if model is not None and t.named else None
+    return field.unit_for(dimensions, getattr(part, "type", None))

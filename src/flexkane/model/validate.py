@@ -590,15 +590,15 @@ def _check_joint(model, joint: Joint, values: _Values, lengths: dict) -> None:
     if dofs != 1:
         values.number(f"{path}.rest", joint.rest, "rest position", "rad or m")
         return
-    force = "N m" if joint.type == "revolute" else "N"
-    if joint.stiffness is not None:
-        values.non_negative(f"{path}.stiffness", joint.stiffness, "joint stiffness", f"{force}/{unit}")
-    if joint.damping is not None:
-        values.non_negative(f"{path}.damping", joint.damping, "joint damping", f"{force} s/{unit}")
-    values.law(f"{path}.rest", joint.rest, "rest position of the joint spring", unit)
+    for key in ("stiffness", "damping"):     # N m/rad or N/m, ... by the joint's type (the declaration's)
+        if getattr(joint, key) is not None:
+            values.non_negative(f"{path}.{key}", getattr(joint, key), f"joint {key}",
+                                JOINTS.field(key).unit_for(dimensions, joint.type))
+    values.law(f"{path}.rest", joint.rest, "rest position of the joint spring", JOINTS.field("rest").unit_for(
+        dimensions, joint.type))
     if joint.torque is not None:
         what = "actuator torque" if joint.type == "revolute" else "actuator force"
-        values.law(f"{path}.torque", joint.torque, what, force)
+        values.law(f"{path}.torque", joint.torque, what, JOINTS.field("torque").unit_for(dimensions, joint.type))
         if joint.driver is not None:
             raise ModelError(f"{path}.torque", "no actuator torque on a driven joint (the driver supplies it)",
                              joint.torque)

@@ -22,9 +22,7 @@ def _field_unit(model, parts: list) -> str | None:
     """The unit of the field at a key path (split), as its declaration gives it."""
     from ..model import schema
 
-    if len(parts) == 3 and parts[0] == "joints" and parts[2] == "torque" and parts[1] in model.joints:
-        return "N m" if model.joints[parts[1]].type == "revolute" else "N"
-    return schema.unit_of_path(".".join(p for p in parts if isinstance(p, str)), model.dimensions)
+    return schema.unit_of_path(".".join(p for p in parts if isinstance(p, str)), model.dimensions, model)
 
 
 def column_units(model, keys) -> dict:
@@ -65,19 +63,16 @@ def column_units(model, keys) -> dict:
         if not declared.named or not isinstance(parts, dict):
             continue
         for field in declared.of(model.dimensions):
-            unit = field.unit_in(model.dimensions)
-            for part in parts if unit else ():
+            for name, part in parts.items():
+                unit = field.unit_for(model.dimensions, getattr(part, "type", None))
                 try:
-                    value = get_value(model, f"{declared.name}.{part}.{field.key}")
+                    value = get_value(model, f"{declared.name}.{name}.{field.key}") if unit else None
                 except Exception:  # noqa: BLE001
                     continue
                 if isinstance(value, str):
                     uses.setdefault(value.strip(), unit)
-    for joint in model.joints.values():   # a joint's torque is a force on a prismatic joint
-        if isinstance(joint.torque, str):
-            uses.setdefault(joint.torque.strip(), "N m" if joint.type == "revolute" else "N")
     if model.gravity is not None and isinstance(model.gravity.g, str):
-        uses.setdefault(model.gravity.g.strip(), "m/s^2")
+        uses.setdefault(model.gravity.g.strip(), schema.GRAVITY.field("g").unit_in(model.dimensions))
     fields = {f.name for f in dataclasses.fields(model)}
     units = {f"final_{name}": unit for name, unit in states.items()}
     for key in keys:
