@@ -55,39 +55,19 @@ from pathlib import Path
 
 from ._version import __version__
 from .checked_cache import read_checked, write_checked
-from .model import Model
+from .model import Model, schema
 
 __all__ = ["VALUE_FIELDS", "Derivation", "cache_path", "cached_derive", "cached_rhs_source", "derive",
            "model_source", "structure_signature", "work_integrands"]
 
 # Key paths of the constant fields that the derivation turns into a symbol, a parameter's symbol or
 # a zero (``FieldSymbols.value``): only that class is structure. A field missing here is compared by
-# value, which can only cause a needless re-derivation, never a wrong cache hit.
-VALUE_FIELDS = tuple(re.compile(pattern) for pattern in (
-    r"gravity\.g",
-    r"bodies\.[^.]+\.(mass|inertia)",
-    r"bodies\.[^.]+\.inertia(\[[012]\]){1,2}",          # a spatial body's principal values or tensor
-    r"bodies\.[^.]+\.points\.[^.]+\[[012]\]",
-    r"beams\.[^.]+\.(EI|rho|EA|rotary_inertia)",
-    r"beams\.[^.]+\.damping\[\d+\]",
-    r"beams\.[^.]+\.(EI_y|EI_z|GJ|rho_Ip|rho_Iy|rho_Iz|principal_angle)",    # a spatial beam's numbers
-    r"beams\.[^.]+\.(damping_y|damping_z|torsion_damping|axial_damping)\[\d+\]",
-    r"joints\.[^.]+\.(angle|axis|stiffness|damping|rest)",
-    r"joints\.[^.]+\.parent_position\[[012]\]",
-    r"joints\.[^.]+\.(orientation|child_orientation)\.(angle|angles\[[012]\])",   # not their axes: structure
-    r"springs\.[^.]+\.(stiffness|damping|rest_length)",
-    r"springs\.[^.]+\.position_[ab]\[[012]\]",
-    r"constraints\.[^.]+\.(axis|angle)",
-    r"constraints\.[^.]+\.position_[ab]\[[01]\]",
-    r"sensors\.[^.]+\.(station|distance)",
-    r"controllers\.[^.]+\.(min|max)",
-))
+# value, which can only cause a needless re-derivation, never a wrong cache hit. Each field's kind
+# (structure, value, numbers only, ignored) is declared in flexkane.model.schema.
+VALUE_FIELDS = (schema.one_pattern(schema.value_path_patterns()),)
 # Fields that never enter the equations, and fields that give them numbers only.
-_IGNORED = (re.compile(r"name|description|simulation|sweep"), re.compile(r"bodies\.[^.]+\.outline"))
-_NUMBERS = (re.compile(r"parameters|initial"), re.compile(r"controllers\.[^.]+\.initial"),
-            re.compile(r"beams\.[^.]+\.(shape|axial_shape|shape_y|shape_z|torsion_shape)\.roots"),
-            re.compile(r"beams\.[^.]+\.(shape|axial_shape|shape_y|shape_z|torsion_shape)\.options\."
-                       r"(mass_ratio|inertia_ratio)"))
+_IGNORED = (schema.one_pattern(schema.path_patterns("ignored")),)
+_NUMBERS = (schema.one_pattern(schema.path_patterns("number")),)
 # A beam length is a value field, but its text names the constants at the tip (``Phi_1(L)``).
 _BEAM_LENGTH = re.compile(r"beams\.[^.]+\.L")
 _FORMAT = 2  # layout of the cache files (2: with digests)

@@ -31,6 +31,7 @@ from ._version import __version__
 from .equations_document import (latex_document, markdown_document, number_text, parameter_text,
                                  tex_escape)
 from .expressions import bounded_expand
+from .model import schema
 from .natural_order import natural_key
 
 __all__ = ["collect_terms", "latex_names", "format_equations", "equations_markdown", "equations_latex",
@@ -565,7 +566,7 @@ def constant_columns(eom) -> list[tuple[int, str, str, str, str, str, str]]:
         modal constants first, then parameters and other values of the model. ``kind`` is
         ``"modal"``, ``"parameter"`` (its definition is the text given for it, a number of the
         model: :func:`flexkane.equations_document.parameter_text`), ``"defined"`` (a value field of
-        the model) or ``""``.
+        the model, with the unit :mod:`flexkane.model.schema` declares for it) or ``""``.
     """
     modal = eom.beam_constant_symbols()
     defined = eom.chain.symbols.definitions
@@ -578,8 +579,9 @@ def constant_columns(eom) -> list[tuple[int, str, str, str, str, str, str]]:
             rows_modal.append((index, s.name, "modal", _latex_symbol(s.name), f"beam {beam}", definition, unit))
         elif s.name in params:
             rows_other.append((index, s.name, "parameter", _latex_symbol(s.name), "parameter", "", ""))
-        elif s in defined:
-            rows_other.append((index, s.name, "defined", _latex_symbol(s.name), f"`{defined[s][0]}`", "", ""))
+        elif s in defined:    # a value field: its unit as the model schema declares it
+            unit = schema.unit_of_path(defined[s][0], eom.model.dimensions, eom.model) or ""
+            rows_other.append((index, s.name, "defined", _latex_symbol(s.name), f"`{defined[s][0]}`", "", unit))
         else:
             rows_other.append((index, s.name, "", _latex_symbol(s.name), "", "", ""))
     return rows_modal + rows_other

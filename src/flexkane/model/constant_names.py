@@ -11,21 +11,14 @@ Model validation refuses parameters named like them (printed equations stay read
 
 from __future__ import annotations
 
+from .schema import constant_stems
+
 __all__ = ["MODAL_STEMS", "generated_constant"]
 
-#: Stems of the modal constants' names (``E_1``, ``G_12``, ``H_11``, ...), with what they are.
-MODAL_STEMS = {
-    "E": "int rho Phi_i dx", "F": "int rho x Phi_i dx", "G": "int rho Phi_i Phi_j dx",
-    "H": "int EI Phi_i'' Phi_j'' dx", "HA": "int EA Psi_k' Psi_l' dx", "A": "int rho Psi_k dx",
-    "Ax": "int rho x Psi_k dx", "C": "int rho Phi_i Psi_k dx", "AA": "int rho Psi_k Psi_l dx",
-    "D": "int rho d dx", "Dx": "int rho x d dx", "Dphi": "int rho Phi_i d dx",
-    "Dpsi": "int rho Psi_k d dx", "DD": "int rho d d dx", "J": "int Phi_i'''' dx",
-    "Jx": "int x Phi_i'''' dx", "JPhi": "int Phi_j Phi_i'''' dx",
-    "Er": "int rho_I Phi_i' dx", "Gr": "int rho_I Phi_i' Phi_j' dx",
-    "Et": "int rho_Ip Theta_k dx", "Gt": "int rho_Ip Theta_k Theta_l dx", "Kt": "int GJ Theta_k' Theta_l' dx",
-}
-_MASS_NAMES = {"m": "int rho dx", "e": "int rho x dx", "I": "int rho x^2 dx", "Ir": "int rho_I dx",
-               "Ip": "int rho_Ip dx", "Iry": "int rho_Iy dx", "Irz": "int rho_Iz dx"}
+#: Stems of the modal constants' names (``E_1``, ``G_12``, ``H_11``, ...), with what they are: each
+#: declared with the beam field that brings it (:mod:`flexkane.model.schema`).
+MODAL_STEMS = constant_stems("modal")
+_MASS_NAMES = constant_stems("mass")
 
 
 def _index(part: str) -> bool:

@@ -1,6 +1,7 @@
 """The layout of a model file: the keys each of its tables may have, and the orientation tables.
 
-:mod:`flexkane.model.toml_io` checks a file against these tables (a key not listed is refused, with the
+:mod:`flexkane.model.toml_io` checks a file against these tables (each the keys its declaration in
+:mod:`flexkane.model.schema` gives) (a key not listed is refused, with the
 nearest valid key); :mod:`flexkane.model.paths` reads them to say which keys a path may name. An
 orientation (:class:`~flexkane.model.parts.Orientation`) is given as a table in either of the two forms of
 :data:`ORIENTATION_FORMS`; :func:`orientation_from_table` reads one, in a model file or in Python.
@@ -11,39 +12,31 @@ from __future__ import annotations
 import difflib
 
 from ..errors import ModelError
+from . import schema
 from .parts import Orientation
 
 __all__ = ["BEAM_KEYS", "BODY_KEYS", "CONSTRAINT_KEYS", "CONTROLLER_KEYS", "DISTRIBUTED_KEYS", "DRIVER_KEYS",
            "GRAVITY_KEYS", "JOINT_KEYS", "LOAD_KEYS", "ORIENTATION_FORMS", "ORIENTATION_KEYS", "SENSOR_KEYS",
            "SHAPE_KEYS", "SIM_KEYS", "SPATIAL_BEAM_KEYS", "SPRING_KEYS", "TOP_KEYS", "orientation_from_table"]
 
+# The keys of each table, in the order the file is written (declared in :mod:`flexkane.model.schema`).
 #: Top-level keys of a model file.
-TOP_KEYS = ("name", "dimensions", "description", "naming", "parameters", "bodies", "beams", "joints", "gravity",
-            "loads", "distributed_loads", "springs", "constraints", "sensors", "controllers", "initial", "simulation",
-            "sweep")
-BODY_KEYS = ("mass", "inertia", "points", "outline")
-BEAM_KEYS = ("L", "EI", "rho", "n_modes", "shape", "damping", "gravity", "elastic_forces",
-             "geometric_stiffening", "EA", "n_axial", "axial_shape", "rotary_inertia")
+TOP_KEYS = schema.TOP.keys(2)
+BODY_KEYS = schema.BODIES.keys(2)
+BEAM_KEYS = schema.BEAMS.keys(2)
 #: Keys of a beam in a spatial model (dimensions = 3): two bending planes, torsion, axial stretch.
-SPATIAL_BEAM_KEYS = ("L", "rho", "EI_y", "EI_z", "n_modes_y", "n_modes_z", "shape_y", "shape_z", "GJ",
-                     "rho_Ip", "n_torsion", "torsion_shape", "EA", "n_axial", "axial_shape",
-                     "principal_angle", "damping", "gravity", "geometric_stiffening", "rotary_inertia",
-                     "rho_Iy", "rho_Iz", "damping_y", "damping_z", "torsion_damping", "axial_damping")
-SHAPE_KEYS = ("family", "roots")  # plus the options of the family, checked by the family
-JOINT_KEYS = ("type", "parent", "child", "parent_point", "parent_position", "station", "child_point",
-              "angle", "axis", "axes", "orientation", "child_orientation", "coordinates", "speeds", "stiffness",
-              "damping", "rest", "torque", "driver")
-DRIVER_KEYS = ("coordinate", "speed")
-GRAVITY_KEYS = ("g", "direction")
-LOAD_KEYS = ("body", "point", "station", "force", "torque", "frame")
-DISTRIBUTED_KEYS = ("beam", "fx", "fy", "frame", "quadrature_nodes")
-SPRING_KEYS = ("body_a", "point_a", "station_a", "position_a", "body_b", "point_b", "station_b", "position_b",
-               "stiffness", "damping", "rest_length")
-CONSTRAINT_KEYS = ("type", "body_a", "point_a", "station_a", "position_a", "body_b", "point_b", "station_b",
-                   "position_b", "axis", "angle", "dependent", "stabilization", "orientation")
-SENSOR_KEYS = ("type", "beam", "body", "point", "joint", "station", "distance", "frame", "component")
-CONTROLLER_KEYS = ("states", "initial", "output", "min", "max")
-SIM_KEYS = ("t_end", "dt_out", "rtol", "atol", "method", "max_steps", "deflection_warning", "spin_warning")
+SPATIAL_BEAM_KEYS = schema.BEAMS.keys(3)
+SHAPE_KEYS = schema.SHAPE.keys(2)  # plus the options of the family, checked by the family
+JOINT_KEYS = schema.JOINTS.keys(2)
+DRIVER_KEYS = schema.DRIVER.keys(2)
+GRAVITY_KEYS = schema.GRAVITY.keys(2)
+LOAD_KEYS = schema.LOADS.keys(2)
+DISTRIBUTED_KEYS = schema.DISTRIBUTED_LOADS.keys(2)
+SPRING_KEYS = schema.SPRINGS.keys(2)
+CONSTRAINT_KEYS = schema.CONSTRAINTS.keys(2)
+SENSOR_KEYS = schema.SENSORS.keys(2)
+CONTROLLER_KEYS = schema.CONTROLLERS.keys(2)
+SIM_KEYS = schema.SIMULATION.keys(2)
 
 #: Keys of an orientation table.
 ORIENTATION_KEYS = ("axis", "angle", "sequence", "angles")

@@ -31,6 +31,8 @@ import re
 
 from ..errors import ModelError, ModelErrors
 from .field_values import FieldValues
+from . import schema
+from .schema import BEAMS, BODIES, GRAVITY, JOINTS, SPRINGS
 from .parts import (DIMENSIONS, DISTRIBUTED_FRAMES, ELASTIC_MODELS, FRAMES, GRAVITY_MODELS, JOINT_DOFS, JOINT_TYPES,
                     JOINT_TYPES_BY_DIMENSION, METHODS, NAMING_STYLES, SPATIAL_JOINT_TYPES, Beam, Controller,
                     DistributedLoad, Driver, Gravity, Joint, Load, LoopConstraint, PointSpring, RigidBody, Sensor,
@@ -87,6 +89,8 @@ class _Values(FieldValues):
         super().__init__(model)
         #: (path, value) of laws that name something other than t and the parameters
         self.deferred: list = []
+        #: key paths of the fields checked so far
+        self.checked: set = set()
 
     def evaluate(self, path: str, value, extra: dict) -> float:
         """The value of an expression of the parameters and ``extra`` names (``t``, ``x``) [their units].
@@ -99,6 +103,7 @@ class _Values(FieldValues):
     def number(self, path: str, value, what: str, unit: str, *, time: bool = False) -> float:
         """The value of a field (at t = 0 for a time law); checks its type and that it is finite."""
         kind = f"{what} [{unit}]" + (", a number or an expression of t" if time else "")
+        self.checked.add(path)
         if self.units is not None:
             self.units[path] = unit
         if not _is_value(value):
@@ -138,6 +143,20 @@ class _Values(FieldValues):
         if number < 0:
             raise ModelError(path, f"a non-negative value [{unit}] ({what})", self.shown(value, number))
         return number
+
+    def declared(self, table, key: str, part, path: str, dimensions: int = 2) -> float:
+        """Check the field ``key`` of ``part`` (key path ``path.key``) by the rule, the words and the
+        unit that its declaration (:mod:`flexkane.model.schema`) gives; its value [its unit]."""
+        field = table.field(key)
+        return getattr(self, field.rule)(f"{path}.{key}", getattr(part, key), field.doc, field.unit_in(dimensions))
+
+    def declared_rest(self, table, part, path: str, dimensions: int) -> None:
+        """Check every field of ``part`` that has a rule in its declaration, is given, and that the
+        part's own checks did not check (a field declared with a range and no relation to others)."""
+        for field in table.of(dimensions):
+            if field.rule is not None and getattr(part, field.key, None) is not None \
+                    and f"{path}.{field.key}" not in self.checked:
+                self.declared(table, field.key, part, path, dimensions)
 
     def station(self, path: str, value, beam: str, lengths: dict) -> None:
         """Check a station on ``beam``: 0 <= x <= L [m] (``lengths``: the beams' lengths by name)."""
@@ -320,31 +339,29 @@ def validate_model(model, *, units: dict | None = None) -> None:
     for body in bodies.values():
         with problems.part():
             _check_body(body, values, dimensions)
+            values.declared_rest(BODIES, body, f"bodies.{body.name}", dimensions)
     lengths = {}
     for beam in beams.values():
         with problems.part():
-            lengths[beam.name] = (_check_spatial_beam if dimensions == 3 else _check_beam)(beam, values)
+            length = (_check_spatial_beam if dimensions == 3 else _check_beam)(beam, values)
+            values.declared_rest(BEAMS, beam, f"beams.{beam.name}", dimensions)
+            lengths[beam.name] = length
     with problems.part():   # over the beams that passed their own checks
         _check_elastic_coordinates({name: beams[name] for name in lengths})
     problems.raise_found()   # joints and ends refer to parts and beam lengths
     for joint in model.joints.values():
         with problems.part():
             _check_joint(model, joint, values, lengths)
+            values.declared_rest(JOINTS, joint, f"joints.{joint.name}", dimensions)
     problems.raise_found()   # the tree is made of valid joints
     with problems.part():
         _check_tree(model)
-    for load in model.loads.values():
-        with problems.part():
-            _check_load(model, load, values, lengths)
-    for load in model.distributed_loads.values():
-        with problems.part():
-            _check_distributed_load(model, load, values, lengths)
-    for spring in model.springs.values():
-        with problems.part():
-            _check_spring(model, spring, values, lengths)
-    for con in model.constraints.values():
-        with problems.part():
-            _check_constraint(model, con, values, lengths)
+    for kind, check in (("loads", _check_load), ("distributed_loads", _check_distributed_load),
+                        ("springs", _check_spring), ("constraints", _check_constraint)):
+        for part in getattr(model, kind).values():
+            with problems.part():
+                check(model, part, values, lengths)
+                values.declared_rest(schema.table(kind), part, f"{kind}.{part.name}", dimensions)
     problems.raise_found(final=True)   # the structure needs a valid tree of valid parts
     coordinates = _check_structure(model, values)
     _check_signals(model, values, lengths, coordinates)
@@ -356,7 +373,7 @@ def validate_model(model, *, units: dict | None = None) -> None:
 # ---------------------------------------------------------------------------------------- parts
 def _check_body(body: RigidBody, values: _Values, dimensions: int) -> None:
     path = f"bodies.{body.name}"
-    values.positive(f"{path}.mass", body.mass, "mass", "kg")
+    values.declared(BODIES, "mass", body, path, dimensions)
     if dimensions == 3:
         from . import validate_spatial as spatial
 
@@ -394,9 +411,9 @@ def _check_shape_spec(path: str, spec, values: _Values) -> None:
 
 def _check_beam(beam: Beam, values: _Values) -> float:
     path = f"beams.{beam.name}"
-    length = values.positive(f"{path}.L", beam.L, "length", "m")
-    values.positive(f"{path}.EI", beam.EI, "flexural rigidity", "N m^2")
-    values.positive(f"{path}.rho", beam.rho, "mass per unit length", "kg/m")
+    length = values.declared(BEAMS, "L", beam, path)
+    values.declared(BEAMS, "EI", beam, path)
+    values.declared(BEAMS, "rho", beam, path)
     n = _integer(f"{path}.n_modes", beam.n_modes, 1, MAX_MODES, "number of shape functions")
     _check_shape_spec(f"{path}.shape", beam.shape, values)
     if beam.shape.roots is not None and len(beam.shape.roots) != n:
@@ -415,7 +432,7 @@ def _check_beam(beam: Beam, values: _Values) -> float:
         raise ModelError(f"{path}.geometric_stiffening", "true or false", beam.geometric_stiffening)
     n_axial = _integer(f"{path}.n_axial", beam.n_axial, 0, MAX_MODES, "number of axial shape functions")
     if beam.EA is not None:
-        values.positive(f"{path}.EA", beam.EA, "axial stiffness", "N")
+        values.declared(BEAMS, "EA", beam, path)
     if n_axial:
         if beam.EA is None:
             raise ModelError(f"{path}.EA", "the axial stiffness [N] (required with n_axial > 0)", None,
@@ -436,10 +453,9 @@ def _check_beam(beam: Beam, values: _Values) -> float:
 def _check_spatial_beam(beam: Beam, values: _Values) -> float:
     """A beam of a spatial model: two bending planes, torsion and axial stretch (Beam's docstring)."""
     path = f"beams.{beam.name}"
-    length = values.positive(f"{path}.L", beam.L, "length", "m")
-    values.positive(f"{path}.rho", beam.rho, "mass per unit length", "kg/m")
-    values.positive(f"{path}.EI_y", beam.EI_y, "flexural rigidity about the section's y axis", "N m^2")
-    values.positive(f"{path}.EI_z", beam.EI_z, "flexural rigidity about the section's z axis", "N m^2")
+    length = values.declared(BEAMS, "L", beam, path, 3)
+    for key in ("rho", "EI_y", "EI_z"):
+        values.declared(BEAMS, key, beam, path, 3)
     counts = {}
     for key in ("n_modes_y", "n_modes_z", "n_torsion", "n_axial"):
         counts[key] = _integer(f"{path}.{key}", getattr(beam, key), 0, MAX_MODES, "number of shape functions")
@@ -448,26 +464,18 @@ def _check_spatial_beam(beam: Beam, values: _Values) -> float:
         if shape.roots is not None and len(shape.roots) != counts[f"n_modes_{key}"]:
             raise ModelError(f"{path}.shape_{key}.roots", f"{counts[f'n_modes_{key}']} roots lambda_i (one per mode)",
                              list(shape.roots))
-    for count, stiffness, what, unit, shape in (
-            ("n_torsion", "GJ", "torsional rigidity", "N m^2", "torsion_shape"),
-            ("n_axial", "EA", "axial stiffness", "N", "axial_shape")):
+    for count, stiffness, shape in (("n_torsion", "GJ", "torsion_shape"), ("n_axial", "EA", "axial_shape")):
         if getattr(beam, stiffness) is not None:
-            values.positive(f"{path}.{stiffness}", getattr(beam, stiffness), what, unit)
+            values.declared(BEAMS, stiffness, beam, path, 3)
         if counts[count]:
             if getattr(beam, stiffness) is None:
-                raise ModelError(f"{path}.{stiffness}", f"the {what} [{unit}] (required with {count} > 0)", None,
-                                 show_given=False)
+                field = BEAMS.field(stiffness)
+                raise ModelError(f"{path}.{stiffness}", f"the {field.doc} [{field.unit_in(3)}] (required with "
+                                 f"{count} > 0)", None, show_given=False)
             _check_shape_spec(f"{path}.{shape}", getattr(beam, shape), values)
-    if beam.rho_Ip is not None:
-        values.non_negative(f"{path}.rho_Ip", beam.rho_Ip,
-                            "polar mass moment of inertia of the section per unit length", "kg m")
-    if beam.principal_angle is not None:
-        values.number(f"{path}.principal_angle", beam.principal_angle,
-                      "angle of the section's principal axes from the beam frame's", "rad")
-    for key, about in (("rho_Iy", "y"), ("rho_Iz", "z")):
+    for key in ("rho_Ip", "principal_angle", "rho_Iy", "rho_Iz"):
         if getattr(beam, key) is not None:
-            values.non_negative(f"{path}.{key}", getattr(beam, key),
-                                f"mass moment of inertia of the section per unit length about its {about} axis", "kg m")
+            values.declared(BEAMS, key, beam, path, 3)
     if beam.rotary_inertia is not None:
         raise ModelError(f"{path}.rotary_inertia", "no rotary_inertia on a beam with dimensions = 3",
                          beam.rotary_inertia, "a spatial Rayleigh beam has rho_Iy and rho_Iz (about y_p and z_p)")
@@ -582,15 +590,15 @@ def _check_joint(model, joint: Joint, values: _Values, lengths: dict) -> None:
     if dofs != 1:
         values.number(f"{path}.rest", joint.rest, "rest position", "rad or m")
         return
-    force = "N m" if joint.type == "revolute" else "N"
-    if joint.stiffness is not None:
-        values.non_negative(f"{path}.stiffness", joint.stiffness, "joint stiffness", f"{force}/{unit}")
-    if joint.damping is not None:
-        values.non_negative(f"{path}.damping", joint.damping, "joint damping", f"{force} s/{unit}")
-    values.law(f"{path}.rest", joint.rest, "rest position of the joint spring", unit)
+    for key in ("stiffness", "damping"):     # N m/rad or N/m, ... by the joint's type (the declaration's)
+        if getattr(joint, key) is not None:
+            values.non_negative(f"{path}.{key}", getattr(joint, key), f"joint {key}",
+                                JOINTS.field(key).unit_for(dimensions, joint.type))
+    values.law(f"{path}.rest", joint.rest, "rest position of the joint spring", JOINTS.field("rest").unit_for(
+        dimensions, joint.type))
     if joint.torque is not None:
         what = "actuator torque" if joint.type == "revolute" else "actuator force"
-        values.law(f"{path}.torque", joint.torque, what, force)
+        values.law(f"{path}.torque", joint.torque, what, JOINTS.field("torque").unit_for(dimensions, joint.type))
         if joint.driver is not None:
             raise ModelError(f"{path}.torque", "no actuator torque on a driven joint (the driver supplies it)",
                              joint.torque)
@@ -757,9 +765,7 @@ def _check_spring(model, spring: PointSpring, values: _Values, lengths: dict) ->
         _check_end(model, path, spring, end, values, lengths)
     if spring.body_a == "ground" and spring.body_b == "ground":
         raise ModelError(f"{path}.body_b", "a body at one end at least", spring.body_b)
-    values.non_negative(f"{path}.stiffness", spring.stiffness, "spring stiffness", "N/m")
-    values.non_negative(f"{path}.damping", spring.damping, "damping coefficient", "N s/m")
-    values.non_negative(f"{path}.rest_length", spring.rest_length, "rest length", "m")
+    values.declared_rest(SPRINGS, spring, path, model.dimensions)   # stiffness, damping, rest length
 
 
 def _check_constraint(model, con: LoopConstraint, values: _Values, lengths: dict) -> None:
@@ -794,7 +800,7 @@ def _check_gravity(gravity, values: _Values, dimensions: int) -> None:
         return
     if not isinstance(gravity, Gravity):
         raise ModelError("gravity", "a table { g = ..., direction = [x, y] }", gravity)
-    values.non_negative("gravity.g", gravity.g, "gravitational acceleration", "m/s^2")
+    values.declared(GRAVITY, "g", gravity, "gravity", dimensions)
     if dimensions == 3:
         from . import validate_spatial as spatial
 

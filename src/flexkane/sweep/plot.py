@@ -9,14 +9,6 @@ from ..errors import ModelError
 
 __all__ = ["plot_metric", "default_metric", "column_units"]
 
-#: Units of model fields by (table, field) key path ends.
-_FIELD_UNITS = {("beams", "L"): "m", ("beams", "EI"): "N m^2", ("beams", "rho"): "kg/m", ("beams", "EA"): "N",
-                ("beams", "damping"): "-", ("bodies", "mass"): "kg", ("bodies", "inertia"): "kg m^2",
-                ("springs", "stiffness"): "N/m", ("springs", "damping"): "N s/m", ("springs", "rest_length"): "m",
-                ("loads", "torque"): "N m", ("loads", "force"): "N", ("gravity", "g"): "m/s^2",
-                ("joints", "angle"): "rad", ("joints", "axis"): "rad"}
-
-
 def default_metric(rows: list[dict]) -> str:
     """The first beam's ``max_abs_tip_<beam>`` column, else ``energy_error``."""
     for row in rows:
@@ -27,13 +19,10 @@ def default_metric(rows: list[dict]) -> str:
 
 
 def _field_unit(model, parts: list) -> str | None:
-    if parts[0] == "gravity" and parts[-1] == "g":
-        return "m/s^2"
-    if len(parts) == 3 and parts[0] == "joints" and parts[2] == "torque" and parts[1] in model.joints:
-        return "N m" if model.joints[parts[1]].type == "revolute" else "N"
-    if len(parts) >= 3 and isinstance(parts[2], str):
-        return _FIELD_UNITS.get((parts[0], parts[2]))
-    return None
+    """The unit of the field at a key path (split), as its declaration gives it."""
+    from ..model import schema
+
+    return schema.unit_of_path(".".join(p for p in parts if isinstance(p, str)), model.dimensions, model)
 
 
 def column_units(model, keys) -> dict:
@@ -66,23 +55,24 @@ def column_units(model, keys) -> dict:
                 states[coord.q], states[coord.u] = unit, f"{unit}/s"
     except Exception:  # noqa: BLE001 - a label is not worth a failure
         pass
+    from ..model import schema
+
     uses = {}   # parameter name -> unit of a field whose value is exactly that name
-    for (table, name), unit in _FIELD_UNITS.items():
-        parts = getattr(model, table, None)
-        if not isinstance(parts, dict):
+    for declared in schema.TABLES.values():
+        parts = getattr(model, declared.name, None)
+        if not declared.named or not isinstance(parts, dict):
             continue
-        for part in parts:
-            try:
-                value = get_value(model, f"{table}.{part}.{name}")
-            except Exception:  # noqa: BLE001
-                continue
-            if isinstance(value, str):
-                uses.setdefault(value.strip(), unit)
-    for joint in model.joints.values():   # a joint's torque is a force on a prismatic joint
-        if isinstance(joint.torque, str):
-            uses.setdefault(joint.torque.strip(), "N m" if joint.type == "revolute" else "N")
+        for field in declared.of(model.dimensions):
+            for name, part in parts.items():
+                unit = field.unit_for(model.dimensions, getattr(part, "type", None))
+                try:
+                    value = get_value(model, f"{declared.name}.{name}.{field.key}") if unit else None
+                except Exception:  # noqa: BLE001
+                    continue
+                if isinstance(value, str):
+                    uses.setdefault(value.strip(), unit)
     if model.gravity is not None and isinstance(model.gravity.g, str):
-        uses.setdefault(model.gravity.g.strip(), "m/s^2")
+        uses.setdefault(model.gravity.g.strip(), schema.GRAVITY.field("g").unit_in(model.dimensions))
     fields = {f.name for f in dataclasses.fields(model)}
     units = {f"final_{name}": unit for name, unit in states.items()}
     for key in keys:
