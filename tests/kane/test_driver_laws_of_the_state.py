@@ -54,6 +54,29 @@ q_sa = 0.3
 """
 
 
+def _geared_accelerations(N, symbols, L, bodies, loads):
+    """u_a' by KanesMethod of two joints (coordinates and speeds ``symbols = (qa, qb, ua, ub)``, the
+    speeds the coordinates' rates) with the configuration constraint ``qb - L(qa, t) = 0``, as a
+    function of (qa, ua, t)."""
+    t = dynamicsymbols._t
+    qa, qb, ua, ub = symbols
+    kane = KanesMethod(N, q_ind=[qa], q_dependent=[qb], u_ind=[ua], u_dependent=[ub],
+                       kd_eqs=[qa.diff(t) - ua, qb.diff(t) - ub],
+                       configuration_constraints=[qb - L],
+                       velocity_constraints=[ub - L.diff(t).subs(qa.diff(t), ua)])
+    kane.kanes_equations(bodies, loads)
+    X = sp.symbols("QA QB UA UB T")
+    plain = dict(zip([qa, qb, ua, ub, t], X))
+    M, f = (sp.lambdify(X, e.xreplace(plain), "numpy", cse=True) for e in (kane.mass_matrix, kane.forcing))
+    speed = sp.lambdify([X[0], X[2], X[4]], L.diff(t).subs(qa.diff(t), ua).xreplace(plain), "numpy", cse=True)
+    angle = sp.lambdify([X[0], X[4]], L.xreplace(plain), "numpy", cse=True)
+
+    def accelerations(q, u, time):
+        state = (q, angle(q, time), u, speed(q, u, time), time)
+        return np.linalg.solve(np.atleast_2d(M(*state)), np.ravel(f(*state)))[0]
+    return accelerations
+
+
 def _kanes_method_accelerations(law):
     """u_sa' of the chain by KanesMethod with ``q_sb - law(q_sa, t) = 0``, as a function of (q_sa, u_sa, t)."""
     t = dynamicsymbols._t
@@ -76,21 +99,7 @@ def _kanes_method_accelerations(law):
               RigidBody("b", Bc, B, m2, (inertia(B, 0, 0, I2), Bc))]
     loads = [(Ac, -m1 * g * N.y), (Bc, -m2 * g * N.y)]
     L = law(qa, t, c)
-    kane = KanesMethod(N, q_ind=[qa], q_dependent=[qb], u_ind=[ua], u_dependent=[ub],
-                       kd_eqs=[qa.diff(t) - ua, qb.diff(t) - ub],
-                       configuration_constraints=[qb - L],
-                       velocity_constraints=[ub - L.diff(t).subs(qa.diff(t), ua)])
-    kane.kanes_equations(bodies, loads)
-    X = sp.symbols("QA QB UA UB T")
-    plain = dict(zip([qa, qb, ua, ub, t], X))
-    M, f = (sp.lambdify(X, e.xreplace(plain), "numpy", cse=True) for e in (kane.mass_matrix, kane.forcing))
-    speed = sp.lambdify([X[0], X[2], X[4]], L.diff(t).subs(qa.diff(t), ua).xreplace(plain), "numpy", cse=True)
-    angle = sp.lambdify([X[0], X[4]], L.xreplace(plain), "numpy", cse=True)
-
-    def accelerations(q, u, time):
-        state = (q, angle(q, time), u, speed(q, u, time), time)
-        return np.linalg.solve(np.atleast_2d(M(*state)), np.ravel(f(*state)))[0]
-    return accelerations
+    return _geared_accelerations(N, (qa, qb, ua, ub), L, bodies, loads)
 
 
 def _flexkane_accelerations(eom):
@@ -362,15 +371,109 @@ def test_the_report_prints_a_law_of_the_state_by_name():
     assert r"tip_{y} &=" in text and r"\dot{z_{f}} &=" in text
 
 
-def test_a_spatial_driver_of_the_state_is_refused_by_name():
-    """Drivers of the state are planar only: a spatial model's law of a coordinate says so."""
-    from pathlib import Path
+#: A spatial chain: a waist about the vertical carrying link a, and on a's shoulder, about a's x axis,
+#: link b driven by a law of the waist angle, of a position sensor and of t; full inertia tensors,
+#: gravity along -z, an actuator torque on the waist.
+SPATIAL_GEARED = """
+dimensions = 3
+name = "spatial-geared"
+[parameters]
+c = 0.5
+[gravity]
+g = 9.81
+direction = [0, 0, -1]
+[bodies.a]
+mass = 2.0
+inertia = [[0.1, 0.01, 0.0], [0.01, 0.2, 0.02], [0.0, 0.02, 0.15]]
+points = {{ base = [-0.1, 0.0, -0.2], hinge = [-0.1, 0.1, 0.1] }}
+[bodies.b]
+mass = 1.5
+inertia = [[0.05, 0.0, 0.01], [0.0, 0.07, 0.0], [0.01, 0.0, 0.03]]
+points = {{ hinge = [0.0, -0.4, 0.0] }}
+[sensors.hinge_x]
+type = "position"
+body = "a"
+point = "hinge"
+component = "x"
+[joints.waist]
+type = "revolute"
+parent = "ground"
+child = "a"
+child_point = "base"
+axis = [0, 0, 1]
+torque = "0.3*sin(t)"
+[joints.shoulder]
+type = "revolute"
+parent = "a"
+parent_point = "hinge"
+child = "b"
+child_point = "hinge"
+axis = [1, 0, 0]
+driver = {{ coordinate = "{law}" }}
+"""
 
-    path = Path(__file__).parents[1] / "model" / "spatial_models" / "every-joint-type.toml"
-    text = path.read_text().replace('driver = { coordinate = "0.5*sin(t)" }', 'driver = { coordinate = "0.5*q_rail" }')
+
+def _kanes_method_spatial_geared(law):
+    """u_waist' of SPATIAL_GEARED by KanesMethod with ``q_shoulder - law(q_waist, t) = 0``, as a function
+    of (q_waist, u_waist, t)."""
+    t = dynamicsymbols._t
+    qa, qb, ua, ub = dynamicsymbols("qa qb ua ub")
+    N = ReferenceFrame("N")
+    A = N.orientnew("A", "Axis", (qa, N.z))
+    B = A.orientnew("B", "Axis", (qb, A.x))
+    A.set_ang_vel(N, ua * N.z)
+    B.set_ang_vel(A, ub * A.x)
+    O = Point("O")
+    O.set_vel(N, 0)
+    Ac = O.locatenew("Ac", 0.1 * A.x + 0.2 * A.z)        # a's base point is at the origin
+    Ac.v2pt_theory(O, N, A)
+    hinge = Ac.locatenew("H", -0.1 * A.x + 0.1 * A.y + 0.1 * A.z)
+    hinge.v2pt_theory(O, N, A)
+    Bc = hinge.locatenew("Bc", 0.4 * B.y)
+    Bc.v2pt_theory(hinge, N, B)
+    bodies = [RigidBody("a", Ac, A, 2.0, (inertia(A, 0.1, 0.2, 0.15, 0.01, 0.02, 0.0), Ac)),
+              RigidBody("b", Bc, B, 1.5, (inertia(B, 0.05, 0.07, 0.03, 0.0, 0.0, 0.01), Bc))]
+    loads = [(Ac, -2.0 * 9.81 * N.z), (Bc, -1.5 * 9.81 * N.z), (A, 0.3 * sp.sin(t) * N.z)]
+    L = law(qa, t, hinge.pos_from(O).dot(N.x))
+    return _geared_accelerations(N, (qa, qb, ua, ub), L, bodies, loads)
+
+
+def test_a_spatial_gear_law_is_kanes_method_with_the_holonomic_constraint():
+    """A spatial chain (shoulder about a horizontal axis carried by a waist about the vertical) whose
+    shoulder follows the waist angle, the x of a's hinge (a position sensor, -0.1 sin(q_waist) [m])
+    and t: u_waist' at random states equals KanesMethod's with that configuration constraint, to 1e-10."""
+    text = "c*q_waist + 0.5*hinge_x + 0.1*sin(2*t)"
+    eom = flexkane.derive(flexkane.loads_model(SPATIAL_GEARED.format(law=text)))
+    assert [q.name for q in eom.q] == ["q_waist"] and [u.name for u in eom.u] == ["u_waist"]
+    ours = _flexkane_accelerations(eom)
+    theirs = _kanes_method_spatial_geared(lambda qa, t, x: 0.5 * qa + 0.5 * x + 0.1 * sp.sin(2 * t))
+    rng = np.random.default_rng(26)
+    for qa, ua, t in rng.uniform(-2.0, 2.0, size=(6, 3)):
+        expected = theirs(qa, ua, t)
+        assert abs(ours(qa, ua, t) - expected) <= 1e-10 * max(1.0, abs(expected))
+
+
+def test_a_spatial_gear_keeps_the_energy_balance_and_reads_no_own_coordinate():
+    """The spatial gear ``q_shoulder = c q_waist`` (no t): d(energy)/dt = power_nonconservative = the
+    waist's actuator power at random states (the gear does no work); a law of its own coordinate is
+    refused by name as in a planar model."""
+    eom = flexkane.derive(flexkane.loads_model(SPATIAL_GEARED.format(law="c*q_waist")))
+    values = eom.constant_values()
+    t = eom.t
+    a = sp.Symbol("a")
+    energy, power = (eom.outputs[k].xreplace(values).xreplace({eom.ud[0]: a}) for k in ("energy",
+                                                                                         "power_nonconservative"))
+    rate = energy.diff(eom.q[0]) * eom.u[0] + energy.diff(eom.u[0]) * a + energy.diff(t)
+    check = sp.lambdify([eom.q[0], eom.u[0], t, a], [rate, power], "numpy", cse=True)
+    accelerations = _flexkane_accelerations(eom)
+    rng = np.random.default_rng(5)
+    for qa, ua, time in rng.uniform(-2.0, 2.0, size=(4, 3)):
+        de, supplied = check(qa, ua, time, accelerations(qa, ua, time))
+        assert abs(de - supplied) <= 1e-10 * max(1.0, abs(de))
+        assert abs(supplied - 0.3 * np.sin(time) * ua) <= 1e-10 * max(1.0, abs(supplied))
     with pytest.raises(ModelError) as info:
-        flexkane.loads_model(text)
-    assert info.value.path == "joints.pin.driver.coordinate" and "spatial model" in str(info.value)
+        flexkane.loads_model(SPATIAL_GEARED.format(law="q_waist + 0.1*q_shoulder"))
+    assert info.value.path == "joints.shoulder.driver.coordinate" and "its own coordinate" in str(info.value)
 
 
 def _kanes_method_free_chain():

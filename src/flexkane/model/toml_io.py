@@ -127,8 +127,8 @@ def _spatial_beam(name: str, beam: dict, path: str) -> Beam:
     return Beam(
         name, _get(beam, "L", path, "the length [m]"), None, _get(beam, "rho", path, "the mass per unit length [kg/m]"),
         0, damping=damping if isinstance(damping, list) else [damping],
-        gravity=beam.get("gravity", "distributed"), geometric_stiffening=beam.get("geometric_stiffening", False),
-        EA=beam.get("EA"), n_axial=n_axial,
+        gravity=beam.get("gravity", "distributed"), elastic_forces=beam.get("elastic_forces", "strain-energy"),
+        geometric_stiffening=beam.get("geometric_stiffening", False), EA=beam.get("EA"), n_axial=n_axial,
         axial_shape=_shape(beam, "axial_shape", path, "axial-fixed-free" if n_axial else None),
         rotary_inertia=beam.get("rotary_inertia"),
         EI_y=_get(beam, "EI_y", path, "the flexural rigidity about the section's y axis [N m^2]"),
@@ -360,6 +360,8 @@ def _spatial_beam_out(b: Beam) -> dict:
             t[key] = list(getattr(b, key))
     if b.gravity != "distributed":
         t["gravity"] = b.gravity
+    if b.elastic_forces != "strain-energy":
+        t["elastic_forces"] = b.elastic_forces
     if b.geometric_stiffening:
         t["geometric_stiffening"] = True
     return t
