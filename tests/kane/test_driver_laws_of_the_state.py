@@ -476,6 +476,25 @@ def test_a_spatial_gear_keeps_the_energy_balance_and_reads_no_own_coordinate():
     assert info.value.path == "joints.shoulder.driver.coordinate" and "its own coordinate" in str(info.value)
 
 
+def test_linearize_with_a_spatial_gear_reduces_the_driven_coordinate():
+    """The spatial gear hanging at rest (b below the shoulder, q_waist = -pi): the linear model's states
+    are (q_waist, u_waist), and A equals the finite-difference Jacobian of the nonlinear right-hand side."""
+    from flexkane import linearize
+
+    text = SPATIAL_GEARED.format(law="c*q_waist").replace('torque = "0.3*sin(t)"\n', "")
+    model = flexkane.loads_model(text + "\n[initial]\nq_waist = -3.0\n")
+    linear = linearize(model, about="equilibrium")
+    A, _ = linear.state_space()
+    assert linear.state_names == ["q_waist", "u_waist"] and abs(float(linear.q0[0]) + np.pi) <= 1e-8
+    accelerations = _flexkane_accelerations(flexkane.derive(model))
+
+    def rhs(x):
+        return np.array([x[1], accelerations(x[0], x[1], 0.0)])
+
+    J = _finite_difference_jacobian(rhs, np.array([float(linear.q0[0]), 0.0]))
+    assert J[1, 0] < 0 and np.max(np.abs(A - J)) <= 1e-7 * np.max(np.abs(J))
+
+
 def _kanes_method_free_chain():
     """M(qa, qb) and f(qa, qb, ua, ub) of the two-link chain without constraint, by KanesMethod."""
     t = dynamicsymbols._t
