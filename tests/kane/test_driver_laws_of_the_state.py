@@ -262,6 +262,15 @@ def test_two_drivers_of_the_state_keep_the_energy_balance():
     their laws read, modal ones included) at random states."""
     eom = flexkane.derive(flexkane.loads_model(TWO_DRIVERS))
     assert eom.state_names == ["q_sa", "q_link_1", "u_sa", "u_link_1"]
+    balance = _energy_balance(eom)
+    rng = np.random.default_rng(11)
+    for state in rng.uniform(-1.0, 1.0, size=(3, len(eom.q) + len(eom.u) + 1)):
+        de, supplied = balance(state)
+        assert abs(de - supplied) <= 1e-10 * max(1.0, abs(de))
+
+
+def _energy_balance(eom):
+    """``state -> (d(energy)/dt, power_nonconservative)`` along the equations, ``state = [q, u, t]``."""
     values = eom.constant_values()
     t = eom.t
     ud = sp.symbols(f"a0:{len(eom.u)}")
@@ -274,10 +283,7 @@ def test_two_drivers_of_the_state_keep_the_energy_balance():
     M, f = (sp.lambdify(args, eom.expand(e).xreplace(values), "numpy", cse=True)
             for e in (eom.compact.mass_matrix, eom.compact.forcing))
     check = sp.lambdify([*args, *ud], [rate, power], "numpy", cse=True)
-    rng = np.random.default_rng(11)
-    for state in rng.uniform(-1.0, 1.0, size=(3, len(args))):
-        de, supplied = check(*state, *np.linalg.solve(M(*state), np.ravel(f(*state))))
-        assert abs(de - supplied) <= 1e-10 * max(1.0, abs(de))
+    return lambda state: check(*state, *np.linalg.solve(np.atleast_2d(M(*state)), np.ravel(f(*state))))
 
 
 #: A first-order filter z_f' = (r(t) - z_f)/tau of the reference r = R sin(w t), z_f(0) = 0, and its
@@ -458,22 +464,35 @@ def test_a_spatial_gear_keeps_the_energy_balance_and_reads_no_own_coordinate():
     waist's actuator power at random states (the gear does no work); a law of its own coordinate is
     refused by name as in a planar model."""
     eom = flexkane.derive(flexkane.loads_model(SPATIAL_GEARED.format(law="c*q_waist")))
-    values = eom.constant_values()
-    t = eom.t
-    a = sp.Symbol("a")
-    energy, power = (eom.outputs[k].xreplace(values).xreplace({eom.ud[0]: a}) for k in ("energy",
-                                                                                         "power_nonconservative"))
-    rate = energy.diff(eom.q[0]) * eom.u[0] + energy.diff(eom.u[0]) * a + energy.diff(t)
-    check = sp.lambdify([eom.q[0], eom.u[0], t, a], [rate, power], "numpy", cse=True)
-    accelerations = _flexkane_accelerations(eom)
+    balance = _energy_balance(eom)
     rng = np.random.default_rng(5)
     for qa, ua, time in rng.uniform(-2.0, 2.0, size=(4, 3)):
-        de, supplied = check(qa, ua, time, accelerations(qa, ua, time))
+        de, supplied = balance([qa, ua, time])
         assert abs(de - supplied) <= 1e-10 * max(1.0, abs(de))
         assert abs(supplied - 0.3 * np.sin(time) * ua) <= 1e-10 * max(1.0, abs(supplied))
     with pytest.raises(ModelError) as info:
         flexkane.loads_model(SPATIAL_GEARED.format(law="q_waist + 0.1*q_shoulder"))
     assert info.value.path == "joints.shoulder.driver.coordinate" and "its own coordinate" in str(info.value)
+
+
+#: SPATIAL_GEARED with a spherical waist (Euler parameters q_waist_e0..e3, no torque).
+SOCKET_GEARED = SPATIAL_GEARED.replace('type = "revolute"\nparent = "ground"', 'type = "spherical"\nparent = "ground"') \
+    .replace('axis = [0, 0, 1]\ntorque = "0.3*sin(t)"\n', "")
+
+
+def test_a_law_of_euler_parameters_keeps_the_energy_balance():
+    """A shoulder following the Euler parameter e1 of the spherical waist that carries its link (and t):
+    the driven speed is the law's rate through the Euler parameters' kinematic equations, and
+    d(energy)/dt = power_nonconservative at random states (unit Euler parameters)."""
+    eom = flexkane.derive(flexkane.loads_model(SOCKET_GEARED.format(law="2*q_waist_e1 + 0.1*sin(t)")))
+    assert eom.state_names == ["q_waist_e0", "q_waist_e1", "q_waist_e2", "q_waist_e3", "u_waist_wx", "u_waist_wy",
+                               "u_waist_wz"]
+    balance = _energy_balance(eom)
+    rng = np.random.default_rng(3)
+    for _ in range(3):
+        e = rng.normal(size=4)
+        de, supplied = balance([*(e / np.linalg.norm(e)), *rng.uniform(-2.0, 2.0, 3), rng.uniform(0.0, 3.0)])
+        assert abs(supplied) > 1e-3 and abs(de - supplied) <= 1e-10 * max(1.0, abs(de))
 
 
 def test_linearize_with_a_spatial_gear_reduces_the_driven_coordinate():
