@@ -514,6 +514,33 @@ def test_linearize_with_a_spatial_gear_reduces_the_driven_coordinate():
     assert J[1, 0] < 0 and np.max(np.abs(A - J)) <= 1e-7 * np.max(np.abs(J))
 
 
+@pytest.mark.parametrize("text", [
+    GEARED.format(law="c*q_sa + 0.25*tip_y + 0.1*sin(2*t)") + '\n[sensors.tip_y]\ntype = "position"\nbody = "a"\n'
+    'point = "tip"\ncomponent = "y"\n',
+    GEARED_BEAM.replace("c*q_sa + 0.1*sin(3*t)", "c*q_sa + 0.1*sin(3*t) + 0.2*q_link_1"),
+    TWO_DRIVERS,
+    GEARED.format(law="c*q_sa + z_f") + FILTER,
+    GEARED.format(law="-2*(q_sb - c*q_sa) + 0.3*cos(t)").replace("coordinate =", "speed ="),
+], ids=["gear-and-cam", "geared-beam", "two-drivers", "filtered-reference", "velocity-servo"])
+def test_planar_drivers_of_the_state_through_the_spatial_engine_give_the_planar_equations(text):
+    """Each planar model of this file with drivers of the state (a law reading a sensor, a beam's modal
+    coordinate renamed by as_spatial, a tip-deflection sensor, a controller state, a speed law) and
+    its spatial form: the same states, M, f and controller rates at random states, to 1e-10."""
+    from flexkane.model import as_spatial
+    from spatial_models import compact_system
+
+    planar = flexkane.loads_model(text)
+    eom2, eom3 = flexkane.derive(planar), flexkane.derive(as_spatial(planar))
+    assert [n.replace("_y", "_") for n in eom3.state_names] == eom2.state_names
+    system2, system3 = compact_system(eom2), compact_system(eom3)
+    rng = np.random.default_rng(2)
+    for _ in range(3):
+        q, u, z = (rng.uniform(-1.0, 1.0, len(x)) for x in (eom2.q, eom2.u, eom2.z))
+        t = rng.uniform(0.0, 2.0)
+        for a, b in zip(system2(q, u, z, t), system3(q, u, z, t)):
+            assert np.abs(b - a).max(initial=0.0) <= 1e-10 * max(1.0, np.abs(a).max(initial=0.0))
+
+
 def _kanes_method_free_chain():
     """M(qa, qb) and f(qa, qb, ua, ub) of the two-link chain without constraint, by KanesMethod."""
     t = dynamicsymbols._t
