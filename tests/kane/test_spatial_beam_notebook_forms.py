@@ -116,3 +116,19 @@ def test_equations_report_defines_the_constants_of_the_root_moment_and_shear():
     assert definitions["JPhi_z1_z2"] == (r"\int_0^L \Phi^{z}_{1}\,\Phi^{z}_{2}''''\,dx", "1/m^3")
     assert definitions["Phi_y1''(0)"] == (r"\Phi^{y}_{1}''(0)", "1/m^2")
     assert r"\mathrm{EI}_{z,B} \Phi_{y1}''(0)" in report and r"\mathrm{EI}_{y,B} \Phi_{z1}''(0)" in report
+
+
+def test_the_forms_are_structure_a_spatial_model_file_keeps():
+    """The forms change the equations: the derivation cache's structure signature tells them apart,
+    and a spatial model file writes and reads them back."""
+    from flexkane.derivation_cache import structure_signature
+    from flexkane.model import dumps_model
+
+    model = loads_model(CLAMPED.format(roots=ROOTS, extra=""))
+    assert loads_model(dumps_model(model)) == model
+    signatures = {structure_signature(model)}
+    for key, default in (("gravity", "distributed"), ("elastic_forces", "strain-energy")):
+        other = model.copy()
+        setattr(other.beams["B"], key, default)
+        signatures.add(structure_signature(other))
+    assert len(signatures) == 3
