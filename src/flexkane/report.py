@@ -547,6 +547,12 @@ def _definition(spec) -> tuple[str, str]:
         f = _atom_latex(atom).replace("(x)", "")
         unit = "-" if deriv == 0 else f"1/m^{deriv}" if deriv > 1 else "1/m"
         return rf"{f}{chr(39) * deriv}\ \mathrm{{at}}\ x = {sp.latex(x)}", unit
+    if kind == "shear" and len(spec) == 5:    # a spatial beam's: its bending plane, the atom of the integral
+        _, which, i, label, atom = spec
+        f, a = rf"\Phi^{{{label}}}_{{{i}}}", _atom_latex(atom).replace("(x)", "")
+        if which in ("M0", "V0"):
+            return (rf"{f}''(0)", "1/m^2") if which == "M0" else (rf"{f}'''(0)", "1/m^3")
+        return rf"\int_0^L {a + chr(92) + ',' if a else ''}{f}''''\,dx", "1/m^2" if which == "Jx" else "1/m^3"
     if kind == "shear":
         _, which, i, j = spec
         return {"M0": (rf"\Phi_{{{i}}}''(0)", "1/m^2"), "V0": (rf"\Phi_{{{i}}}'''(0)", "1/m^3"),

@@ -109,24 +109,15 @@ def flexkane_model(description, gravity=G, name: str = "spatial", applied=()) ->
 
 def accelerations(eom):
     """``u'(q, u)`` of derived equations, evaluated numerically from their compact form (the named
-    intermediates in order, then ``M u' = f``), with the constants of the derived model."""
+    intermediates in order, then ``M u' = f``), with the constants of the derived model (controller
+    states, if any, at zero)."""
     import numpy as np
-    import sympy as sp
 
-    values = eom.constant_values()
-    constants = [values[c] for c in eom.constants]
-    symbols = [s for s, _ in eom.intermediates]
-    args = [eom.t, *eom.q, *eom.u, *eom.constants, *symbols]
-    definitions = [sp.lambdify(args, e) for _, e in eom.intermediates]
-    system = sp.lambdify(args, [eom.compact.mass_matrix, eom.compact.forcing])
+    system = compact_system(eom)
 
     def rhs(q, u, t=0.0):
-        base = [t, *q, *u, *constants]
-        known = [0.0] * len(definitions)
-        for k, definition in enumerate(definitions):
-            known[k] = definition(*base, *known)
-        M, f = system(*base, *known)
-        return np.linalg.solve(np.array(M, dtype=float), np.array(f, dtype=float).ravel())
+        M, f, _ = system(q, u, np.zeros(len(eom.z)), t)
+        return np.linalg.solve(M, f)
 
     return rhs
 
@@ -172,3 +163,29 @@ def output_rates(eom, outputs, states):
 
         rows.append((4 * central(5e-5) - central(1e-4)) / 3)
     return np.array(rows)
+
+
+def compact_system(eom):
+    """``(q, u, z, t) -> (M, f, z')`` of derived equations, evaluated numerically from their compact
+    form (the named intermediates in order), with the constants of the derived model."""
+    import numpy as np
+    import sympy as sp
+
+    values = eom.constant_values()
+    constants = [values[c] for c in eom.constants]
+    symbols = [s for s, _ in eom.intermediates]
+    args = [eom.t, *eom.q, *eom.u, *eom.z, *eom.constants, *symbols]
+    definitions = [sp.lambdify(args, e) for _, e in eom.intermediates]
+    n = len(eom.u)
+    mass = eom.compact.mass_matrix
+    system = sp.lambdify(args, [sp.Matrix(n, n, lambda i, j: mass[i, j]), eom.compact.forcing, eom.compact.zdot])
+
+    def evaluate(q, u, z, t):
+        base = [t, *q, *u, *z, *constants]
+        known = [0.0] * len(definitions)
+        for k, definition in enumerate(definitions):
+            known[k] = definition(*base, *known)
+        return tuple(np.array(a, dtype=float).reshape(-1, n) if k == 0 else np.array(a, dtype=float).ravel()
+                     for k, a in enumerate(system(*base, *known)))
+
+    return evaluate

@@ -54,6 +54,29 @@ q_sa = 0.3
 """
 
 
+def _geared_accelerations(N, symbols, L, bodies, loads):
+    """u_a' by KanesMethod of two joints (coordinates and speeds ``symbols = (qa, qb, ua, ub)``, the
+    speeds the coordinates' rates) with the configuration constraint ``qb - L(qa, t) = 0``, as a
+    function of (qa, ua, t)."""
+    t = dynamicsymbols._t
+    qa, qb, ua, ub = symbols
+    kane = KanesMethod(N, q_ind=[qa], q_dependent=[qb], u_ind=[ua], u_dependent=[ub],
+                       kd_eqs=[qa.diff(t) - ua, qb.diff(t) - ub],
+                       configuration_constraints=[qb - L],
+                       velocity_constraints=[ub - L.diff(t).subs(qa.diff(t), ua)])
+    kane.kanes_equations(bodies, loads)
+    X = sp.symbols("QA QB UA UB T")
+    plain = dict(zip([qa, qb, ua, ub, t], X))
+    M, f = (sp.lambdify(X, e.xreplace(plain), "numpy", cse=True) for e in (kane.mass_matrix, kane.forcing))
+    speed = sp.lambdify([X[0], X[2], X[4]], L.diff(t).subs(qa.diff(t), ua).xreplace(plain), "numpy", cse=True)
+    angle = sp.lambdify([X[0], X[4]], L.xreplace(plain), "numpy", cse=True)
+
+    def accelerations(q, u, time):
+        state = (q, angle(q, time), u, speed(q, u, time), time)
+        return np.linalg.solve(np.atleast_2d(M(*state)), np.ravel(f(*state)))[0]
+    return accelerations
+
+
 def _kanes_method_accelerations(law):
     """u_sa' of the chain by KanesMethod with ``q_sb - law(q_sa, t) = 0``, as a function of (q_sa, u_sa, t)."""
     t = dynamicsymbols._t
@@ -76,21 +99,7 @@ def _kanes_method_accelerations(law):
               RigidBody("b", Bc, B, m2, (inertia(B, 0, 0, I2), Bc))]
     loads = [(Ac, -m1 * g * N.y), (Bc, -m2 * g * N.y)]
     L = law(qa, t, c)
-    kane = KanesMethod(N, q_ind=[qa], q_dependent=[qb], u_ind=[ua], u_dependent=[ub],
-                       kd_eqs=[qa.diff(t) - ua, qb.diff(t) - ub],
-                       configuration_constraints=[qb - L],
-                       velocity_constraints=[ub - L.diff(t).subs(qa.diff(t), ua)])
-    kane.kanes_equations(bodies, loads)
-    X = sp.symbols("QA QB UA UB T")
-    plain = dict(zip([qa, qb, ua, ub, t], X))
-    M, f = (sp.lambdify(X, e.xreplace(plain), "numpy", cse=True) for e in (kane.mass_matrix, kane.forcing))
-    speed = sp.lambdify([X[0], X[2], X[4]], L.diff(t).subs(qa.diff(t), ua).xreplace(plain), "numpy", cse=True)
-    angle = sp.lambdify([X[0], X[4]], L.xreplace(plain), "numpy", cse=True)
-
-    def accelerations(q, u, time):
-        state = (q, angle(q, time), u, speed(q, u, time), time)
-        return np.linalg.solve(np.atleast_2d(M(*state)), np.ravel(f(*state)))[0]
-    return accelerations
+    return _geared_accelerations(N, (qa, qb, ua, ub), L, bodies, loads)
 
 
 def _flexkane_accelerations(eom):
@@ -253,6 +262,15 @@ def test_two_drivers_of_the_state_keep_the_energy_balance():
     their laws read, modal ones included) at random states."""
     eom = flexkane.derive(flexkane.loads_model(TWO_DRIVERS))
     assert eom.state_names == ["q_sa", "q_link_1", "u_sa", "u_link_1"]
+    balance = _energy_balance(eom)
+    rng = np.random.default_rng(11)
+    for state in rng.uniform(-1.0, 1.0, size=(3, len(eom.q) + len(eom.u) + 1)):
+        de, supplied = balance(state)
+        assert abs(de - supplied) <= 1e-10 * max(1.0, abs(de))
+
+
+def _energy_balance(eom):
+    """``state -> (d(energy)/dt, power_nonconservative)`` along the equations, ``state = [q, u, t]``."""
     values = eom.constant_values()
     t = eom.t
     ud = sp.symbols(f"a0:{len(eom.u)}")
@@ -265,10 +283,7 @@ def test_two_drivers_of_the_state_keep_the_energy_balance():
     M, f = (sp.lambdify(args, eom.expand(e).xreplace(values), "numpy", cse=True)
             for e in (eom.compact.mass_matrix, eom.compact.forcing))
     check = sp.lambdify([*args, *ud], [rate, power], "numpy", cse=True)
-    rng = np.random.default_rng(11)
-    for state in rng.uniform(-1.0, 1.0, size=(3, len(args))):
-        de, supplied = check(*state, *np.linalg.solve(M(*state), np.ravel(f(*state))))
-        assert abs(de - supplied) <= 1e-10 * max(1.0, abs(de))
+    return lambda state: check(*state, *np.linalg.solve(np.atleast_2d(M(*state)), np.ravel(f(*state))))
 
 
 #: A first-order filter z_f' = (r(t) - z_f)/tau of the reference r = R sin(w t), z_f(0) = 0, and its
@@ -362,15 +377,168 @@ def test_the_report_prints_a_law_of_the_state_by_name():
     assert r"tip_{y} &=" in text and r"\dot{z_{f}} &=" in text
 
 
-def test_a_spatial_driver_of_the_state_is_refused_by_name():
-    """Drivers of the state are planar only: a spatial model's law of a coordinate says so."""
-    from pathlib import Path
+#: A spatial chain: a waist about the vertical carrying link a, and on a's shoulder, about a's x axis,
+#: link b driven by a law of the waist angle, of a position sensor and of t; full inertia tensors,
+#: gravity along -z, an actuator torque on the waist.
+SPATIAL_GEARED = """
+dimensions = 3
+name = "spatial-geared"
+[parameters]
+c = 0.5
+[gravity]
+g = 9.81
+direction = [0, 0, -1]
+[bodies.a]
+mass = 2.0
+inertia = [[0.1, 0.01, 0.0], [0.01, 0.2, 0.02], [0.0, 0.02, 0.15]]
+points = {{ base = [-0.1, 0.0, -0.2], hinge = [-0.1, 0.1, 0.1] }}
+[bodies.b]
+mass = 1.5
+inertia = [[0.05, 0.0, 0.01], [0.0, 0.07, 0.0], [0.01, 0.0, 0.03]]
+points = {{ hinge = [0.0, -0.4, 0.0] }}
+[sensors.hinge_x]
+type = "position"
+body = "a"
+point = "hinge"
+component = "x"
+[joints.waist]
+type = "revolute"
+parent = "ground"
+child = "a"
+child_point = "base"
+axis = [0, 0, 1]
+torque = "0.3*sin(t)"
+[joints.shoulder]
+type = "revolute"
+parent = "a"
+parent_point = "hinge"
+child = "b"
+child_point = "hinge"
+axis = [1, 0, 0]
+driver = {{ coordinate = "{law}" }}
+"""
 
-    path = Path(__file__).parents[1] / "model" / "spatial_models" / "every-joint-type.toml"
-    text = path.read_text().replace('driver = { coordinate = "0.5*sin(t)" }', 'driver = { coordinate = "0.5*q_rail" }')
+
+def _kanes_method_spatial_geared(law):
+    """u_waist' of SPATIAL_GEARED by KanesMethod with ``q_shoulder - law(q_waist, t) = 0``, as a function
+    of (q_waist, u_waist, t)."""
+    t = dynamicsymbols._t
+    qa, qb, ua, ub = dynamicsymbols("qa qb ua ub")
+    N = ReferenceFrame("N")
+    A = N.orientnew("A", "Axis", (qa, N.z))
+    B = A.orientnew("B", "Axis", (qb, A.x))
+    A.set_ang_vel(N, ua * N.z)
+    B.set_ang_vel(A, ub * A.x)
+    O = Point("O")
+    O.set_vel(N, 0)
+    Ac = O.locatenew("Ac", 0.1 * A.x + 0.2 * A.z)        # a's base point is at the origin
+    Ac.v2pt_theory(O, N, A)
+    hinge = Ac.locatenew("H", -0.1 * A.x + 0.1 * A.y + 0.1 * A.z)
+    hinge.v2pt_theory(O, N, A)
+    Bc = hinge.locatenew("Bc", 0.4 * B.y)
+    Bc.v2pt_theory(hinge, N, B)
+    bodies = [RigidBody("a", Ac, A, 2.0, (inertia(A, 0.1, 0.2, 0.15, 0.01, 0.02, 0.0), Ac)),
+              RigidBody("b", Bc, B, 1.5, (inertia(B, 0.05, 0.07, 0.03, 0.0, 0.0, 0.01), Bc))]
+    loads = [(Ac, -2.0 * 9.81 * N.z), (Bc, -1.5 * 9.81 * N.z), (A, 0.3 * sp.sin(t) * N.z)]
+    L = law(qa, t, hinge.pos_from(O).dot(N.x))
+    return _geared_accelerations(N, (qa, qb, ua, ub), L, bodies, loads)
+
+
+def test_a_spatial_gear_law_is_kanes_method_with_the_holonomic_constraint():
+    """A spatial chain (shoulder about a horizontal axis carried by a waist about the vertical) whose
+    shoulder follows the waist angle, the x of a's hinge (a position sensor, -0.1 sin(q_waist) [m])
+    and t: u_waist' at random states equals KanesMethod's with that configuration constraint, to 1e-10."""
+    text = "c*q_waist + 0.5*hinge_x + 0.1*sin(2*t)"
+    eom = flexkane.derive(flexkane.loads_model(SPATIAL_GEARED.format(law=text)))
+    assert [q.name for q in eom.q] == ["q_waist"] and [u.name for u in eom.u] == ["u_waist"]
+    ours = _flexkane_accelerations(eom)
+    theirs = _kanes_method_spatial_geared(lambda qa, t, x: 0.5 * qa + 0.5 * x + 0.1 * sp.sin(2 * t))
+    rng = np.random.default_rng(26)
+    for qa, ua, t in rng.uniform(-2.0, 2.0, size=(6, 3)):
+        expected = theirs(qa, ua, t)
+        assert abs(ours(qa, ua, t) - expected) <= 1e-10 * max(1.0, abs(expected))
+
+
+def test_a_spatial_gear_keeps_the_energy_balance_and_reads_no_own_coordinate():
+    """The spatial gear ``q_shoulder = c q_waist`` (no t): d(energy)/dt = power_nonconservative = the
+    waist's actuator power at random states (the gear does no work); a law of its own coordinate is
+    refused by name as in a planar model."""
+    eom = flexkane.derive(flexkane.loads_model(SPATIAL_GEARED.format(law="c*q_waist")))
+    balance = _energy_balance(eom)
+    rng = np.random.default_rng(5)
+    for qa, ua, time in rng.uniform(-2.0, 2.0, size=(4, 3)):
+        de, supplied = balance([qa, ua, time])
+        assert abs(de - supplied) <= 1e-10 * max(1.0, abs(de))
+        assert abs(supplied - 0.3 * np.sin(time) * ua) <= 1e-10 * max(1.0, abs(supplied))
     with pytest.raises(ModelError) as info:
-        flexkane.loads_model(text)
-    assert info.value.path == "joints.pin.driver.coordinate" and "spatial model" in str(info.value)
+        flexkane.loads_model(SPATIAL_GEARED.format(law="q_waist + 0.1*q_shoulder"))
+    assert info.value.path == "joints.shoulder.driver.coordinate" and "its own coordinate" in str(info.value)
+
+
+#: SPATIAL_GEARED with a spherical waist (Euler parameters q_waist_e0..e3, no torque).
+SOCKET_GEARED = SPATIAL_GEARED.replace('type = "revolute"\nparent = "ground"', 'type = "spherical"\nparent = "ground"') \
+    .replace('axis = [0, 0, 1]\ntorque = "0.3*sin(t)"\n', "")
+
+
+def test_a_law_of_euler_parameters_keeps_the_energy_balance():
+    """A shoulder following the Euler parameter e1 of the spherical waist that carries its link (and t):
+    the driven speed is the law's rate through the Euler parameters' kinematic equations, and
+    d(energy)/dt = power_nonconservative at random states (unit Euler parameters)."""
+    eom = flexkane.derive(flexkane.loads_model(SOCKET_GEARED.format(law="2*q_waist_e1 + 0.1*sin(t)")))
+    assert eom.state_names == ["q_waist_e0", "q_waist_e1", "q_waist_e2", "q_waist_e3", "u_waist_wx", "u_waist_wy",
+                               "u_waist_wz"]
+    balance = _energy_balance(eom)
+    rng = np.random.default_rng(3)
+    for _ in range(3):
+        e = rng.normal(size=4)
+        de, supplied = balance([*(e / np.linalg.norm(e)), *rng.uniform(-2.0, 2.0, 3), rng.uniform(0.0, 3.0)])
+        assert abs(supplied) > 1e-3 and abs(de - supplied) <= 1e-10 * max(1.0, abs(de))
+
+
+def test_linearize_with_a_spatial_gear_reduces_the_driven_coordinate():
+    """The spatial gear hanging at rest (b below the shoulder, q_waist = -pi): the linear model's states
+    are (q_waist, u_waist), and A equals the finite-difference Jacobian of the nonlinear right-hand side."""
+    from flexkane import linearize
+
+    text = SPATIAL_GEARED.format(law="c*q_waist").replace('torque = "0.3*sin(t)"\n', "")
+    model = flexkane.loads_model(text + "\n[initial]\nq_waist = -3.0\n")
+    linear = linearize(model, about="equilibrium")
+    A, _ = linear.state_space()
+    assert linear.state_names == ["q_waist", "u_waist"] and abs(float(linear.q0[0]) + np.pi) <= 1e-8
+    accelerations = _flexkane_accelerations(flexkane.derive(model))
+
+    def rhs(x):
+        return np.array([x[1], accelerations(x[0], x[1], 0.0)])
+
+    J = _finite_difference_jacobian(rhs, np.array([float(linear.q0[0]), 0.0]))
+    assert J[1, 0] < 0 and np.max(np.abs(A - J)) <= 1e-7 * np.max(np.abs(J))
+
+
+@pytest.mark.parametrize("text", [
+    GEARED.format(law="c*q_sa + 0.25*tip_y + 0.1*sin(2*t)") + '\n[sensors.tip_y]\ntype = "position"\nbody = "a"\n'
+    'point = "tip"\ncomponent = "y"\n',
+    GEARED_BEAM.replace("c*q_sa + 0.1*sin(3*t)", "c*q_sa + 0.1*sin(3*t) + 0.2*q_link_1"),
+    TWO_DRIVERS,
+    GEARED.format(law="c*q_sa + z_f") + FILTER,
+    GEARED.format(law="-2*(q_sb - c*q_sa) + 0.3*cos(t)").replace("coordinate =", "speed ="),
+], ids=["gear-and-cam", "geared-beam", "two-drivers", "filtered-reference", "velocity-servo"])
+def test_planar_drivers_of_the_state_through_the_spatial_engine_give_the_planar_equations(text):
+    """Each planar model of this file with drivers of the state (a law reading a sensor, a beam's modal
+    coordinate renamed by as_spatial, a tip-deflection sensor, a controller state, a speed law) and
+    its spatial form: the same states, M, f and controller rates at random states, to 1e-10."""
+    from flexkane.model import as_spatial
+    from spatial_models import compact_system
+
+    planar = flexkane.loads_model(text)
+    eom2, eom3 = flexkane.derive(planar), flexkane.derive(as_spatial(planar))
+    assert [n.replace("_y", "_") for n in eom3.state_names] == eom2.state_names
+    system2, system3 = compact_system(eom2), compact_system(eom3)
+    rng = np.random.default_rng(2)
+    for _ in range(3):
+        q, u, z = (rng.uniform(-1.0, 1.0, len(x)) for x in (eom2.q, eom2.u, eom2.z))
+        t = rng.uniform(0.0, 2.0)
+        for a, b in zip(system2(q, u, z, t), system3(q, u, z, t)):
+            assert np.abs(b - a).max(initial=0.0) <= 1e-10 * max(1.0, np.abs(a).max(initial=0.0))
 
 
 def _kanes_method_free_chain():

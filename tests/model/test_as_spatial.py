@@ -127,55 +127,31 @@ def test_free_joint_speeds_along_the_child_axes_become_rates_of_x_and_y():
 
 
 @pytest.mark.parametrize("name", [n for n in builtin_names() if builtin_model(n).dimensions == 2])
-def test_every_planar_builtin_converts_and_is_refused_only_for_parts_not_yet_in_3d(name):
-    """Every built-in model converts; spatial models refuse for now prismatic loop constraints
-    and the beam options the spatial beams do not have (midpoint gravity,
-    shear-moment forces; modal damping and rotary inertia convert to damping_y and rho_Iz): the
-    spatial form validates, or is refused for such parts only, each named. Loop constraints and
-    distributed loads convert, and laws that read modal coordinates are renamed."""
+def test_every_planar_builtin_converts_to_a_valid_spatial_model(name):
+    """Every built-in model converts and its spatial form validates: loop constraints, distributed
+    loads, the notebook variant's beam options (midpoint gravity, shear-moment elastic forces: kept,
+    spatial beams have them), modal damping and rotary inertia (as damping_y and rho_Iz), drivers and
+    efforts that read the state (modal names renamed); the planar model is not changed."""
     planar = builtin_model(name)
+    spatial = as_spatial(planar)      # validated
+    assert loads_model(dumps_model(planar)) == planar
+    assert loads_model(dumps_model(spatial)) == spatial
+    for beam in planar.beams.values():
+        converted = spatial.beams[beam.name]
+        assert (converted.gravity, converted.elastic_forces) == (beam.gravity, beam.elastic_forces)
+
+
+def test_a_prismatic_loop_constraint_is_refused_by_name():
+    """A planar prismatic loop joint has no spatial counterpart with its two scalar constraints: it is
+    carried over and the spatial model refuses it, naming the field."""
+    planar = builtin_model("four-bar")
+    planar.constraints["loop"].type = "prismatic"
     spatial = as_spatial(planar, validate=False)
-    assert loads_model(dumps_model(planar)) == planar   # not changed
-    refused = {f"constraints.{c.name}.type" for c in planar.constraints.values() if c.type == "prismatic"} \
-        | {f"beams.{b.name}.{key}" for b in planar.beams.values() for key, unsupported in (
-            ("gravity", b.gravity != "distributed"),
-            ("elastic_forces", b.elastic_forces != "strain-energy")) if unsupported}
-    modal = {n for c in coordinate_names(planar) if c.owner in planar.beams for n in (c.q, c.u)}
-    if not refused:
-        assert spatial.validate() is not None    # a beam chain the spatial engine derives
-        return
     with pytest.raises(ModelError) as info:
         spatial.validate()
     errors = info.value.errors if isinstance(info.value, ModelErrors) else [info.value]
-    assert errors and {e.path for e in errors} <= refused
-    assert all("not yet supported" in str(e) or "loop joints are planar" in str(e) for e in errors)
-    # with those parts taken away (and what hangs from them), the rest is a valid spatial model
-    rigid = spatial.copy()
-    removed = set(rigid.beams)
-    rigid.beams.clear()
-    rigid.constraints.clear()
-    rigid.distributed_loads.clear()
-    rigid.sensors.clear()
-    rigid.controllers.clear()
-    reads_modes = any(modal & set(re.findall(r"\w+", str(j.torque))) for j in planar.joints.values())
-    if planar.sensors or planar.controllers or reads_modes:   # the efforts that read them go with them
-        for joint in rigid.joints.values():
-            joint.torque = None
-    while True:
-        hanging = {j.child for j in rigid.joints.values() if j.parent in removed} - removed
-        if not hanging:
-            break
-        removed |= hanging
-    rigid.joints = {n: j for n, j in rigid.joints.items() if j.child not in removed}
-    rigid.bodies = {n: b for n, b in rigid.bodies.items() if n not in removed}
-    rigid.loads = {n: ld for n, ld in rigid.loads.items() if ld.body not in removed}
-    rigid.springs = {n: s for n, s in rigid.springs.items() if s.body_a not in removed and s.body_b not in removed}
-    given, rigid.initial = rigid.initial, {}
-    if not rigid.bodies:
-        return
-    names = {name for c in coordinate_names(rigid) for name in (c.q, c.u)}
-    rigid.initial = {k: v for k, v in given.items() if k in names}
-    rigid.validate()
+    assert [e.path for e in errors] == ["constraints.loop.type"]
+    assert "loop joints are planar" in str(errors[0])
 
 
 def test_only_planar_models_convert():

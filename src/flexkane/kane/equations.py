@@ -368,8 +368,7 @@ def _derive(model: Model, lazy_mass: bool | None) -> EquationsOfMotion:
         else list(inertia.mass_matrix)
     budget.check_size(mass + list(inertia.remainder), "the inertia forces")
     control_signals(kin)   # sensors, controller states and outputs: the names efforts may use
-    if not spatial:
-        parse_state_laws(chain)   # drivers' laws that read them (planar chains)
+    parse_state_laws(chain)   # drivers' laws that read them (kane.driver_laws)
     active = spatial_active_forces(kin) if spatial else generalized_active_forces(kin)
     budget.check_time("the active forces")
     eom = EquationsOfMotion(chain, kin, inertia, active)

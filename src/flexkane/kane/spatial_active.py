@@ -17,7 +17,9 @@ axes of the frame at P, where the velocities are expressed.
 * ``springs``: linear springs and dampers between points.
 
 * ``elastic``: the beams' strain energy, ``-K q`` with the modal stiffness constants, and
-  ``gravity`` on the beams distributed, ``int rho v_P,r . g dx`` (:mod:`flexkane.kane.spatial_beam`).
+  ``gravity`` on the beams distributed, ``int rho v_P,r . g dx`` (:mod:`flexkane.kane.spatial_beam`),
+  or the notebook variant's root moment and shear and weight at the deformed midpoint
+  (:mod:`flexkane.kane.spatial_beam_notebook`).
 
 * ``damping``: the beams' modal damping, ``-2 zeta_i sqrt(K_ii M_ii) u_i`` for each bending
   plane, the twist and the stretch (as the planar beams'). Each source is a list of n

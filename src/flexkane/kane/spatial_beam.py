@@ -37,6 +37,7 @@ from ..model.parts import nonzero_field
 from .chain import BEAM_ROLES
 from .modal_field import ONE, X, Field, cross3, dfs, dphi, phi, psi, rigid, theta, vec3, vec3_map
 from .spatial_beam_constants import SpatialBeamConstants
+from .spatial_beam_notebook import midpoint_gravity_forces, midpoint_potential, shear_moment_forces
 from .spatial_frame import SpatialFrame, add, cross
 from .spatial_rigid_properties import SpatialRigidProperties
 
@@ -240,23 +241,33 @@ def modal_damping(kin, name: str, role: str, stiffness) -> list:
 
 def beam_active_forces(kin, parts: dict, gravity) -> None:
     """Add the beams' elastic forces ``-K q``, their modal damping and distributed weight
-    ``int rho v_P,r . g dx``."""
+    ``int rho v_P,r . g dx`` (the notebook variant's bending forces through the root's moment and
+    shear and weight at the deformed midpoint for beams that choose them:
+    :mod:`flexkane.kane.spatial_beam_notebook`)."""
     chain = kin.chain
     speeds = chain.u
     index = {u: r for r, u in enumerate(speeds)}
     for name, bm in kin.beams.items():
         k = bm.constants
+        notebook = bm.beam.elastic_forces == "shear-moment"   # bending: spatial_beam_notebook
         for role, stiffness in (("mode_y", lambda i, j: k.bending_stiffness(i, j, "y")),
                                 ("mode_z", lambda i, j: k.bending_stiffness(i, j, "z")),
                                 ("torsion", k.torsion_stiffness), ("axial", k.axial_stiffness)):
             coords = chain.of(name, role)
-            for cj in coords:
+            for cj in coords if not (notebook and role.startswith("mode")) else ():
                 parts["elastic"][index[cj.u]] += -sp.Add(*[stiffness(ci.index, cj.index) * ci.q for ci in coords])
             for cj, force in zip(coords, modal_damping(kin, name, role, stiffness)):
                 parts["damping"][index[cj.u]] += force
+        if notebook:
+            for r, force in enumerate(shear_moment_forces(kin, name)):
+                parts["elastic"][r] += force
         if gravity is None:
             continue
         g = bm.frame.rotation.inverse_apply(gravity)
+        if bm.beam.gravity == "midpoint":
+            for r, force in enumerate(midpoint_gravity_forces(kin, name, g)):
+                parts["gravity"][r] += force
+            continue
         for r, u in enumerate(speeds):
             V = vec3_map(bm.v, lambda c: chain.partial(c, u))
             parts["gravity"][r] += sp.Add(*[k.integrate1(c) * gc for c, gc in zip(V, g)])
@@ -328,7 +339,9 @@ def beam_outputs(kin, name: str, gravity) -> dict:
     first = add(tuple(m * c for c in frame.r), R.apply(S))
     momentum = add(cross(frame.r, pN), R.apply(h))
     potential = sp.Integer(0)
-    if gravity is not None:
+    if gravity is not None and bm.beam.gravity == "midpoint":
+        potential = midpoint_potential(kin, name, gravity)
+    elif gravity is not None:
         potential = -(m * sum(g * c for g, c in zip(gravity, frame.r)) + sum(g * c for g, c in zip(R.inverse_apply(gravity), S)))
     return {"kinetic": kinetic, "strain": strain_energy(kin, name), "potential_gravity": potential, "mass": m,
             "first": first, "p": pN, "h": momentum}

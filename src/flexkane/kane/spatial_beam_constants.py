@@ -24,7 +24,7 @@ import sympy as sp
 
 from .beam_constants import BeamConstants, _idx
 from .beam_quadrature import AtomEvaluator, _leggauss
-from .modal_field import ONE, Atom, Field, atom_order, direction
+from .modal_field import ONE, Atom, Field, atom_order, direction, phi
 
 __all__ = ["SpatialBeamConstants", "SpatialAtomEvaluator"]
 
@@ -105,6 +105,19 @@ class SpatialBeamConstants(BeamConstants):
         """``Kt_kl = int GJ Theta_k' Theta_l' dx`` [N m]."""
         k, l = min(k, l), max(k, l)
         return self._symbol(("Kt", k, l), self._modal("Kt", k, l))
+
+    def shear_moment(self, kind: str, i: int, label: str, atom: Atom = ONE) -> sp.Symbol:
+        """Constants of eq. 8.28 in the bending plane ``label`` (``y`` or ``z``;
+        :mod:`flexkane.kane.spatial_beam_notebook`): ``"M0"`` for ``Phi_i''(0)`` [1/m^2], ``"V0"`` for
+        ``Phi_i'''(0)`` [1/m^3]; ``"J"``, ``"Jx"``, ``"JPhi"`` for ``int a(x) Phi_i''''(x) dx`` with the
+        atom ``a`` = 1, x or a shape function of either plane (``J_y1``, ``Jx_y1``, ``JPhi_z2_y1``)."""
+        prefix = self.label + "_" if self.label else ""
+        mode = _piece(phi(i, label))
+        if kind in ("M0", "V0"):
+            primes = "''" if kind == "M0" else "'''"
+            return self._symbol(("shear", kind, i, label, ONE), f"Phi_{prefix}{mode}{primes}(0)")
+        pieces = [_piece(atom), mode] if kind == "JPhi" else [mode]
+        return self._symbol(("shear", kind, i, label, atom), f"{kind}_{prefix}{'_'.join(pieces)}")
 
     def _modal(self, stem: str, *indices) -> str:
         if all(isinstance(i, int) for i in indices):
@@ -189,6 +202,8 @@ class SpatialBeamConstants(BeamConstants):
                 out[symbol] = ev.profile_integral(spec[1], profiles[spec[2]])
             elif kind == "HA":
                 out[symbol] = number("EA") * ev.derivative_integral(("psi", spec[1]), ("psi", spec[2]), 1)
+            elif kind == "shear":
+                out[symbol] = ev.shear_moment(*spec[1:])
             else:  # pragma: no cover - the spatial engine makes no other constants
                 raise AssertionError(spec)
         return {k: float(v) for k, v in out.items()}
@@ -256,3 +271,11 @@ class SpatialAtomEvaluator:
         """``int_0^L a^(k)(x) b^(k)(x) dx`` with k = ``deriv``."""
         xi, w = self._rule(False)
         return float(np.sum(w * self.values_at(a, xi, deriv) * self.values_at(b, xi, deriv)))
+
+    def shear_moment(self, kind: str, i: int, label: str, atom: Atom) -> float:
+        """Constants of eq. 8.28 (:meth:`SpatialBeamConstants.shear_moment`)."""
+        mode = ("phi", i, label)
+        if kind in ("M0", "V0"):
+            return float(self.values_at(mode, np.zeros(1), 2 if kind == "M0" else 3)[0])
+        xi, w = self._rule(False)
+        return float(np.sum(w * self.values_at(atom, xi) * self.values_at(mode, xi, 4)))

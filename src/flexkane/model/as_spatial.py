@@ -21,21 +21,24 @@ engines can be compared on the same chain (a planar chain is the special case of
   functions of its ``shape``) bends about z with ``EI_z = EI``; ``EI_y = EI`` too (no z modes, so it
   does not enter); axial modes are kept. Its modal coordinates are named ``q_<beam>_y<i>`` (planar
   ``q_<beam>_<i>``), the only names that differ from the planar model's. Its ``rotary_inertia``
-  becomes ``rho_Iz`` (the sections turn about z) and its modal ``damping`` ``damping_y``.
+  becomes ``rho_Iz`` (the sections turn about z) and its modal ``damping`` ``damping_y``. The
+  notebook variant's options stay as they are: ``gravity = "midpoint"`` (the whole weight at the
+  deformed midpoint) and ``elastic_forces = "shear-moment"`` (eq. 8.28 in the bending plane y, the
+  only one with modes), which spatial beams have (:mod:`flexkane.kane.spatial_beam_notebook`);
+* a driver whose law reads the state (a gear, a cam, a filtered reference) stays one, its law's
+  modal names renamed as below (spatial chains have them, :mod:`flexkane.kane.driver_laws`).
 
 * a ``revolute`` loop constraint becomes a spatial ``point_on_line`` constraint along z (point b on
   the normal through point a: the two in-plane equations of the planar one); its dependent speeds
   keep their names (modal ones renamed);
 * a distributed load keeps its components fx, fy (fz = 0) and its frame;
-* every expression that may read the state (joint torques and rest positions, load components,
-  controllers' rates and outputs) has the planar modal coordinate and speed names replaced by the
+* every expression that may read the state (joint torques and rest positions, drivers' laws, load
+  components, controllers' rates and outputs) has the planar modal coordinate and speed names replaced by the
   spatial ones (:func:`flexkane.expression_syntax.rename_names`: names only, the text kept).
 
 A ``prismatic`` loop constraint has no spatial counterpart with its two scalar constraints (a
 spatial prismatic closure keeps the orientation in three equations, redundant for a planar
-motion): it is carried over unchanged and the spatial model refuses it by name. Spatial models also
-refuse (for now) beams with the midpoint gravity model or shear-moment elastic forces, so the result
-of a model that has them does not validate.
+motion): it is carried over unchanged and the spatial model refuses it by name.
 """
 
 from __future__ import annotations
@@ -87,8 +90,8 @@ def as_spatial(model: Model, *, validate: bool = True) -> Model:
     model : Model
         A valid planar model (``dimensions = 2``); it is not changed.
     validate : bool
-        Validate the result (:meth:`Model.validate`); a model with parts spatial models do not have
-        yet (a prismatic loop constraint, some beam options) then raises ModelError naming them.
+        Validate the result (:meth:`Model.validate`); a model with a part spatial models do not have
+        (a prismatic loop constraint) then raises ModelError naming it.
 
     Returns
     -------
@@ -128,7 +131,7 @@ def as_spatial(model: Model, *, validate: bool = True) -> Model:
     for beam in out.beams.values():
         beam.EI_z = beam.EI_y = beam.EI
         beam.n_modes_y, beam.shape_y = beam.n_modes, beam.shape
-        beam.shape_z = ShapeSpec()
+        beam.shape, beam.shape_z = ShapeSpec(), ShapeSpec()
         beam.EI, beam.n_modes = None, 0
         beam.rho_Iz, beam.rotary_inertia = beam.rotary_inertia, None
         beam.damping_y, beam.damping = beam.damping, []
@@ -155,8 +158,8 @@ def as_spatial(model: Model, *, validate: bool = True) -> Model:
 
 def _rename_modal_names(planar: Model, spatial: Model) -> None:
     """Planar modal coordinate and speed names (``q_<b>_<i>``, ``u_<b>_<i>``) replaced by the spatial
-    ones (``q_<b>_y<i>``) in the expressions that may read the state and in constraints' dependent
-    speeds."""
+    ones (``q_<b>_y<i>``) in the expressions that may read the state (drivers' laws included) and in
+    constraints' dependent speeds."""
     from ..expression_syntax import rename_names
     from .paths import set_value
     from .signals import effort_fields
@@ -171,6 +174,10 @@ def _rename_modal_names(planar: Model, spatial: Model) -> None:
         renamed = rename_names(value, names)
         if renamed != value:
             set_value(spatial, path, renamed)
+    for joint in spatial.joints.values():    # drivers whose law reads the state
+        if joint.driver is not None:
+            joint.driver.coordinate = rename_names(joint.driver.coordinate, names)
+            joint.driver.speed = rename_names(joint.driver.speed, names)
     for ctrl in spatial.controllers.values():
         if isinstance(ctrl.states, dict):
             ctrl.states = {z: rename_names(rate, names) for z, rate in ctrl.states.items()}

@@ -194,10 +194,12 @@ class Beam:
         Modal damping ratios zeta_i [-], empty for none.
     gravity : str
         ``distributed`` (the weight integrated along the beam) or ``midpoint`` (the whole weight at
-        the deformed midpoint, eqs. 8.19, 8.33, 8.34, as the chapter's notebook does).
+        the deformed midpoint, eqs. 8.19, 8.33, 8.34, as the chapter's notebook does; in 3D the
+        midpoint deflected in both planes).
     elastic_forces : str
         ``strain-energy`` (eqs. 8.31-8.32, -sum_j H_ij q_j) or ``shear-moment`` (eq. 8.28 as the
-        notebook evaluates it, boundary terms kept).
+        notebook evaluates it, boundary terms kept; in 3D in each bending plane, torsion and stretch
+        keeping their strain-energy forces: :mod:`flexkane.kane.spatial_beam_notebook`).
     geometric_stiffening : bool
         Keep the foreshortening of the beam axis in the kinematics.
     EA : Value, optional

@@ -262,7 +262,7 @@ BEAMS = Table("beams", Beam, (
           shape_default="clamped-free"),
     Field("damping", _RATIO + "s", "-", kind="value", value_paths=(LIST,), form="ratios", write="nonempty"),
     Field("gravity", "gravity model", None, write="changed"),
-    Field("elastic_forces", "elastic force model", None, _PLANAR, write="changed",
+    Field("elastic_forces", "elastic force model", None, write="changed",
           constants=(("modal", "J", "int Phi_i'''' dx"), ("modal", "Jx", "int x Phi_i'''' dx"),
                      ("modal", "JPhi", "int Phi_j Phi_i'''' dx"))),
     Field("EA", "axial stiffness", "N", kind="value", rule="positive",

@@ -11,16 +11,17 @@ outputs are expressions of ``t``, the parameters and the *signals* of the model:
 * the controller states (``[controllers.NAME] states = { z = "rate" }``) by their names, and the
   controller outputs by the controllers' names (refused in a cycle: ``a`` uses ``b`` uses ``a``).
 
-A speed driver's law (``driver = { speed = ... }``) of a planar model may read the coordinates, the
-sensors of position, the controller states and the outputs built from them, but no speed (its time
-derivative, the driven acceleration, would contain u'). A coordinate driver's law
-(``driver = { coordinate = ... }``) of a planar model may read the
+A speed driver's law (``driver = { speed = ... }``) may read the coordinates, the sensors of
+position, the controller states and the outputs built from them, but no speed (its time derivative,
+the driven acceleration, would contain u'). A coordinate driver's law
+(``driver = { coordinate = ... }``) may read the
 coordinates (not its own, nor one driven by another law of the state), the sensors of position
 (every kind but velocity, joint rate and acceleration), the controller states whose rates read no
 speed, and the controller outputs built from those: it is then a holonomic constraint
 (:mod:`flexkane.kane.driver_laws`). It may not read speeds: the driven speed is the law's time
 derivative, which for a law of speeds would contain the accelerations u', and the driven
-acceleration u''. A spatial model's driver stays a law of t and the parameters.
+acceleration u''. Planar and spatial models (``dimensions = 3``: the coordinates of every joint type,
+Euler parameters included) follow the same rules.
 
 Everything here works on names and syntax only (no SymPy unless an expression needs it, as
 everywhere in validation); :mod:`flexkane.kane.sensors` and :mod:`flexkane.kane.controllers` build
@@ -235,9 +236,6 @@ class Signals:
         if not isinstance(value, str):
             return set()
         joint = path.split(".")[1]
-        if self.model.dimensions == 3:
-            self._refuse_state_in_driver(path, value)
-            return set()
         speed_law = path.endswith(".speed")
         what = "speed [m/s or rad/s]" if speed_law else "coordinate [m or rad]"
         found = self.used(path, value, f"a prescribed {what}: a law of t, the parameters, coordinates, position "
@@ -308,18 +306,6 @@ class Signals:
                 return joint.name
             link = joint.parent
         return None
-
-    def _refuse_state_in_driver(self, path: str, value) -> None:
-        """A spatial model's driver uses t and the parameters only."""
-        try:
-            found = self.used(path, value, "a prescribed motion")
-        except ModelError:
-            return     # the driver's own check reports it with the message of a law of time
-        if found:
-            raise ModelError(path, "a law of t and the parameters only in a spatial model (dimensions = 3; drivers "
-                             "of the state are planar)", value,
-                             f"uses {', '.join(sorted(found))}; for feedback, drive the joint by a torque "
-                             "(torque = ...) computed from them")
 
 
 def _listed(names, limit: int = 12) -> str:

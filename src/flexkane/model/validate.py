@@ -444,10 +444,16 @@ def _check_beam(beam: Beam, values: _Values) -> float:
     if beam.rotary_inertia is not None:
         values.non_negative(f"{path}.rotary_inertia", beam.rotary_inertia,
                             "mass moment of inertia of the section per unit length, rho I", "kg m")
+    _check_shear_moment(path, beam, n_axial)
+    return length
+
+
+def _check_shear_moment(path: str, beam: Beam, n_axial: int) -> None:
+    """The shear-moment form of the elastic forces (eq. 8.28, the notebook's) is that of a beam
+    without geometric stiffening and axial modes (in 3D: in each bending plane)."""
     if beam.elastic_forces == "shear-moment" and (beam.geometric_stiffening or n_axial):
         raise ModelError(f"{path}.elastic_forces", "'strain-energy' with geometric_stiffening or axial modes",
                          beam.elastic_forces)
-    return length
 
 
 def _check_spatial_beam(beam: Beam, values: _Values) -> float:
@@ -495,14 +501,11 @@ def _check_spatial_beam(beam: Beam, values: _Values) -> float:
     if beam.torsion_damping and beam.rho_Ip is None:
         raise ModelError(f"{path}.rho_Ip", "the polar mass moment of inertia of the section per unit length [kg m] "
                          "(the torsion modes' mass, required with torsion_damping)", None, show_given=False)
-    if beam.gravity != "distributed":
-        raise ModelError(f"{path}.gravity", "'distributed' (the weight integrated along a spatial beam)",
-                         beam.gravity, "the midpoint gravity model is not yet supported in 3D")
-    if beam.elastic_forces != "strain-energy":
-        raise ModelError(f"{path}.elastic_forces", "'strain-energy' (the elastic forces of a spatial beam)",
-                         beam.elastic_forces, "shear-moment elastic forces are not yet supported in 3D")
+    _choice(f"{path}.gravity", beam.gravity, GRAVITY_MODELS)
+    _choice(f"{path}.elastic_forces", beam.elastic_forces, ELASTIC_MODELS)
     if not isinstance(beam.geometric_stiffening, bool):
         raise ModelError(f"{path}.geometric_stiffening", "true or false", beam.geometric_stiffening)
+    _check_shear_moment(path, beam, counts["n_axial"])
     if not any(counts.values()):
         raise ModelError(f"{path}.n_modes_y", "at least one shape function (n_modes_y, n_modes_z, n_torsion "
                          "or n_axial)", 0)
