@@ -1,9 +1,11 @@
 """Results of a run: the state on the output grid, derived outputs, and the files they go to.
 
 ``results.csv``: header ``t``, the generalized coordinates, the generalized speeds (by name), then the
-outputs of :mod:`flexkane.kane.outputs` (tip deflections, energy, ...), one row per output time.
-``results.npz``: the same arrays, the model file text, the parameter values, solver statistics, the
-validity warnings and the flexkane version; :func:`load_results` reads it back. Every array but
+outputs of the groups that results.csv writes (:data:`flexkane.model.columns.GROUPS`: tip
+deflections, efforts, loads, sensors and controllers; twists, attitude angles and quaternion norms;
+angular momentum and energies), one row per output time. ``results.npz``: every output, the
+declaration of each (unit, group, description), the model file text, the parameter values, solver
+statistics, the validity warnings and the flexkane version; :func:`load_results` reads it back. Every array but
 ``timing`` (wall, compile and derive times) is the same for the same model and options on any
 machine load.
 """
@@ -19,17 +21,9 @@ import numpy as np
 
 from ._version import __version__
 from .atomic import atomic_write_bytes, atomic_write_text
+from .model.columns import GROUPS, Output
 
 __all__ = ["Results", "load_results", "csv_text"]
-
-#: Output columns written to results.csv after the state, when present.
-CSV_OUTPUTS_PREFIXES = ("tip_", "effort_", "load_", "sensor_", "controller_")
-#: Outputs of spatial models written after those: each beam's tip twist, each body's 3-2-1 angles,
-#: each spherical or free joint's quaternion norm, then the angular momentum vector about the mass
-#: centre.
-CSV_SPATIAL_PREFIXES = ("twist_", "yaw_", "pitch_", "roll_", "quaternion_norm_")
-CSV_OUTPUTS = ("H_x", "H_y", "H_z", "kinetic", "potential_gravity", "strain", "potential_springs", "energy",
-               "work", "energy_balance")
 #: Entries of ``Results.solver`` that measure time: the only ones that vary between identical runs.
 #: results.npz keeps them apart, in the array ``timing``.
 TIMING_FIELDS = ("wall_time", "compile_time", "derive_time", "run_time")
@@ -62,6 +56,11 @@ class Results:
         Where the run left the validity of its model (a beam deflected by more than a stated
         fraction of its length, a beam spun fast without geometric stiffening), see
         :mod:`flexkane.validity`; empty when none.
+    declared : dict of str to Output
+        The declaration of each output (:class:`~flexkane.model.columns.Output` without its value:
+        unit, group, description), by name; results.csv writes the outputs of the groups it
+        writes, plots group them. An output without a declaration (results made by hand, a file
+        of an older version) is in results.npz only.
     """
 
     t: np.ndarray
@@ -74,6 +73,7 @@ class Results:
     partial: bool = False
     version: str = __version__
     warnings: list = field(default_factory=list)
+    declared: dict = field(default_factory=dict)
 
     def __post_init__(self):
         taken = duplicate_columns(self.state_names, self.outputs)
@@ -140,11 +140,16 @@ class Results:
                        f"({', '.join(self.outputs)})")
 
     def csv_columns(self) -> list[str]:
-        """Column names of results.csv."""
-        extra = [k for k in self.outputs if k.startswith(CSV_OUTPUTS_PREFIXES)]
-        extra += [k for k in self.outputs if k.startswith(CSV_SPATIAL_PREFIXES)]
-        extra += [k for k in CSV_OUTPUTS if k in self.outputs]
-        return ["t"] + list(self.state_names) + extra
+        """Column names of results.csv: ``t``, the state, then the outputs of the groups results.csv
+        writes (:attr:`OutputGroup.csv <flexkane.model.columns.OutputGroup>`), by rank, each rank
+        in the order of :attr:`outputs`."""
+        ranked = [(GROUPS[self.declared[k].group].csv, k) for k in self.outputs if k in self.declared]
+        ranks = sorted({rank for rank, _ in ranked if rank is not None})
+        return ["t"] + list(self.state_names) + [k for r in ranks for rank, k in ranked if rank == r]
+
+    def outputs_of(self, *groups: str) -> list[str]:
+        """Names of the outputs declared in any of ``groups``, in the order of :attr:`outputs`."""
+        return [k for k in self.outputs if k in self.declared and self.declared[k].group in groups]
 
     def write(self, directory: Path) -> list[Path]:
         """Write results.csv and results.npz into ``directory`` (atomically); return the paths."""
@@ -165,7 +170,9 @@ class Results:
                   "timing": np.array(json.dumps({k: v for k, v in self.solver.items() if k in TIMING_FIELDS},
                                                 sort_keys=True, default=str)),
                   "partial": np.array(self.partial), "version": np.array(self.version),
-                  "warnings": np.array(json.dumps(list(self.warnings)))}
+                  "warnings": np.array(json.dumps(list(self.warnings))),
+                  "output_declarations": np.array(json.dumps([self.declared[k].to_json() for k in self.outputs
+                                                              if k in self.declared]))}
         _savez_fixed_dates(buffer, arrays)
         atomic_write_bytes(npz_path, buffer.getvalue())
         return [csv_path, npz_path]
@@ -209,7 +216,7 @@ NPZ_ARRAYS = {"t": ("f", 1), "state": ("f", 2), "state_names": ("U", 1), "output
               "outputs": ("f", 2), "model_text": ("U", 0), "parameters": ("U", 0), "solver": ("U", 0),
               "partial": ("b", 0), "version": ("U", 0)}
 #: Arrays that files of older versions lack, with their kind and rank.
-OPTIONAL_NPZ_ARRAYS = {"warnings": ("U", 0), "timing": ("U", 0)}
+OPTIONAL_NPZ_ARRAYS = {"warnings": ("U", 0), "timing": ("U", 0), "output_declarations": ("U", 0)}
 _ZIP_MAGIC = b"PK\x03\x04"
 _NPY_MAGIC = b"\x93NUMPY"
 
@@ -308,15 +315,15 @@ def load_results(path: str | Path) -> Results:
     taken = duplicate_columns(state_names, names)
     if taken:
         raise ResultsError(path, f"it names several columns alike ({', '.join(taken)}): not written by this flexkane")
-    metadata = {"warnings": [], "timing": {}}
-    for key in ("parameters", "solver", "timing", "warnings"):
+    metadata = {"warnings": [], "timing": {}, "output_declarations": []}
+    for key in ("parameters", "solver", "timing", "warnings", "output_declarations"):
         if key not in data:
             continue
         try:
             metadata[key] = json.loads(str(data[key]))
         except ValueError as exc:
             raise ResultsError(path, f"array {key!r} is not JSON ({exc})") from None
-        kind = list if key == "warnings" else dict
+        kind = list if key in ("warnings", "output_declarations") else dict
         if not isinstance(metadata[key], kind):
             raise ResultsError(path, f"array {key!r} should be a JSON {'list' if kind is list else 'object'}, "
                                      f"it is {type(metadata[key]).__name__}")
@@ -324,4 +331,32 @@ def load_results(path: str | Path) -> Results:
                    outputs={n: outputs[i] for i, n in enumerate(names)}, model_text=str(data["model_text"]),
                    parameters=metadata["parameters"], solver={**metadata["solver"], **metadata["timing"]},
                    partial=bool(data["partial"]), version=str(data["version"]),
-                   warnings=[str(w) for w in metadata["warnings"]])
+                   warnings=[str(w) for w in metadata["warnings"]],
+                   declared=_declarations(path, metadata["output_declarations"], names))
+
+
+def _declarations(path: Path, entries: list, names: list) -> dict:
+    """The outputs' declarations of results.npz (``[name, unit, group, description]`` each) by name.
+
+    Raises
+    ------
+    ResultsError
+        For an entry that is not such a list, names no output of the file or names one twice.
+    """
+    from .errors import ResultsError
+
+    declared = {}
+    for entry in entries:
+        try:
+            output = Output.from_json(entry)
+            if not all(isinstance(x, str) for x in (output.name, output.group, output.description)) or \
+                    not isinstance(output.unit, (str, type(None))):
+                raise ValueError("a text is not a text")
+        except (TypeError, ValueError) as exc:
+            raise ResultsError(path, f"array 'output_declarations' holds {entry!r}, not [name, unit, group, "
+                                     f"description] of a known group ({exc})") from None
+        if output.name not in names or output.name in declared:
+            raise ResultsError(path, f"array 'output_declarations' declares {output.name!r} "
+                                     + ("twice" if output.name in declared else "which is not an output of the file"))
+        declared[output.name] = output
+    return declared
