@@ -6,6 +6,7 @@ built-in model's, recorded from the version that recognised name prefixes): the 
 them byte for byte.
 """
 
+import json
 from fractions import Fraction
 from functools import cache
 
@@ -261,7 +262,7 @@ def test_declarations_are_written_to_results_npz_and_read_back(tmp_path):
     assert (tmp_path / "results.csv").read_text().splitlines()[0] == "t,q,tip_b,energy"
 
 
-def test_damaged_declarations_in_results_npz_are_refused(tmp_path):
+def test_damaged_declarations_and_units_in_results_npz_are_refused(tmp_path):
     t = np.array([0.0, 0.5])
     Results(t=t, state=np.zeros((2, 1)), state_names=["q"], outputs={"energy": t},
             declared={"energy": Output("energy", None, "J", "energy")}).write(tmp_path)
@@ -272,6 +273,10 @@ def test_damaged_declarations_in_results_npz_are_refused(tmp_path):
                       ('[["energy", 3, "energy", ""]]', "not a text"), ('[1]', "name, unit, group")):
         np.savez(tmp_path / "results.npz", **{**arrays, "output_declarations": np.array(bad)})
         with pytest.raises(ResultsError, match=says):
+            load_results(tmp_path)
+    for bad in ('{"x": "m"}', '{"q": 1}', '["q"]'):
+        np.savez(tmp_path / "results.npz", **{**arrays, "state_units": np.array(bad)})
+        with pytest.raises(ResultsError, match="state_units"):
             load_results(tmp_path)
 
 
@@ -285,3 +290,30 @@ def test_a_run_writes_the_recorded_columns_and_its_declarations(tmp_path):
     back = load_results(tmp_path)
     assert back.declared["controller_motor"].unit == "N m" and back.declared["work"].group == "energy"
     assert back.outputs_of("tip") == ["tip_link"] and back.outputs_of("effort") == ["effort_shoulder"]
+    assert back.units == results.units and back.state_units == results.state_units
+
+
+def test_the_units_of_results_csv_are_in_a_file_beside_it_in_the_order_of_its_columns(tmp_path):
+    """results.units.json maps every column of results.csv, in order, to its unit: the state's by the
+    coordinates' roles (an angle rad, a modal coordinate m), the outputs' as declared."""
+    model = flexkane.builtin_model("flexible-arm")
+    results = flexkane.simulate(flexkane.compile_model(flexkane.derive(model)), t_end=0.01, dt_out=0.01, model=model)
+    results.write(tmp_path)
+    header = (tmp_path / "results.csv").read_text().splitlines()[0].split(",")
+    units = json.loads((tmp_path / "results.units.json").read_text())
+    assert list(units) == header
+    assert units == {"t": "s", "q_shoulder": "rad", "q_link_1": "m", "q_link_2": "m", "q_link_3": "m",
+                     "u_shoulder": "rad/s", "u_link_1": "m/s", "u_link_2": "m/s", "u_link_3": "m/s", "tip_link": "m",
+                     "effort_shoulder": "N m", **dict.fromkeys(("kinetic", "potential_gravity", "strain",
+                                                                "potential_springs", "energy", "work",
+                                                                "energy_balance"), "J")}
+    assert load_results(tmp_path).units["q_link_1"] == "m"
+
+
+def test_a_dataframe_of_the_results_carries_the_units_of_its_columns():
+    pandas = pytest.importorskip("pandas")
+    t = np.array([0.0, 0.5])
+    results = Results(t=t, state=np.zeros((2, 1)), state_names=["q"], outputs={"energy": t}, state_units={"q": "rad"},
+                      declared={"energy": Output("energy", None, "J", "energy")})
+    frame = results.to_dataframe()
+    assert isinstance(frame, pandas.DataFrame) and frame.attrs["units"] == {"t": "s", "q": "rad", "energy": "J"}

@@ -3,11 +3,13 @@
 ``results.csv``: header ``t``, the generalized coordinates, the generalized speeds (by name), then the
 outputs of the groups that results.csv writes (:data:`flexkane.model.columns.GROUPS`: tip
 deflections, efforts, loads, sensors and controllers; twists, attitude angles and quaternion norms;
-angular momentum and energies), one row per output time. ``results.npz``: every output, the
-declaration of each (unit, group, description), the model file text, the parameter values, solver
-statistics, the validity warnings and the flexkane version; :func:`load_results` reads it back. Every array but
-``timing`` (wall, compile and derive times) is the same for the same model and options on any
-machine load.
+angular momentum and energies), one row per output time. ``results.units.json``: the unit of each
+column of results.csv, in its order (``{"t": "s", "q1": "rad", ...}``; null where the model fixes
+none), to read beside the CSV (``pandas.read_csv`` takes no units). ``results.npz``: every output,
+the declaration of each (unit, group, description), the state variables' units, the model file
+text, the parameter values, solver statistics, the validity warnings and the flexkane version;
+:func:`load_results` reads it back. Every array but ``timing`` (wall, compile and derive times) is
+the same for the same model and options on any machine load.
 """
 
 from __future__ import annotations
@@ -56,6 +58,9 @@ class Results:
         Where the run left the validity of its model (a beam deflected by more than a stated
         fraction of its length, a beam spun fast without geometric stiffening), see
         :mod:`flexkane.validity`; empty when none.
+    state_units : dict of str to str
+        The unit of each state variable whose unit is known, by name (a controller state's only
+        where the model fixes it).
     declared : dict of str to Output
         The declaration of each output (:class:`~flexkane.model.columns.Output` without its value:
         unit, group, description), by name; results.csv writes the outputs of the groups it
@@ -73,6 +78,7 @@ class Results:
     partial: bool = False
     version: str = __version__
     warnings: list = field(default_factory=list)
+    state_units: dict = field(default_factory=dict)
     declared: dict = field(default_factory=dict)
 
     def __post_init__(self):
@@ -114,7 +120,8 @@ class Results:
         Returns
         -------
         pandas.DataFrame
-            Index ``t`` [s] (N rows); columns: the states (``state_names``) then every output.
+            Index ``t`` [s] (N rows); columns: the states (``state_names``) then every output;
+            ``attrs["units"]``: the unit of each column and of ``t`` (:attr:`units`).
 
         Raises
         ------
@@ -126,7 +133,9 @@ class Results:
         pandas = require("pandas")
         columns = {name: self.state[:, k] for k, name in enumerate(self.state_names)}
         columns.update((name, values) for name, values in self.outputs.items() if name not in columns)
-        return pandas.DataFrame(columns, index=pandas.Index(self.t, name="t"))
+        frame = pandas.DataFrame(columns, index=pandas.Index(self.t, name="t"))
+        frame.attrs["units"] = self.units
+        return frame
 
     def __getitem__(self, name: str) -> np.ndarray:
         """A state column or an output by name (``res["q3"]``, ``res["energy"]``)."""
@@ -138,6 +147,16 @@ class Results:
             return self.outputs[name]
         raise KeyError(f"{name!r} is neither a state variable ({', '.join(self.state_names)}) nor an output "
                        f"({', '.join(self.outputs)})")
+
+    @property
+    def units(self) -> dict:
+        """The unit of every column by name (``t``, the state variables, the outputs), None where it
+        is not known (a controller state or output whose unit the model does not fix, an output
+        without a declaration)."""
+        out = {"t": "s"}
+        out.update((name, self.state_units.get(name)) for name in self.state_names)
+        out.update((name, self.declared[name].unit if name in self.declared else None) for name in self.outputs)
+        return out
 
     def csv_columns(self) -> list[str]:
         """Column names of results.csv: ``t``, the state, then the outputs of the groups results.csv
@@ -152,10 +171,14 @@ class Results:
         return [k for k in self.outputs if k in self.declared and self.declared[k].group in groups]
 
     def write(self, directory: Path) -> list[Path]:
-        """Write results.csv and results.npz into ``directory`` (atomically); return the paths."""
+        """Write results.csv, results.units.json and results.npz into ``directory`` (atomically);
+        return the paths."""
         directory = Path(directory)
         csv_path = directory / "results.csv"
         atomic_write_text(csv_path, csv_text(self))
+        units_path = directory / "results.units.json"
+        units = self.units
+        atomic_write_text(units_path, json.dumps({name: units[name] for name in self.csv_columns()}, indent=1) + "\n")
         npz_path = directory / "results.npz"
         buffer = io.BytesIO()
         arrays = {"t": self.t, "state": self.state,
@@ -172,10 +195,12 @@ class Results:
                   "partial": np.array(self.partial), "version": np.array(self.version),
                   "warnings": np.array(json.dumps(list(self.warnings))),
                   "output_declarations": np.array(json.dumps([self.declared[k].to_json() for k in self.outputs
-                                                              if k in self.declared]))}
+                                                              if k in self.declared])),
+                  "state_units": np.array(json.dumps({k: self.state_units[k] for k in self.state_names
+                                                      if k in self.state_units}))}
         _savez_fixed_dates(buffer, arrays)
         atomic_write_bytes(npz_path, buffer.getvalue())
-        return [csv_path, npz_path]
+        return [csv_path, units_path, npz_path]
 
 
 def duplicate_columns(state_names, output_names) -> list[str]:
@@ -216,7 +241,8 @@ NPZ_ARRAYS = {"t": ("f", 1), "state": ("f", 2), "state_names": ("U", 1), "output
               "outputs": ("f", 2), "model_text": ("U", 0), "parameters": ("U", 0), "solver": ("U", 0),
               "partial": ("b", 0), "version": ("U", 0)}
 #: Arrays that files of older versions lack, with their kind and rank.
-OPTIONAL_NPZ_ARRAYS = {"warnings": ("U", 0), "timing": ("U", 0), "output_declarations": ("U", 0)}
+OPTIONAL_NPZ_ARRAYS = {"warnings": ("U", 0), "timing": ("U", 0), "output_declarations": ("U", 0),
+                       "state_units": ("U", 0)}
 _ZIP_MAGIC = b"PK\x03\x04"
 _NPY_MAGIC = b"\x93NUMPY"
 
@@ -315,8 +341,8 @@ def load_results(path: str | Path) -> Results:
     taken = duplicate_columns(state_names, names)
     if taken:
         raise ResultsError(path, f"it names several columns alike ({', '.join(taken)}): not written by this flexkane")
-    metadata = {"warnings": [], "timing": {}, "output_declarations": []}
-    for key in ("parameters", "solver", "timing", "warnings", "output_declarations"):
+    metadata = {"warnings": [], "timing": {}, "output_declarations": [], "state_units": {}}
+    for key in ("parameters", "solver", "timing", "warnings", "output_declarations", "state_units"):
         if key not in data:
             continue
         try:
@@ -332,7 +358,19 @@ def load_results(path: str | Path) -> Results:
                    parameters=metadata["parameters"], solver={**metadata["solver"], **metadata["timing"]},
                    partial=bool(data["partial"]), version=str(data["version"]),
                    warnings=[str(w) for w in metadata["warnings"]],
-                   declared=_declarations(path, metadata["output_declarations"], names))
+                   declared=_declarations(path, metadata["output_declarations"], names),
+                   state_units=_state_units(path, metadata["state_units"], state_names))
+
+
+def _state_units(path: Path, units: dict, state_names: list) -> dict:
+    """The state variables' units of results.npz, checked: texts, for state variables of the file."""
+    from .errors import ResultsError
+
+    for name, unit in units.items():
+        if name not in state_names or not isinstance(unit, str):
+            raise ResultsError(path, f"array 'state_units' gives {name!r} the unit {unit!r}: not a text for a "
+                                     "state variable of the file")
+    return units
 
 
 def _declarations(path: Path, entries: list, names: list) -> dict:

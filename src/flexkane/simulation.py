@@ -451,6 +451,7 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
         warnings = initial_values(model).warnings + warnings
     return Results(t=t, state=state, state_names=list(state_names), outputs=dict(outputs),
                    declared={o.name: o for o in outputs.declarations()},
+                   state_units={n: manifest["units"][n] for n in state_names if n in manifest["units"]},
                    model_text=dumps_model(model),
                    parameters=dict(zip(manifest["constant_names"], numbers["p"])),
                    solver=solver, partial=partial, warnings=warnings)
