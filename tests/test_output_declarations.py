@@ -317,3 +317,18 @@ def test_a_dataframe_of_the_results_carries_the_units_of_its_columns():
                       declared={"energy": Output("energy", None, "J", "energy")})
     frame = results.to_dataframe()
     assert isinstance(frame, pandas.DataFrame) and frame.attrs["units"] == {"t": "s", "q": "rad", "energy": "J"}
+
+
+@pytest.mark.parametrize("name", ["four-bar", "spacecraft-slew"])
+def test_a_linear_model_leaves_out_the_energies_momenta_and_loop_columns_by_their_groups(name):
+    """Planar and spatial alike: no energy, power, linear or angular momentum (``p_z`` and ``H_x`` of a
+    spatial model too), loop residual or dependent speed is an output of the linear model."""
+    from flexkane.analysis.linear_model import linear_outputs
+
+    eom = equations(name)
+    kept = linear_outputs(eom)
+    groups = {d.name: d.group for d in eom.output_declarations}
+    assert kept == [n for n in eom.output_names if groups[n] not in
+                    ("energy", "power", "momentum", "angular_momentum", "constraint", "dependent_speed")]
+    assert not {"energy", "p_x", "p_z", "H_x", "h_cm", "constraint_loop_1", "u_coupler"} & set(kept)
+    assert {"theta_crank", "x_cm"} <= set(kept) if name == "four-bar" else {"yaw_bus", "e0_bus", "z_cm"} <= set(kept)

@@ -14,19 +14,15 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ..model.columns import Outputs
+from ..model.columns import ENERGIES, Outputs
 from .controllers import effort_unit, signal_outputs
 
-__all__ = ["ENERGIES", "energy_outputs", "power_and_efforts"]
-
-
-#: The energies of a system, in the order of the results, with what each is.
-ENERGIES = {"kinetic": "the kinetic energy", "potential_gravity": "the potential energy of gravity",
-            "strain": "the strain energy", "potential_springs": "the energy of the springs"}
+__all__ = ["energy_outputs", "power_and_efforts"]
 
 
 def energy_outputs(out: Outputs, **parts) -> None:
-    """The energies :data:`ENERGIES` [J] (given by name in ``parts``) and their sum ``energy``."""
+    """The energies :data:`flexkane.model.columns.ENERGIES` [J] (given by name in ``parts``) and their
+    sum ``energy``."""
     for name, what in ENERGIES.items():
         out.add(name, parts[name], "J", "energy", what)
     out.add("energy", sp.Add(*[parts[name] for name in ENERGIES]), "J", "energy", "the total energy")

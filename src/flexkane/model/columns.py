@@ -29,7 +29,7 @@ from dataclasses import dataclass, replace
 from ..errors import ModelError
 from .coordinates import BEAM_ROLES
 
-__all__ = ["Output", "OutputGroup", "Outputs", "GROUPS", "DuplicateColumnError", "result_columns",
+__all__ = ["Output", "OutputGroup", "Outputs", "GROUPS", "ENERGIES", "DuplicateColumnError", "result_columns",
            "constraint_residual_units"]
 
 #: Columns of the whole system, by the chain's dimensions, with what each is (for messages).
@@ -42,10 +42,12 @@ _SYSTEM = {
         **{f"p_{a}": f"the system's momentum along {a}" for a in "xyz"},
         **{f"H_{a}": f"the system's angular momentum about its mass centre along {a}" for a in "xyz"}},
 }
+#: The energies of a system, in the order of the results, with what each is (their sum is ``energy``).
+ENERGIES = {"kinetic": "the kinetic energy", "potential_gravity": "the potential energy of gravity",
+            "strain": "the strain energy", "potential_springs": "the energy of the springs"}
 #: Energy and work columns of every model.
-_ENERGY = {"kinetic": "the kinetic energy", "potential_gravity": "the potential energy of gravity",
-           "strain": "the strain energy", "potential_springs": "the energy of the springs",
-           "energy": "the total energy", "power_nonconservative": "the power of the non-conservative forces",
+_ENERGY = {**ENERGIES, "energy": "the total energy",
+           "power_nonconservative": "the power of the non-conservative forces",
            "work": "the work of the non-conservative forces", "energy_balance": "the energy balance"}
 #: Number of scalar constraints of a planar loop constraint, by type (spatial: validate_spatial).
 _PLANAR_CONSTRAINT_EQUATIONS = 2
