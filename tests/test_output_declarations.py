@@ -205,7 +205,7 @@ def test_the_units_of_the_outputs_agree_with_dimensional_analysis(name):
             assert dim == dimension("kg m^2/s^2"), d
         elif d.group == "power":
             assert times(d.unit, "s") == dimension(unit["energy"]), d
-        elif d.group == "effort":
+        elif d.group in ("effort", "actuator"):
             assert times(d.unit, unit[speed[d.name.removeprefix("effort_")]]) == dimension("W"), d
         elif d.group == "load":
             assert dim in (dimension("N"), dimension("N m")), d
@@ -289,7 +289,7 @@ def test_a_run_writes_the_recorded_columns_and_its_declarations(tmp_path):
     assert (tmp_path / "results.csv").read_text().splitlines()[0] == CSV_HEADERS["flexible-arm-pid"]
     back = load_results(tmp_path)
     assert back.declared["controller_motor"].unit == "N m" and back.declared["work"].group == "energy"
-    assert back.outputs_of("tip") == ["tip_link"] and back.outputs_of("effort") == ["effort_shoulder"]
+    assert back.outputs_of("tip") == ["tip_link"] and back.outputs_of("actuator") == ["effort_shoulder"]
     assert back.units == results.units and back.state_units == results.state_units
 
 
@@ -332,3 +332,21 @@ def test_a_linear_model_leaves_out_the_energies_momenta_and_loop_columns_by_thei
                     ("energy", "power", "momentum", "angular_momentum", "constraint", "dependent_speed")]
     assert not {"energy", "p_x", "p_z", "H_x", "h_cm", "constraint_loop_1", "u_coupler"} & set(kept)
     assert {"theta_crank", "x_cm"} <= set(kept) if name == "four-bar" else {"yaw_bus", "e0_bus", "z_cm"} <= set(kept)
+
+
+def test_a_driver_effort_and_an_actuator_torque_are_plotted_each_under_its_own_title(tmp_path, monkeypatch):
+    from flexkane import plots
+
+    titles = {}
+    save = plots._save
+    monkeypatch.setattr(plots, "_save", lambda fig, path: (titles.setdefault(path.name, fig.axes[0].get_title()),
+                                                           save(fig, path))[1])
+    t = np.linspace(0.0, 1.0, 20)
+    declared = {"effort_hub": Output("effort_hub", None, "N m", "effort"),
+                "effort_arm": Output("effort_arm", None, "N m", "actuator"),
+                "effort_slide": Output("effort_slide", None, "N", "actuator")}
+    results = Results(t=t, state=np.zeros((20, 0)), state_names=[], outputs={n: np.sin(t) for n in declared},
+                      declared=declared)
+    plots.write_plots(results, {}, tmp_path, "m")
+    assert titles == {"effort_hub.png": "m: driver effort", "effort_arm.png": "m: actuator torque",
+                      "effort_slide.png": "m: actuator force"}

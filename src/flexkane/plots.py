@@ -214,10 +214,12 @@ def _plot_jobs(results: Results, unit: dict, directory: Path, title: str) -> lis
         path = directory / "tip_twist.png"
         jobs.append((path, lambda single, path=path: plot_series(results, twists, _unit(results, twists), path,
                                                                  f"{title}: twist and slopes of the beams' tips")))
-    for name in results.outputs_of("effort"):
+    for name in results.outputs_of("effort", "actuator"):
         path = directory / f"{name}.png"
-        jobs.append((path, lambda single, name=name, path=path: single.draw(results, name, _unit(results, [name]),
-                                                                           path, f"{title}: driver effort")))
+        what = "driver effort" if results.declared[name].group == "effort" else \
+            "actuator " + ("torque" if results.declared[name].unit == "N m" else "force")
+        jobs.append((path, lambda single, name=name, path=path, what=what: single.draw(
+            results, name, _unit(results, [name]), path, f"{title}: {what}")))
     if "energy" in results.outputs and len(results.t) > 1:
         path = directory / "energy.png"
         jobs.append((path, lambda single, path=path: plot_energy(results, path, title)))

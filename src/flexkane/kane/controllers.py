@@ -141,7 +141,7 @@ def signal_outputs(eom) -> list:
     for joint in chain.joints:
         if joint.torque is not None:
             out.append(Output(f"effort_{joint.name}", symbols.effort(f"joints.{joint.name}.torque", joint.torque),
-                              effort_unit(chain, joint.name), "effort",
+                              effort_unit(chain, joint.name), "actuator",
                               f"the actuator's torque or force on joint {joint.name!r}"))
     axes = "xyz"[:chain.dimensions]
     for load in model.loads.values():
