@@ -15,6 +15,7 @@ import pytest
 from flexkane import plots
 from flexkane.forking import fork_allowed
 from flexkane.plot_workers import PlotWorkerError
+from flexkane.model.columns import Output
 from flexkane.plots import write_plots
 from flexkane.results import Results
 
@@ -52,7 +53,9 @@ def made_up_run(rows: int = 120) -> Results:
     state = np.column_stack([np.sin((k + 1) * t) * 10.0 ** -k for k in range(len(names))])
     kinetic = 0.5 * state[:, 2] ** 2
     outputs = {"tip_b": 1e-4 * np.sin(7 * t), "kinetic": kinetic, "energy": kinetic + 1e-9 * t}
-    return Results(t=t, state=state, state_names=names, outputs=outputs)
+    declared = {"tip_b": Output("tip_b", None, "m", "tip"), "kinetic": Output("kinetic", None, "J", "energy"),
+                "energy": Output("energy", None, "J", "energy")}
+    return Results(t=t, state=state, state_names=names, outputs=outputs, declared=declared)
 
 
 def files(directory) -> dict:

@@ -9,6 +9,7 @@ from PIL import Image
 import flexkane
 from flexkane import plots
 from flexkane.model import dumps_model
+from flexkane.model.columns import Output
 from flexkane.plots import plot_runs, write_plots
 from flexkane.run_manifest import units
 from flexkane.results import Results, load_results
@@ -32,7 +33,7 @@ def synthetic_run(name: str, rows: int = 60):
     outputs = evaluate_outputs(flexkane.compile_model(eom).module, t, state, p)   # compiled outputs
     res = Results(t=t, state=state, state_names=eom.state_names, outputs=outputs, model_text=dumps_model(model),
                   parameters={s.name: values[s] for s in eom.constants},
-                  solver={"method": "none", "nsteps": 0})
+                  solver={"method": "none", "nsteps": 0}, declared={o.name: o for o in eom.output_declarations})
     return eom, res
 
 
@@ -80,7 +81,8 @@ def test_every_state_variable_tip_effort_and_energy_is_plotted_with_a_curve(tmp_
 
 def test_tip_deflection_plot_has_one_curve_per_beam_in_its_frame(tmp_path, captured_figures):
     eom, res = synthetic_run("two-link-flexible-arm")
-    one = Results(t=res.t, state=res.state[:, :1], state_names=res.state_names[:1], outputs=res.outputs)
+    one = Results(t=res.t, state=res.state[:, :1], state_names=res.state_names[:1], outputs=res.outputs,
+                  declared=res.declared)
     write_plots(one, units(eom), tmp_path, eom.model.name)
     fig = captured_figures["tip_deflection.png"]
     assert [line.get_label() for line in fig.axes[0].get_lines()] == ["tip_upper", "tip_fore"]
@@ -162,7 +164,9 @@ def test_spatial_beam_tips_are_plotted_deflections_in_metres_twist_and_slopes_in
     t = np.linspace(0.0, 1.0, 40)
     outputs = {"tip_b_y": 0.01 * np.sin(3 * t), "tip_b_z": 0.02 * np.cos(2 * t), "slope_b_y": 0.01 * t,
                "slope_b_z": -0.02 * t, "twist_b": 0.05 * np.sin(5 * t)}
-    res = Results(t=t, state=np.zeros((len(t), 0)), state_names=[], outputs=outputs)
+    declared = {n: Output(n, None, "rad" if n.startswith(("slope", "twist")) else "m", n.split("_")[0], n)
+                for n in outputs}
+    res = Results(t=t, state=np.zeros((len(t), 0)), state_names=[], outputs=outputs, declared=declared)
     write_plots(res, {}, tmp_path, "spatial")
     tips = captured_figures["tip_deflection.png"].axes[0]
     assert [line.get_label() for line in tips.get_lines()] == ["tip_b_y", "tip_b_z"]

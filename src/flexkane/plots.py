@@ -188,43 +188,51 @@ def plot_runs(runs: dict, names: list[str], path: Path, *, units: dict | None = 
     return Path(path)
 
 
+def _unit(results: Results, names: list[str]) -> str:
+    """The declared unit of the outputs ``names`` (one for all), ``-`` where none is declared."""
+    units = {results.declared[k].unit for k in names if k in results.declared} - {None}
+    return units.pop() if len(units) == 1 else "-"
+
+
 def _plot_jobs(results: Results, unit: dict, directory: Path, title: str) -> list:
     """The figures of :func:`write_plots`, in its order: each its file and a function of a
     :class:`_SeriesFigure` (the figure that the single-column plots of one process share) that draws
-    and writes it."""
+    and writes it. The outputs are grouped by their declared groups (:data:`flexkane.model.columns.GROUPS`)."""
     jobs = []
     for name in results.state_names:
         path = directory / f"{name}.png"
         jobs.append((path, lambda single, name=name, path=path: single.draw(results, name, unit.get(name, "-"),
                                                                            path, title)))
-    tips = [k for k in results.outputs if k.startswith("tip_")]
+    tips = results.outputs_of("tip")
     if tips:
-        spatial = any(k.endswith("_y") and k[:-2] + "_z" in tips for k in tips)   # a spatial beam's pair
-        where = "along the sections' principal axes" if spatial else "in the beam frame"
+        where = "along the sections' principal axes" if results.outputs_of("slope") else "in the beam frame"
         path = directory / "tip_deflection.png"
-        jobs.append((path, lambda single, path=path: plot_series(results, tips, "m", path,
+        jobs.append((path, lambda single, path=path: plot_series(results, tips, _unit(results, tips), path,
                                                                  f"{title}: tip deflection {where}")))
-    twists = [k for k in results.outputs if k.startswith(("twist_", "slope_"))]
+    twists = results.outputs_of("twist", "slope")
     if twists:
         path = directory / "tip_twist.png"
-        jobs.append((path, lambda single, path=path: plot_series(results, twists, "rad", path,
+        jobs.append((path, lambda single, path=path: plot_series(results, twists, _unit(results, twists), path,
                                                                  f"{title}: twist and slopes of the beams' tips")))
-    for name in (k for k in results.outputs if k.startswith("effort_")):
+    for name in results.outputs_of("effort", "actuator"):
         path = directory / f"{name}.png"
-        jobs.append((path, lambda single, name=name, path=path: single.draw(results, name, unit.get(name, "-"),
-                                                                           path, f"{title}: driver effort")))
+        what = "driver effort" if results.declared[name].group == "effort" else \
+            "actuator " + ("torque" if results.declared[name].unit == "N m" else "force")
+        jobs.append((path, lambda single, name=name, path=path, what=what: single.draw(
+            results, name, _unit(results, [name]), path, f"{title}: {what}")))
     if "energy" in results.outputs and len(results.t) > 1:
         path = directory / "energy.png"
         jobs.append((path, lambda single, path=path: plot_energy(results, path, title)))
-    momentum = [k for k in ("H_x", "H_y", "H_z") if k in results.outputs]
+    momentum = results.outputs_of("angular_momentum")
     if momentum:
         path = directory / "angular_momentum.png"
         jobs.append((path, lambda single, path=path: plot_series(
-            results, momentum, "kg m^2/s", path, f"{title}: angular momentum about the mass centre, ground axes")))
-    norms = [k for k in results.outputs if k.startswith("quaternion_norm_")]
+            results, momentum, _unit(results, momentum), path,
+            f"{title}: angular momentum about the mass centre, ground axes")))
+    norms = results.outputs_of("quaternion_norm")
     if norms:
         path = directory / "quaternion_norm.png"
-        jobs.append((path, lambda single, path=path: plot_series(results, norms, "-", path,
+        jobs.append((path, lambda single, path=path: plot_series(results, norms, _unit(results, norms), path,
                                                                  f"{title}: norm of the Euler parameters minus 1")))
     return jobs
 
@@ -236,7 +244,8 @@ def write_plots(results: Results, unit: dict, directory: Path, title: str, *, wo
     ----------
     results : Results
     unit : dict of str to str
-        Unit of every column (:func:`units` of the equations).
+        Unit of every state variable (:func:`units` of the equations); the outputs' units are
+        those declared with them (:attr:`Results.declared <flexkane.results.Results>`).
     directory : pathlib.Path
     title : str
         Title of the figures (the model's name).

@@ -1,11 +1,15 @@
 """Results of a run: the state on the output grid, derived outputs, and the files they go to.
 
 ``results.csv``: header ``t``, the generalized coordinates, the generalized speeds (by name), then the
-outputs of :mod:`flexkane.kane.outputs` (tip deflections, energy, ...), one row per output time.
-``results.npz``: the same arrays, the model file text, the parameter values, solver statistics, the
-validity warnings and the flexkane version; :func:`load_results` reads it back. Every array but
-``timing`` (wall, compile and derive times) is the same for the same model and options on any
-machine load.
+outputs of the groups that results.csv writes (:data:`flexkane.model.columns.GROUPS`: tip
+deflections, efforts, loads, sensors and controllers; twists, attitude angles and quaternion norms;
+angular momentum and energies), one row per output time. ``results.units.json``: the unit of each
+column of results.csv, in its order (``{"t": "s", "q1": "rad", ...}``; null where the model fixes
+none), to read beside the CSV (``pandas.read_csv`` takes no units). ``results.npz``: every output,
+the declaration of each (unit, group, description), the state variables' units, the model file
+text, the parameter values, solver statistics, the validity warnings and the flexkane version;
+:func:`load_results` reads it back. Every array but ``timing`` (wall, compile and derive times) is
+the same for the same model and options on any machine load.
 """
 
 from __future__ import annotations
@@ -19,17 +23,9 @@ import numpy as np
 
 from ._version import __version__
 from .atomic import atomic_write_bytes, atomic_write_text
+from .model.columns import GROUPS, Output
 
 __all__ = ["Results", "load_results", "csv_text"]
-
-#: Output columns written to results.csv after the state, when present.
-CSV_OUTPUTS_PREFIXES = ("tip_", "effort_", "load_", "sensor_", "controller_")
-#: Outputs of spatial models written after those: each beam's tip twist, each body's 3-2-1 angles,
-#: each spherical or free joint's quaternion norm, then the angular momentum vector about the mass
-#: centre.
-CSV_SPATIAL_PREFIXES = ("twist_", "yaw_", "pitch_", "roll_", "quaternion_norm_")
-CSV_OUTPUTS = ("H_x", "H_y", "H_z", "kinetic", "potential_gravity", "strain", "potential_springs", "energy",
-               "work", "energy_balance")
 #: Entries of ``Results.solver`` that measure time: the only ones that vary between identical runs.
 #: results.npz keeps them apart, in the array ``timing``.
 TIMING_FIELDS = ("wall_time", "compile_time", "derive_time", "run_time")
@@ -62,6 +58,14 @@ class Results:
         Where the run left the validity of its model (a beam deflected by more than a stated
         fraction of its length, a beam spun fast without geometric stiffening), see
         :mod:`flexkane.validity`; empty when none.
+    state_units : dict of str to str
+        The unit of each state variable whose unit is known, by name (a controller state's only
+        where the model fixes it).
+    declared : dict of str to Output
+        The declaration of each output (:class:`~flexkane.model.columns.Output` without its value:
+        unit, group, description), by name; results.csv writes the outputs of the groups it
+        writes, plots group them. An output without a declaration (results made by hand, a file
+        of an older version) is in results.npz only.
     """
 
     t: np.ndarray
@@ -74,6 +78,8 @@ class Results:
     partial: bool = False
     version: str = __version__
     warnings: list = field(default_factory=list)
+    state_units: dict = field(default_factory=dict)
+    declared: dict = field(default_factory=dict)
 
     def __post_init__(self):
         taken = duplicate_columns(self.state_names, self.outputs)
@@ -114,7 +120,8 @@ class Results:
         Returns
         -------
         pandas.DataFrame
-            Index ``t`` [s] (N rows); columns: the states (``state_names``) then every output.
+            Index ``t`` [s] (N rows); columns: the states (``state_names``) then every output;
+            ``attrs["units"]``: the unit of each column and of ``t`` (:attr:`units`).
 
         Raises
         ------
@@ -126,7 +133,9 @@ class Results:
         pandas = require("pandas")
         columns = {name: self.state[:, k] for k, name in enumerate(self.state_names)}
         columns.update((name, values) for name, values in self.outputs.items() if name not in columns)
-        return pandas.DataFrame(columns, index=pandas.Index(self.t, name="t"))
+        frame = pandas.DataFrame(columns, index=pandas.Index(self.t, name="t"))
+        frame.attrs["units"] = self.units
+        return frame
 
     def __getitem__(self, name: str) -> np.ndarray:
         """A state column or an output by name (``res["q3"]``, ``res["energy"]``)."""
@@ -139,18 +148,37 @@ class Results:
         raise KeyError(f"{name!r} is neither a state variable ({', '.join(self.state_names)}) nor an output "
                        f"({', '.join(self.outputs)})")
 
+    @property
+    def units(self) -> dict:
+        """The unit of every column by name (``t``, the state variables, the outputs), None where it
+        is not known (a controller state or output whose unit the model does not fix, an output
+        without a declaration)."""
+        out = {"t": "s"}
+        out.update((name, self.state_units.get(name)) for name in self.state_names)
+        out.update((name, self.declared[name].unit if name in self.declared else None) for name in self.outputs)
+        return out
+
     def csv_columns(self) -> list[str]:
-        """Column names of results.csv."""
-        extra = [k for k in self.outputs if k.startswith(CSV_OUTPUTS_PREFIXES)]
-        extra += [k for k in self.outputs if k.startswith(CSV_SPATIAL_PREFIXES)]
-        extra += [k for k in CSV_OUTPUTS if k in self.outputs]
-        return ["t"] + list(self.state_names) + extra
+        """Column names of results.csv: ``t``, the state, then the outputs of the groups results.csv
+        writes (:attr:`OutputGroup.csv <flexkane.model.columns.OutputGroup>`), by rank, each rank
+        in the order of :attr:`outputs`."""
+        ranked = [(GROUPS[self.declared[k].group].csv, k) for k in self.outputs if k in self.declared]
+        ranks = sorted({rank for rank, _ in ranked if rank is not None})
+        return ["t"] + list(self.state_names) + [k for r in ranks for rank, k in ranked if rank == r]
+
+    def outputs_of(self, *groups: str) -> list[str]:
+        """Names of the outputs declared in any of ``groups``, in the order of :attr:`outputs`."""
+        return [k for k in self.outputs if k in self.declared and self.declared[k].group in groups]
 
     def write(self, directory: Path) -> list[Path]:
-        """Write results.csv and results.npz into ``directory`` (atomically); return the paths."""
+        """Write results.csv, results.units.json and results.npz into ``directory`` (atomically);
+        return the paths."""
         directory = Path(directory)
         csv_path = directory / "results.csv"
         atomic_write_text(csv_path, csv_text(self))
+        units_path = directory / "results.units.json"
+        units = self.units
+        atomic_write_text(units_path, json.dumps({name: units[name] for name in self.csv_columns()}, indent=1) + "\n")
         npz_path = directory / "results.npz"
         buffer = io.BytesIO()
         arrays = {"t": self.t, "state": self.state,
@@ -165,10 +193,14 @@ class Results:
                   "timing": np.array(json.dumps({k: v for k, v in self.solver.items() if k in TIMING_FIELDS},
                                                 sort_keys=True, default=str)),
                   "partial": np.array(self.partial), "version": np.array(self.version),
-                  "warnings": np.array(json.dumps(list(self.warnings)))}
+                  "warnings": np.array(json.dumps(list(self.warnings))),
+                  "output_declarations": np.array(json.dumps([self.declared[k].to_json() for k in self.outputs
+                                                              if k in self.declared])),
+                  "state_units": np.array(json.dumps({k: self.state_units[k] for k in self.state_names
+                                                      if k in self.state_units}))}
         _savez_fixed_dates(buffer, arrays)
         atomic_write_bytes(npz_path, buffer.getvalue())
-        return [csv_path, npz_path]
+        return [csv_path, units_path, npz_path]
 
 
 def duplicate_columns(state_names, output_names) -> list[str]:
@@ -209,7 +241,8 @@ NPZ_ARRAYS = {"t": ("f", 1), "state": ("f", 2), "state_names": ("U", 1), "output
               "outputs": ("f", 2), "model_text": ("U", 0), "parameters": ("U", 0), "solver": ("U", 0),
               "partial": ("b", 0), "version": ("U", 0)}
 #: Arrays that files of older versions lack, with their kind and rank.
-OPTIONAL_NPZ_ARRAYS = {"warnings": ("U", 0), "timing": ("U", 0)}
+OPTIONAL_NPZ_ARRAYS = {"warnings": ("U", 0), "timing": ("U", 0), "output_declarations": ("U", 0),
+                       "state_units": ("U", 0)}
 _ZIP_MAGIC = b"PK\x03\x04"
 _NPY_MAGIC = b"\x93NUMPY"
 
@@ -308,15 +341,15 @@ def load_results(path: str | Path) -> Results:
     taken = duplicate_columns(state_names, names)
     if taken:
         raise ResultsError(path, f"it names several columns alike ({', '.join(taken)}): not written by this flexkane")
-    metadata = {"warnings": [], "timing": {}}
-    for key in ("parameters", "solver", "timing", "warnings"):
+    metadata = {"warnings": [], "timing": {}, "output_declarations": [], "state_units": {}}
+    for key in ("parameters", "solver", "timing", "warnings", "output_declarations", "state_units"):
         if key not in data:
             continue
         try:
             metadata[key] = json.loads(str(data[key]))
         except ValueError as exc:
             raise ResultsError(path, f"array {key!r} is not JSON ({exc})") from None
-        kind = list if key == "warnings" else dict
+        kind = list if key in ("warnings", "output_declarations") else dict
         if not isinstance(metadata[key], kind):
             raise ResultsError(path, f"array {key!r} should be a JSON {'list' if kind is list else 'object'}, "
                                      f"it is {type(metadata[key]).__name__}")
@@ -324,4 +357,44 @@ def load_results(path: str | Path) -> Results:
                    outputs={n: outputs[i] for i, n in enumerate(names)}, model_text=str(data["model_text"]),
                    parameters=metadata["parameters"], solver={**metadata["solver"], **metadata["timing"]},
                    partial=bool(data["partial"]), version=str(data["version"]),
-                   warnings=[str(w) for w in metadata["warnings"]])
+                   warnings=[str(w) for w in metadata["warnings"]],
+                   declared=_declarations(path, metadata["output_declarations"], names),
+                   state_units=_state_units(path, metadata["state_units"], state_names))
+
+
+def _state_units(path: Path, units: dict, state_names: list) -> dict:
+    """The state variables' units of results.npz, checked: texts, for state variables of the file."""
+    from .errors import ResultsError
+
+    for name, unit in units.items():
+        if name not in state_names or not isinstance(unit, str):
+            raise ResultsError(path, f"array 'state_units' gives {name!r} the unit {unit!r}: not a text for a "
+                                     "state variable of the file")
+    return units
+
+
+def _declarations(path: Path, entries: list, names: list) -> dict:
+    """The outputs' declarations of results.npz (``[name, unit, group, description]`` each) by name.
+
+    Raises
+    ------
+    ResultsError
+        For an entry that is not such a list, names no output of the file or names one twice.
+    """
+    from .errors import ResultsError
+
+    declared = {}
+    for entry in entries:
+        try:
+            output = Output.from_json(entry)
+            if not all(isinstance(x, str) for x in (output.name, output.group, output.description)) or \
+                    not isinstance(output.unit, (str, type(None))):
+                raise ValueError("a text is not a text")
+        except (TypeError, ValueError) as exc:
+            raise ResultsError(path, f"array 'output_declarations' holds {entry!r}, not [name, unit, group, "
+                                     f"description] of a known group ({exc})") from None
+        if output.name not in names or output.name in declared:
+            raise ResultsError(path, f"array 'output_declarations' declares {output.name!r} "
+                                     + ("twice" if output.name in declared else "which is not an output of the file"))
+        declared[output.name] = output
+    return declared

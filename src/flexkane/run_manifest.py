@@ -21,12 +21,16 @@ Everything here is plain JSON data (lists, dicts, str, float): loading it import
 
 from __future__ import annotations
 
-import contextlib
+from .model.columns import Output
 
-__all__ = ["MANIFEST_FORMAT", "NUMBER_FIELDS", "manifest_of", "numbers_of", "units"]
+__all__ = ["MANIFEST_FORMAT", "NUMBER_FIELDS", "RUN_OUTPUTS", "manifest_of", "numbers_of", "units"]
 
 #: Layout of the stored manifests and numbers (a change invalidates the stored files).
-MANIFEST_FORMAT = 1
+MANIFEST_FORMAT = 2
+
+#: The outputs a run adds to those of its equations (:func:`flexkane.simulate`), declared.
+RUN_OUTPUTS = (Output("work", None, "J", "energy", "the work of the non-conservative forces"),
+               Output("energy_balance", None, "J", "energy", "the energy balance E - E0 - work"))
 
 #: The fields of the numbers of a model, each computed on demand by :func:`numbers_of`.
 NUMBER_FIELDS = ("p", "y0", "checks")
@@ -44,7 +48,8 @@ def manifest_of(eom) -> dict:
     dict
         ``coordinates`` (names of every coordinate of the chain, driven ones too, in state order),
         ``state_names`` (coordinates then speeds of the state), ``nq``, ``constant_names`` (the
-        order of p), ``units`` (column name to unit, :func:`units`) and ``spins``
+        order of p), ``units`` (column name to unit, :func:`units`), ``outputs`` (the declaration of
+        every output, :meth:`flexkane.model.columns.Output.to_json`) and ``spins``
         (beams whose spin is checked, :func:`flexkane.validity.spin_expressions`).
     """
     from .validity import spin_expressions
@@ -53,7 +58,8 @@ def manifest_of(eom) -> dict:
             "coordinates": [c.q.name for c in eom.chain.coordinates],
             "state_names": list(eom.state_names), "nq": len(eom.q),
             "constant_names": [s.name for s in eom.constants],
-            "units": units(eom), "spins": list(spin_expressions(eom))}
+            "units": units(eom), "outputs": [o.to_json() for o in eom.output_declarations],
+            "spins": list(spin_expressions(eom))}
 
 
 def numbers_of(eom, model, fields, spins) -> dict:
@@ -94,93 +100,24 @@ def numbers_of(eom, model, fields, spins) -> dict:
     return out
 
 
-def _sensor_unit(eom, name: str) -> str:
-    """Unit of a sensor (:data:`flexkane.model.signals.SENSOR_UNITS`; m and m/s on a prismatic joint)."""
-    from .model.signals import SENSOR_UNITS
-
-    sensor = eom.model.sensors[name]
-    if sensor.type in ("joint_angle", "joint_rate") and eom.model.joints[sensor.joint].type == "prismatic":
-        return "m" if sensor.type == "joint_angle" else "m/s"
-    return SENSOR_UNITS[sensor.type]
-
-
-def _controller_units(eom, known: dict) -> dict[str, str]:
-    """Units of the controller states and outputs (by name), where the model fixes them.
-
-    A controller state has the unit of its rate times s, an output the unit of its expression and
-    of the efforts it feeds (:func:`flexkane.model.parameter_units.inferred_units`,
-    from the units of the coordinates, speeds and sensors in ``known``): the integral of an angle
-    error [rad] is in rad s. A state or output whose unit no expression fixes is left out.
-    """
-    from .expression_syntax import NeedsSymbolic, expression_names
-    from .model.parameter_units import field_values, inferred_units
-    from .model.signals import effort_fields
-
-    model = eom.model
-    equal, names = [], set(model.parameters)
-    for ctrl in model.controllers.values():
-        names.update(ctrl.states)
-        equal += [(state, rate, True) for state, rate in ctrl.states.items()]
-        if ctrl.output is not None:
-            names.add(ctrl.name)
-            equal.append((ctrl.name, ctrl.output, False))   # not its bounds: numbers of one model, not structure
-    if not equal:
-        return {}
-    # the efforts that use signals: their texts are structure, as are the controllers' (a manifest
-    # serves every model of a structure, so no number of one model may decide a unit)
-    efforts = set()
-    for path, value in effort_fields(model):
-        with contextlib.suppress(NeedsSymbolic):
-            if isinstance(value, str) and expression_names(value) - set(model.parameters) - {"t"}:
-                efforts.add(path)
-    fields = {path: field for path, field in field_values(model).items() if path in efforts}
-    found = inferred_units(fields, names, known=known, equal=equal)
-    out = {}
-    for ctrl in model.controllers.values():
-        out.update({state: found[state] for state in ctrl.states if state in found})
-        if ctrl.output is not None and ctrl.name in found:
-            out[f"controller_{ctrl.name}"] = found[ctrl.name]
-    return out
-
-
 def units(eom) -> dict[str, str]:
-    """Unit of every state variable and output, by name (a controller's state or output only where
-    the model fixes it, :func:`_controller_units`)."""
+    """Unit of every state variable and output, by name: the coordinates' and speeds' by their roles,
+    the controller states' where the model fixes them (:func:`flexkane.model.signal_units.controller_units`),
+    the outputs' as declared where they are made (:attr:`EquationsOfMotion.output_declarations`; a
+    controller's output only where the model fixes it), and ``work`` and ``energy_balance`` of a run [J]."""
     from .model.coordinates import coordinate_unit, speed_unit
+    from .model.signal_units import controller_units, sensor_unit
 
     out = {}
     for c in eom.chain.coordinates:
         out[c.q.name] = coordinate_unit(c.role)
         if c.u is not None:
             out[c.u.name] = speed_unit(c.role)
-    for name in eom.output_names:
-        if name.startswith(("x_", "y_", "z_", "tip_")):
-            out[name] = "m"
-        elif name.startswith(("theta_", "yaw_", "pitch_", "roll_", "twist_", "slope_")):
-            out[name] = "rad"
-        elif name.startswith(("e0_", "e1_", "e2_", "e3_", "quaternion_norm_")):
-            out[name] = "-"
-        elif name in ("H_x", "H_y", "H_z"):
-            out[name] = "kg m^2/s"
-        elif name in ("kinetic", "potential_gravity", "strain", "potential_springs", "energy"):
-            out[name] = "J"
-        elif name.startswith("effort_"):
-            joint = name[len("effort_"):]
-            role = eom.chain.of(joint)[0].role
-            out[name] = "N m" if role == "angle" else "N"
-        elif name == "power_nonconservative":
-            out[name] = "W"
-        elif name.startswith("load_"):
-            out[name] = "N m" if name.endswith(("_torque", "_tx", "_ty", "_tz")) else "N"   # 3D: _tx .. _tz
-        elif name.startswith("sensor_"):
-            out[name] = _sensor_unit(eom, name[len("sensor_"):])
-        elif name in ("p_x", "p_y", "p_z"):
-            out[name] = "kg m/s"
-        elif name in ("h_o", "h_cm"):
-            out[name] = "kg m^2/s"
-    out["work"] = out["energy_balance"] = "J"
-    if eom.model.controllers:
-        known = {name: unit for name, unit in out.items() if not name.startswith("sensor_")}
-        known.update({name[len("sensor_"):]: unit for name, unit in out.items() if name.startswith("sensor_")})
-        out.update(_controller_units(eom, known))
+    known = dict(out)
+    out.update((o.name, o.unit) for o in eom.output_declarations if o.unit is not None)
+    out.update((o.name, o.unit) for o in RUN_OUTPUTS)
+    if any(ctrl.states for ctrl in eom.model.controllers.values()):
+        known.update((name, sensor_unit(eom.model, name)) for name in eom.model.sensors)
+        states = {state for ctrl in eom.model.controllers.values() for state in ctrl.states}
+        out.update((name, unit) for name, unit in controller_units(eom.model, known).items() if name in states)
     return out

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import contextlib
 import time
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,9 +24,10 @@ import numpy as np
 from ._version import __version__
 from .errors import ModelError
 from .model import Model, dumps_model
-from .model.columns import ColumnTable
+from .model.columns import Output, Outputs
 from .model.validate import MAX_OUTPUT_ROWS, check_output_grid
 from .results import Results
+from .run_manifest import RUN_OUTPUTS
 
 __all__ = ["COMPILING_MESSAGE", "CompiledModel", "compile_model", "simulate", "output_grid", "output_times",
            "INTEGRATORS_MESSAGE", "initial_state_vector"]
@@ -408,20 +410,27 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
         t, state = t[keep[:n_valid]], state[keep[:n_valid]]
         n_valid = len(t)
     # the compiled outputs (u' of the outputs that need it from the compiled rhs, row by row)
+    declared = [Output.from_json(d) for d in manifest["outputs"]]
+    if control is not None:   # the efforts of the controller by channel (input_effort_<joint> ...)
+        from .kane.inputs import input_channels
+
+        declared += [Output(c.name, None, c.unit, "input", f"the controller's input to {c.path}")
+                     for c in input_channels(model)]
     with np.errstate(all="ignore"):
-        outputs = ColumnTable({k: np.array(v, dtype=float) for k, v in evaluate_outputs(compiled.module, t, state,
-                                                                                            p).items()}
-                              if control is None else control.outputs(t, state, p))   # work: a name of its own
+        values = evaluate_outputs(compiled.module, t, state, p) if control is None else control.outputs(t, state, p)
+        outputs = Outputs.of(declared, {k: np.array(v, dtype=float) for k, v in values.items()})
+
         spins = evaluate_outputs(compiled.module, t, state, p, name="spin_rates") \
             if hasattr(compiled.module, "spin_rates") else {}
     if "energy" in outputs:
         # work of the non-conservative forces, integrated with the motion (0 for a conservative
         # model), and the balance E - E0 - W, which only the solver's error keeps from 0
-        work = quadratures.get("work", np.zeros(n_valid))
-        outputs["work"] = np.array(work, dtype=float)
+        work = np.array(quadratures.get("work", np.zeros(n_valid)), dtype=float)
         energy = outputs["energy"]
         with np.errstate(invalid="ignore"):   # a diverged run: inf - inf is NaN, as it should be
-            outputs["energy_balance"] = energy - energy[:1] - outputs["work"] if n_valid else np.zeros(0)
+            balance = energy - energy[:1] - work if n_valid else np.zeros(0)
+        for declaration, value in zip(RUN_OUTPUTS, (work, balance)):   # work: a name of its own
+            outputs.put(dataclasses.replace(declaration, value=value))
     # timing fields (wall_time, compile_time) are the only ones that depend on the machine
     solver = {"method": result.method, "rtol": rtol, "atol": atol, "status": result.status.name.lower(),
               "message": result.message, "nfev": int(result.nfev), "nsteps": int(result.nsteps),
@@ -441,6 +450,8 @@ def simulate(compiled: CompiledModel, *, t_end: float | None = None, dt_out: flo
 
         warnings = initial_values(model).warnings + warnings
     return Results(t=t, state=state, state_names=list(state_names), outputs=dict(outputs),
+                   declared={o.name: o for o in outputs.declarations()},
+                   state_units={n: manifest["units"][n] for n in state_names if n in manifest["units"]},
                    model_text=dumps_model(model),
                    parameters=dict(zip(manifest["constant_names"], numbers["p"])),
                    solver=solver, partial=partial, warnings=warnings)

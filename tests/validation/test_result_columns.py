@@ -13,7 +13,7 @@ from flexkane.builtin import builtin_names
 from flexkane.errors import ModelError, ResultsError
 from flexkane.kane.equations import derive
 from flexkane.model import columns
-from flexkane.model.columns import ColumnTable, DuplicateColumnError, result_columns
+from flexkane.model.columns import DuplicateColumnError, Output, Outputs, result_columns
 from flexkane.model.coordinates import coordinate_names
 from flexkane.results import Results
 
@@ -142,16 +142,15 @@ def test_outputs_made_twice_are_an_internal_error_not_an_overwrite(monkeypatch):
         derive(model)
 
 
-def test_a_column_table_sets_each_name_once_and_replaces_only_on_purpose():
-    table = ColumnTable(a=1)
-    with pytest.raises(DuplicateColumnError):
-        table["a"] = 2
-    with pytest.raises(DuplicateColumnError):
-        table.update({"b": 1, "a": 3})
+def test_an_output_collection_adds_each_name_once_and_replaces_only_on_purpose():
+    table = Outputs([Output("a", 1, "m", "tip", "deflection of a")])
+    with pytest.raises(DuplicateColumnError, match=r"'a' was made twice, as deflection of a \[m\] and as the "
+                                                    r"total energy \[J\]"):
+        table.add("a", 2, "J", "energy", "the total energy")
     table.replace("a", 4)
     with pytest.raises(DuplicateColumnError):
         table.replace("c", 1)
-    assert dict(table) == {"a": 4, "b": 1}
+    assert dict(table) == {"a": 4} and table.output("a").unit == "m" and table.output("a").group == "tip"
 
 
 def test_results_with_a_state_and_an_output_of_one_name_are_refused(tmp_path):

@@ -49,21 +49,19 @@ _SAFE_NAME = re.compile(r"[^0-9A-Za-z_]")
 #: Descriptive text of a MAT-file's header (116 bytes), written instead of scipy's, which ends with the time.
 _MAT_HEADER = b"MATLAB 5.0 MAT-file, written by flexkane".ljust(116, b" ")
 
-#: Outputs of the equations that are not outputs of a linear model: energies and power are
-#: quadratic (their first-order change at an equilibrium says nothing), momenta are integrals of the
-#: motion rather than measurements (and their Jacobians cost as much as the rest of a large model's).
-NONLINEAR_OUTPUTS = ("kinetic", "potential_gravity", "strain", "potential_springs", "energy",
-                     "power_nonconservative", "p_x", "p_y", "h_o", "h_cm")
+#: Groups of outputs (:data:`flexkane.model.columns.GROUPS`) that are not outputs of a linear model:
+#: energies and power are quadratic (their first-order change at an equilibrium says nothing),
+#: momenta are integrals of the motion rather than measurements (and their Jacobians cost as much as
+#: the rest of a large model's), the loop constraints' residuals and the dependent speeds of closed
+#: loops are not outputs of the reduced linear model.
+NONLINEAR_GROUPS = ("energy", "power", "momentum", "angular_momentum", "constraint", "dependent_speed")
 
 
 def linear_outputs(eom) -> list[str]:
     """Names of the outputs of the linear model of ``eom``: its outputs in their order (positions,
-    angles, tip deflections, drivers' efforts ...), but the energies, power and momenta
-    (:data:`NONLINEAR_OUTPUTS`), the loop constraints (``constraint_*``) and the dependent speeds of
-    closed loops."""
-    dependent = {u.name for u in getattr(eom, "dependent_speeds", {})}
-    return [k for k in eom.output_names
-            if k not in NONLINEAR_OUTPUTS and not k.startswith("constraint_") and k not in dependent]
+    angles, tip deflections, drivers' efforts ...), but those of the groups :data:`NONLINEAR_GROUPS`
+    (energies, power, momenta, the loop constraints and the dependent speeds of closed loops)."""
+    return [d.name for d in eom.output_declarations if d.group not in NONLINEAR_GROUPS]
 
 
 @dataclass

@@ -105,7 +105,12 @@ def control_signals(kin: Kinematics) -> dict:
     return sensors
 
 
-def signal_outputs(eom) -> dict:
+def effort_unit(chain, owner: str) -> str:
+    """Unit of the generalized force on the first coordinate of joint ``owner``: N m on an angle, else N."""
+    return "N m" if chain.of(owner)[0].role == "angle" else "N"
+
+
+def signal_outputs(eom) -> list:
     """The output columns of the efforts, sensors and controllers of derived equations.
 
     ``effort_<joint>`` [N m or N]: the actuator torque or force of each joint that has one (planar,
@@ -122,29 +127,49 @@ def signal_outputs(eom) -> dict:
 
     Returns
     -------
-    dict of str to sympy.Expr
+    list of Output
+        Each declared with its unit and group (:class:`~flexkane.model.columns.Output`).
     """
+    from ..model.columns import Output
+    from ..model.coordinates import coordinate_unit, speed_unit
+    from ..model.signal_units import controller_units, sensor_unit
+
     chain = eom.chain
     model = chain.model
     symbols = chain.symbols
-    out = {}
+    out = []
     for joint in chain.joints:
         if joint.torque is not None:
-            out[f"effort_{joint.name}"] = symbols.effort(f"joints.{joint.name}.torque", joint.torque)
+            out.append(Output(f"effort_{joint.name}", symbols.effort(f"joints.{joint.name}.torque", joint.torque),
+                              effort_unit(chain, joint.name), "actuator",
+                              f"the actuator's torque or force on joint {joint.name!r}"))
     axes = "xyz"[:chain.dimensions]
     for load in model.loads.values():
         path = f"loads.{load.name}"
         if load.force is not None:
             for k, axis in enumerate(axes):
-                out[f"load_{load.name}_f{axis}"] = symbols.effort(f"{path}.force[{k}]", load.force[k])
+                out.append(Output(f"load_{load.name}_f{axis}", symbols.effort(f"{path}.force[{k}]", load.force[k]),
+                                  "N", "load", f"the force of load {load.name!r} along its frame's {axis}"))
         if load.torque is not None and chain.dimensions == 3:
             for k, axis in enumerate(axes):
-                out[f"load_{load.name}_t{axis}"] = symbols.effort(f"{path}.torque[{k}]", load.torque[k])
+                out.append(Output(f"load_{load.name}_t{axis}",
+                                  symbols.effort(f"{path}.torque[{k}]", load.torque[k]), "N m", "load",
+                                  f"the torque of load {load.name!r} about its frame's {axis}"))
         elif load.torque is not None:
-            out[f"load_{load.name}_torque"] = symbols.effort(f"{path}.torque", load.torque)
+            out.append(Output(f"load_{load.name}_torque", symbols.effort(f"{path}.torque", load.torque), "N m",
+                              "load", f"the torque of load {load.name!r}"))
     for name, value in getattr(chain, "sensors", {}).items():
-        out[f"sensor_{name}"] = value
-    for ctrl in model.controllers.values():
-        if ctrl.output is not None:
-            out[f"controller_{ctrl.name}"] = symbols.signals[ctrl.name]
+        out.append(Output(f"sensor_{name}", value, sensor_unit(model, name), "sensor", f"sensor {name!r}"))
+    if any(ctrl.output is not None for ctrl in model.controllers.values()):
+        known = {name: sensor_unit(model, name) for name in getattr(chain, "sensors", {})}
+        for c in chain.coordinates:
+            known[c.q.name] = coordinate_unit(c.role)
+            if c.u is not None:
+                known[c.u.name] = speed_unit(c.role)
+        units = controller_units(model, known)
+        for ctrl in model.controllers.values():
+            if ctrl.output is not None:
+                name = f"controller_{ctrl.name}"
+                out.append(Output(name, symbols.signals[ctrl.name], units.get(name), "controller",
+                                  f"the output of controller {ctrl.name!r}, saturated"))
     return out

@@ -197,10 +197,11 @@ class EquationsOfMotion:
                     + sum((Mfull[d, e] * a for e, a in zip(driven, ud_driven) if e != d), sp.Integer(0))
                     + inertia.remainder[d] - F_total[d])
             efforts[speed_coords[d].owner] = sub(expr)
-        outputs = {k: sub(v) for k, v in self._output_expressions(efforts).items()}
+        outputs = self._output_expressions(efforts).map(sub)    # declared outputs (model.columns)
         for u_d, (C, _) in coupling.items():    # the driver's force on the speeds its law reads
             effort = efforts[next(c.owner for c in speed_coords if c.u == u_d)]
-            outputs["power_nonconservative"] -= effort * sp.Add(*[c * u for c, u in zip(C, u_free)])
+            outputs.replace("power_nonconservative",
+                            outputs["power_nonconservative"] - effort * sp.Add(*[c * u for c, u in zip(C, u_free)]))
         loops = None
         if chain.model.constraints:     # closed loops: dependent speeds (kane.loop_reduction)
             cons = loop_constraints(kin)    # before the numbers: it names the constants of its ends
@@ -212,6 +213,8 @@ class EquationsOfMotion:
             efforts, outputs = loops.driver_efforts, loops.outputs
         # each attribute set once, from the equations over the free speeds or the loops' reduction
         self.mass_matrix, self.forcing, self.qdot, self.zdot, self.outputs = M, forcing, qdot, zdot, outputs
+        #: every output's name, unit, group and description, in order (:class:`~flexkane.model.columns.Output`)
+        self.output_declarations = outputs.declarations()
         self.u = list(loops.u) if loops else u_free
         self.ud = [chain.ud[u] for u in self.u]
         #: generalized force each driver supplies [N m or N], as expressions of q, u, u', t

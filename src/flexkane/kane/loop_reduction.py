@@ -24,7 +24,8 @@ import numpy as np
 import sympy as sp
 
 from ..expressions import bounded_expand
-from ..model.columns import ColumnTable
+from ..model.columns import Outputs, constraint_residual_units
+from ..model.coordinates import speed_unit
 from .chain import BEAM_ROLES
 from .constraints import ConstraintSet, choose_dependent
 from .speed_reduction import dependent_speed_reduction
@@ -73,14 +74,14 @@ class LoopReduction:
     u: tuple
     dependent_speeds: dict
     driver_efforts: dict
-    outputs: dict
+    outputs: Outputs
     dependent_coordinates: tuple
     phi: tuple
     constraint_set: ConstraintSet
 
 
 def reduce_by_loops(chain, constraints: ConstraintSet, mass_matrix: sp.Matrix, forcing: sp.Matrix, qdot: sp.Matrix,
-                    zdot: sp.Matrix, u: list, q: list, driver_efforts: dict, outputs: dict,
+                    zdot: sp.Matrix, u: list, q: list, driver_efforts: dict, outputs: Outputs,
                     sub: Callable, at: dict, power: Callable) -> LoopReduction:
     """Kane's equations in the independent speeds of a chain with loop joints (eq. 8.36 with the
     partial velocities of the dependent-speed reduction).
@@ -104,8 +105,8 @@ def reduce_by_loops(chain, constraints: ConstraintSet, mass_matrix: sp.Matrix, f
         The state coordinates.
     driver_efforts : dict of str to sympy.Expr
         Joint -> its driver's generalized force without the constraint forces [N m or N].
-    outputs : dict of str to sympy.Expr
-        The outputs over the free speeds.
+    outputs : Outputs
+        The outputs over the free speeds (:class:`~flexkane.model.columns.Outputs`).
     sub : callable
         Substitution of the drivers' laws (expression -> expression).
     at : dict of sympy.Symbol to float
@@ -184,15 +185,17 @@ def reduce_by_loops(chain, constraints: ConstraintSet, mass_matrix: sp.Matrix, f
         column = sp.Matrix([sub(chain.partial(g, coord.u)) for g in g_raw])
         efforts[owner] = effort - (column.T * lam)[0]
     M_reduced, f_reduced = dependent_speed_reduction(mass_matrix, forcing, P, e)
-    out = ColumnTable(outputs)     # each name once (flexkane.model.columns)
+    out = outputs.copy()     # each name once (flexkane.model.columns)
     for owner, effort in efforts.items():
         out.replace(f"effort_{owner}", effort)
     out.replace("power_nonconservative", power(efforts))
-    out = ColumnTable({k: v.xreplace(ud_subs).xreplace(dep_subs) for k, v in out.items()})
-    for name, ph in zip(cons.names, phi):
-        out[f"constraint_{name}"] = ph
+    out = out.map(lambda v: v.xreplace(ud_subs).xreplace(dep_subs))
+    units = [unit for con in chain.model.constraints.values()
+             for unit in constraint_residual_units(con, chain.dimensions)]
+    for name, ph, unit in zip(cons.names, phi, units, strict=True):
+        out.add(f"constraint_{name}", ph, unit, "constraint", f"residual {name} of a loop constraint")
     for s, expr in dep_subs.items():
-        out[s.name] = expr
+        out.add(s.name, expr, speed_unit(roles[s]), "dependent_speed", f"the dependent speed {s.name}")
     return LoopReduction(
         mass_matrix=M_reduced.applyfunc(lambda x: x.xreplace(dep_subs)),
         forcing=f_reduced.applyfunc(lambda x: x.xreplace(dep_subs)),

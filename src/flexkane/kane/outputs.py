@@ -32,11 +32,11 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ..model.columns import ColumnTable
+from ..model.columns import Outputs
 from .active import gravity_vector, moving_rest
-from .controllers import signal_outputs
 from .kinematics import rot
 from .modal_field import ONE
+from .system_outputs import energy_outputs, power_and_efforts
 
 __all__ = ["output_expressions"]
 
@@ -45,12 +45,13 @@ def _cross(a, b):
     return a[0] * b[1] - a[1] * b[0]
 
 
-def output_expressions(eom) -> dict:
-    """Output expressions of an :class:`~flexkane.kane.equations.EquationsOfMotion` (unsubstituted)."""
+def output_expressions(eom) -> Outputs:
+    """Output expressions of an :class:`~flexkane.kane.equations.EquationsOfMotion` (unsubstituted),
+    each declared with its unit and group (:class:`~flexkane.model.columns.Outputs`)."""
     kin = eom.kinematics
     chain = eom.chain
     model = chain.model
-    out = ColumnTable()    # each name once (flexkane.model.columns)
+    out = Outputs()    # each name once (flexkane.model.columns)
     kinetic = []
     mass_total = []
     first_moment = [[], []]
@@ -68,7 +69,7 @@ def output_expressions(eom) -> dict:
             first_moment[k].append(m * frame.r[k])
             momentum[k].append(m * vN[k])
         h_origin.append(inertia * frame.omega + m * _cross(frame.r, vN))
-        out[f"x_{name}"], out[f"y_{name}"], out[f"theta_{name}"] = frame.r[0], frame.r[1], frame.theta
+        _frame_outputs(out, name, frame, f"body {name!r}'s mass centre")
     strain = []
     for name, bm in kin.beams.items():
         c = bm.constants
@@ -91,10 +92,11 @@ def output_expressions(eom) -> dict:
         if bm.rotation is not None:   # the sections' own rotation (Rayleigh beam)
             kinetic.append(c.rotary_integrate(bm.rotation, bm.rotation) / 2)
             h_origin.append(c.rotary_integrate1(bm.rotation))
-        out[f"x_{name}"], out[f"y_{name}"], out[f"theta_{name}"] = fr.r[0], fr.r[1], fr.theta
+        _frame_outputs(out, name, fr, f"beam {name!r}'s root")
         L = kin.value(f"beams.{name}.L", bm.beam.L, f"L_{name}")
         text = bm.beam.L.strip() if isinstance(bm.beam.L, str) else repr(bm.beam.L)
-        out[f"tip_{name}"] = bm.Y.evaluate(lambda a: c.station(a, L, text))
+        out.add(f"tip_{name}", bm.Y.evaluate(lambda a: c.station(a, L, text)), "m", "tip",
+                f"deflection of beam {name!r}'s tip in the beam frame")
         modes = chain.beam_modes(name)
         strain.append(sp.Add(*[c.stiffness(i + 1, j + 1) * qi * qj * (1 if i == j else 2)
                                for i, qi in enumerate(modes) for j, qj in enumerate(modes) if j >= i]) / 2)
@@ -102,12 +104,13 @@ def output_expressions(eom) -> dict:
         strain.append(sp.Add(*[c.axial_stiffness(k + 1, l + 1) * sk * sl * (1 if k == l else 2)
                                for k, sk in enumerate(axial) for l, sl in enumerate(axial) if l >= k]) / 2)
     M = sp.Add(*mass_total)
-    out["x_cm"] = sp.Add(*first_moment[0]) / M
-    out["y_cm"] = sp.Add(*first_moment[1]) / M
-    out["p_x"] = sp.Add(*momentum[0])
-    out["p_y"] = sp.Add(*momentum[1])
-    out["h_o"] = sp.Add(*h_origin)
-    out["h_cm"] = sp.Add(*h_origin) - _cross((out["x_cm"], out["y_cm"]), (out["p_x"], out["p_y"]))
+    cm = [out.add(f"{a}_cm", sp.Add(*first_moment[k]) / M, "m", "position", f"{a} of the system's mass centre")
+          for k, a in enumerate("xy")]
+    p = [out.add(f"p_{a}", sp.Add(*momentum[k]), "kg m/s", "momentum", f"the system's momentum along {a}")
+         for k, a in enumerate("xy")]
+    out.add("h_o", sp.Add(*h_origin), "kg m^2/s", "momentum", "the system's angular momentum about the origin")
+    out.add("h_cm", sp.Add(*h_origin) - _cross(cm, p), "kg m^2/s", "momentum",
+            "the system's angular momentum about its mass centre")
     # ---------------------------------------------------------------- potential energy
     gravity = []
     gvec = gravity_vector(kin)
@@ -144,11 +147,8 @@ def output_expressions(eom) -> dict:
         k = kin.value(f"{path}.stiffness", spring.stiffness, f"k_{spring.name}")
         l0 = kin.value(f"{path}.rest_length", spring.rest_length, f"l0_{spring.name}")
         springs.append(k * (length - l0) ** 2 / 2)
-    out["kinetic"] = sp.Add(*kinetic)
-    out["potential_gravity"] = sp.Add(*gravity)
-    out["strain"] = sp.Add(*strain)
-    out["potential_springs"] = sp.Add(*springs)
-    out["energy"] = out["kinetic"] + out["potential_gravity"] + out["strain"] + out["potential_springs"]
+    energy_outputs(out, kinetic=sp.Add(*kinetic), potential_gravity=sp.Add(*gravity), strain=sp.Add(*strain),
+                   potential_springs=sp.Add(*springs))
     # ---------------------------------------------------------------- power of non-conservative forces
     speeds = chain.u
     power = []
@@ -167,8 +167,13 @@ def output_expressions(eom) -> dict:
     for owner, effort in eom.driver_efforts.items():
         coord = chain.of(owner)[0]
         power.append(effort * coord.u)
-    out["power_nonconservative"] = sp.Add(*power)
-    for owner, effort in eom.driver_efforts.items():
-        out[f"effort_{owner}"] = effort
-    out.update(signal_outputs(eom))    # efforts, loads, sensors, controllers (flexkane.kane.controllers)
+    power_and_efforts(out, eom, sp.Add(*power))
     return out
+
+
+def _frame_outputs(out: Outputs, name: str, frame, where: str) -> None:
+    """``x_<name>``, ``y_<name>`` [m] of ``where`` and ``theta_<name>`` [rad], the frame's angle."""
+    for k, axis in enumerate("xy"):
+        out.add(f"{axis}_{name}", frame.r[k], "m", "position", f"{axis} of {where}")
+    out.add(f"theta_{name}", frame.theta, "rad", "frame_angle", f"angle of {name!r}'s frame")
+

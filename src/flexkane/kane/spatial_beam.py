@@ -33,6 +33,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from ..model.columns import Output
 from ..model.parts import nonzero_field
 from .chain import BEAM_ROLES
 from .modal_field import ONE, X, Field, cross3, dfs, dphi, phi, psi, rigid, theta, vec3, vec3_map
@@ -288,8 +289,8 @@ def strain_energy(kin, name: str) -> sp.Expr:
     return sp.Add(*out)
 
 
-def tip_outputs(kin, name: str) -> dict:
-    """Deformation of a beam's tip section, by output name [m or rad].
+def tip_outputs(kin, name: str) -> list:
+    """Deformation of a beam's tip section, as outputs (:class:`~flexkane.model.columns.Output`) [m or rad].
 
     ``tip_<b>_y = v(L) = sum_i Phi^y_i(L) q_yi`` and ``tip_<b>_z = w(L)`` [m]: the tip's deflections
     along the section's principal axes y_p and z_p (in the beam frame's y and z when
@@ -302,16 +303,20 @@ def tip_outputs(kin, name: str) -> dict:
     k = kin.beams[name].constants
     L = kin.value(f"beams.{name}.L", beam.L, f"L_{name}")
     text = beam.L.strip() if isinstance(beam.L, str) else repr(beam.L)
-    out = {}
+    out = []
     for label in ("y", "z"):
         coords = chain.of(name, f"mode_{label}")
         if coords:
-            out[f"tip_{name}_{label}"] = sp.Add(*[k.station(phi(c.index, label), L, text) * c.q for c in coords])
-            out[f"slope_{name}_{label}"] = sp.Add(*[k.station(phi(c.index, label), L, text, 1) * c.q
-                                                    for c in coords])
+            out.append(Output(f"tip_{name}_{label}",
+                              sp.Add(*[k.station(phi(c.index, label), L, text) * c.q for c in coords]), "m", "tip",
+                              f"deflection of beam {name!r}'s tip along the section's principal axis {label}"))
+            out.append(Output(f"slope_{name}_{label}",
+                              sp.Add(*[k.station(phi(c.index, label), L, text, 1) * c.q for c in coords]), "rad",
+                              "slope", f"slope of beam {name!r}'s tip along the section's principal axis {label}"))
     coords = chain.of(name, "torsion")
     if coords:
-        out[f"twist_{name}"] = sp.Add(*[k.station(theta(c.index), L, text) * c.q for c in coords])
+        out.append(Output(f"twist_{name}", sp.Add(*[k.station(theta(c.index), L, text) * c.q for c in coords]),
+                          "rad", "twist", f"twist of beam {name!r}'s tip section"))
     return out
 
 

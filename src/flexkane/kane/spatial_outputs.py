@@ -26,23 +26,24 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ..model.columns import ColumnTable
+from ..model.columns import Outputs
 from .active import moving_rest
-from .controllers import signal_outputs
 from .rotation import yaw_pitch_roll
 from .spatial_active import joint_coordinate_values, spatial_gravity_vector
 from .spatial_beam import beam_outputs, tip_outputs
 from .spatial_frame import add, cross, dot
+from .system_outputs import energy_outputs, power_and_efforts
 
 __all__ = ["spatial_output_expressions"]
 
 
-def spatial_output_expressions(eom) -> dict:
-    """Output expressions of spatial :class:`~flexkane.kane.equations.EquationsOfMotion`."""
+def spatial_output_expressions(eom) -> Outputs:
+    """Output expressions of spatial :class:`~flexkane.kane.equations.EquationsOfMotion`, each declared
+    with its unit and group (:class:`~flexkane.model.columns.Outputs`)."""
     kin = eom.kinematics
     chain = eom.chain
     model = chain.model
-    out = ColumnTable()    # each name once (flexkane.model.columns)
+    out = Outputs()    # each name once (flexkane.model.columns)
     kinetic, masses = [], []
     first = (sp.Integer(0),) * 3
     momentum = (sp.Integer(0),) * 3
@@ -57,19 +58,15 @@ def spatial_output_expressions(eom) -> dict:
         first = add(first, tuple(m * c for c in frame.r))
         momentum = add(momentum, tuple(m * c for c in vN))
         h_origin = add(h_origin, add(cross(frame.r, tuple(m * c for c in vN)), frame.rotation.apply(Iw)))
-        for axis, c in zip("xyz", frame.r):
-            out[f"{axis}_{name}"] = c
-        for k, c in enumerate(frame.rotation.quaternion):
-            out[f"e{k}_{name}"] = c
-        out[f"yaw_{name}"], out[f"pitch_{name}"], out[f"roll_{name}"] = yaw_pitch_roll(frame.R)
+        _frame_outputs(out, name, frame, f"body {name!r}'s mass centre")
+        for angle, c in zip(("yaw", "pitch", "roll"), yaw_pitch_roll(frame.R)):
+            out.add(f"{angle}_{name}", c, "rad", "attitude", f"the {angle} of body {name!r} (3-2-1 angles in N)")
     beam_parts = {name: beam_outputs(kin, name, spatial_gravity_vector(kin)) for name in kin.beams}
     for name in kin.beams:
-        out.update(tip_outputs(kin, name))
+        for output in tip_outputs(kin, name):
+            out.put(output)
         root = kin.beams[name].frame          # the beam frame at the root: drawn by the 3D animation
-        for axis, c in zip("xyz", root.r):
-            out[f"{axis}_{name}"] = c
-        for k, c in enumerate(root.rotation.quaternion):
-            out[f"e{k}_{name}"] = c
+        _frame_outputs(out, name, root, f"beam {name!r}'s root")
     for part in beam_parts.values():
         kinetic.append(part["kinetic"])
         masses.append(part["mass"])
@@ -79,14 +76,16 @@ def spatial_output_expressions(eom) -> dict:
     M = sp.Add(*masses)
     cm = tuple(c / M for c in first)
     for axis, c, p in zip("xyz", cm, momentum):
-        out[f"{axis}_cm"] = c
-        out[f"p_{axis}"] = p
+        out.add(f"{axis}_cm", c, "m", "position", f"{axis} of the system's mass centre")
+        out.add(f"p_{axis}", p, "kg m/s", "momentum", f"the system's momentum along {axis}")
     for axis, c in zip("xyz", tuple(h - x for h, x in zip(h_origin, cross(cm, momentum)))):
-        out[f"H_{axis}"] = c
+        out.add(f"H_{axis}", c, "kg m^2/s", "angular_momentum",
+                f"the system's angular momentum about its mass centre along {axis}")
     for joint in chain.joints:
         if joint.type in ("spherical", "free"):
             e = [c.q for c in chain.joint_coordinates(joint.name)][-4:]
-            out[f"quaternion_norm_{joint.name}"] = sp.Add(*[x ** 2 for x in e]) - 1
+            out.add(f"quaternion_norm_{joint.name}", sp.Add(*[x ** 2 for x in e]) - 1, "-", "quaternion_norm",
+                    f"the norm of joint {joint.name!r}'s Euler parameters minus 1")
     # ---------------------------------------------------------------- potential energy
     gravity = []
     g = spatial_gravity_vector(kin)
@@ -117,11 +116,9 @@ def spatial_output_expressions(eom) -> dict:
         k = kin.value(f"{path}.stiffness", spring.stiffness, f"k_{spring.name}")
         l0 = kin.value(f"{path}.rest_length", spring.rest_length, f"l0_{spring.name}")
         point_springs.append(k * (sp.sqrt(dot(d, d)) - l0) ** 2 / 2)
-    out["kinetic"] = sp.Add(*kinetic)
-    out["potential_gravity"] = sp.Add(*gravity)
-    out["strain"] = sp.Add(*[part["strain"] for part in beam_parts.values()])
-    out["potential_springs"] = sp.Add(*springs, *point_springs)
-    out["energy"] = out["kinetic"] + out["potential_gravity"] + out["strain"] + out["potential_springs"]
+    energy_outputs(out, kinetic=sp.Add(*kinetic), potential_gravity=sp.Add(*gravity),
+                   strain=sp.Add(*[part["strain"] for part in beam_parts.values()]),
+                   potential_springs=sp.Add(*springs, *point_springs))
     # ---------------------------------------------------------------- power of non-conservative forces
     speeds = chain.u
     for kind in ("damping", "loads"):
@@ -131,8 +128,14 @@ def spatial_output_expressions(eom) -> dict:
                      + chain.dt(sp.Add(*point_springs)))
     for owner, effort in eom.driver_efforts.items():
         power.append(effort * chain.joint_coordinates(owner)[0].u)
-    out["power_nonconservative"] = sp.Add(*power)
-    for owner, effort in eom.driver_efforts.items():
-        out[f"effort_{owner}"] = effort
-    out.update(signal_outputs(eom))    # efforts, loads, sensors, controllers (flexkane.kane.controllers)
+    power_and_efforts(out, eom, sp.Add(*power))
     return out
+
+
+def _frame_outputs(out: Outputs, name: str, frame, where: str) -> None:
+    """``x_, y_, z_<name>`` [m] of ``where`` in N and the Euler parameters ``e0_ .. e3_<name>`` [-] of
+    the frame in N."""
+    for axis, c in zip("xyz", frame.r):
+        out.add(f"{axis}_{name}", c, "m", "position", f"{axis} of {where}")
+    for k, c in enumerate(frame.rotation.quaternion):
+        out.add(f"e{k}_{name}", c, "-", "orientation", f"Euler parameter e{k} of {name!r}'s frame in N")

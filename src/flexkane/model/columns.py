@@ -11,16 +11,26 @@ columns: a controller state ``energy`` or a body ``cm`` (``x_cm``) would replace
 :func:`result_columns` names every column from the model's structure alone (no derivation) and
 refuses a model whose names collide, with a :class:`~flexkane.errors.ModelError` naming the field
 that gives the second name, what the name already is and the name given. The validation calls it, so
-``flexkane check`` refuses such a model; :class:`ColumnTable` is the guard where the outputs are
-assembled: a name made twice there is an internal error, never a silent overwrite.
+``flexkane check`` refuses such a model.
+
+Each output is declared where it is made, as an :class:`Output`: its name, its value (a SymPy
+expression while the equations are derived, an array along a run), its unit and its group
+(:data:`GROUPS`: tip deflections, efforts, energies ...). An :class:`Outputs` collection holds them
+and refuses a name made twice (an internal error, never a silent overwrite), so the names of a
+run's outputs are unique by construction. The unit lookup, the order of results.csv and the
+grouping of the plots read these declarations.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from dataclasses import dataclass, replace
+
 from ..errors import ModelError
 from .coordinates import BEAM_ROLES
 
-__all__ = ["ColumnTable", "DuplicateColumnError", "result_columns"]
+__all__ = ["Output", "OutputGroup", "Outputs", "GROUPS", "ENERGIES", "DuplicateColumnError", "result_columns",
+           "constraint_residual_units"]
 
 #: Columns of the whole system, by the chain's dimensions, with what each is (for messages).
 _SYSTEM = {
@@ -32,10 +42,12 @@ _SYSTEM = {
         **{f"p_{a}": f"the system's momentum along {a}" for a in "xyz"},
         **{f"H_{a}": f"the system's angular momentum about its mass centre along {a}" for a in "xyz"}},
 }
+#: The energies of a system, in the order of the results, with what each is (their sum is ``energy``).
+ENERGIES = {"kinetic": "the kinetic energy", "potential_gravity": "the potential energy of gravity",
+            "strain": "the strain energy", "potential_springs": "the energy of the springs"}
 #: Energy and work columns of every model.
-_ENERGY = {"kinetic": "the kinetic energy", "potential_gravity": "the potential energy of gravity",
-           "strain": "the strain energy", "potential_springs": "the energy of the springs",
-           "energy": "the total energy", "power_nonconservative": "the power of the non-conservative forces",
+_ENERGY = {**ENERGIES, "energy": "the total energy",
+           "power_nonconservative": "the power of the non-conservative forces",
            "work": "the work of the non-conservative forces", "energy_balance": "the energy balance"}
 #: Number of scalar constraints of a planar loop constraint, by type (spatial: validate_spatial).
 _PLANAR_CONSTRAINT_EQUATIONS = 2
@@ -46,35 +58,194 @@ class DuplicateColumnError(RuntimeError):
     :func:`result_columns` refused every model whose names collide."""
 
 
-class ColumnTable(dict):
-    """Output expressions or arrays by column name, each name set once.
+@dataclass(frozen=True)
+class OutputGroup:
+    """A kind of output: what its columns are and where results.csv writes them.
 
-    ``table[name] = value`` and ``update`` raise :class:`DuplicateColumnError` for a name already
-    present; :meth:`replace` changes the value of a present name on purpose (the loops' reduction
-    corrects the drivers' efforts).
+    Attributes
+    ----------
+    name : str
+        The group's name (an :attr:`Output.group`).
+    what : str
+        What its columns are (for messages and documents).
+    csv : int or None
+        Rank of its columns in results.csv, after the state: the columns of rank 1, then 2, then 3,
+        each rank in the order the columns were made; None: not written to results.csv (results.npz
+        holds every output).
     """
 
-    def __setitem__(self, name, value):
-        if name in self:
-            raise DuplicateColumnError(f"internal error: the output column {name!r} was made twice "
-                                       "(the validation should have refused the model's names)")
-        super().__setitem__(name, value)
+    name: str
+    what: str
+    csv: int | None
 
-    def update(self, *others, **named):
-        for other in (*others, named):
-            for name, value in dict(other).items():
-                self[name] = value
 
-    def setdefault(self, name, value=None):
-        if name not in self:
-            self[name] = value
-        return self[name]
+#: The groups of outputs, by name.
+GROUPS = {g.name: g for g in (
+    OutputGroup("position", "a position in N: mass centre of a body or of the system, root of a beam", None),
+    OutputGroup("frame_angle", "the angle of a planar body's or beam's frame", None),
+    OutputGroup("orientation", "an Euler parameter of a spatial body's or beam's frame in N", None),
+    OutputGroup("attitude", "a 3-2-1 angle (yaw, pitch, roll) of a spatial body's frame in N", 2),
+    OutputGroup("tip", "the deflection of a beam's tip", 1),
+    OutputGroup("slope", "the slope of a spatial beam's tip", None),
+    OutputGroup("twist", "the twist of a spatial beam's tip section", 2),
+    OutputGroup("momentum", "the linear or angular momentum of the system (planar: about the origin or the "
+                            "mass centre)", None),
+    OutputGroup("angular_momentum", "the angular momentum of a spatial system about its mass centre, ground axes",
+                3),
+    OutputGroup("quaternion_norm", "the norm of a joint's Euler parameters minus 1", 2),
+    OutputGroup("energy", "an energy of the system, the work done on it or its energy balance", 3),
+    OutputGroup("power", "the power of the non-conservative forces", None),
+    OutputGroup("effort", "the generalized force of a joint's driver", 1),
+    OutputGroup("actuator", "the torque or force of a joint's actuator (its torque field)", 1),
+    OutputGroup("load", "a component of an applied load, as given", 1),
+    OutputGroup("sensor", "a sensor's reading", 1),
+    OutputGroup("controller", "a controller's output, saturated", 1),
+    OutputGroup("constraint", "the residual of a loop constraint", None),
+    OutputGroup("dependent_speed", "a dependent speed of a closed loop", None),
+    OutputGroup("input", "the effort a controller in the loop gives an input channel", None),
+)}
 
-    def replace(self, name, value) -> None:
-        """Set the value of a column already present."""
-        if name not in self:
+
+@dataclass(frozen=True)
+class Output:
+    """An output of a model, declared where it is made.
+
+    Attributes
+    ----------
+    name : str
+        Its column name in the results.
+    value : object
+        A SymPy expression while the equations are derived, an array (N,) along a run, None in a
+        declaration alone (:meth:`declaration`).
+    unit : str or None
+        Its unit, as the fields write theirs (``"m"``, ``"N m"``, ``"kg m^2/s"``, ``"-"``
+        dimensionless); None only for a controller's output whose unit the model's expressions do
+        not fix (:func:`flexkane.model.signal_units.controller_units`).
+    group : str
+        Its kind, a key of :data:`GROUPS`.
+    description : str
+        What it is, in words.
+    """
+
+    name: str
+    value: object
+    unit: str | None
+    group: str
+    description: str = ""
+
+    def __post_init__(self):
+        if not isinstance(self.name, str) or not self.name:
+            raise ValueError(f"internal error: an output is named {self.name!r}, not a text")
+        if self.group not in GROUPS:
+            raise ValueError(f"internal error: the output {self.name!r} is in the group {self.group!r}, "
+                             f"not one of {', '.join(GROUPS)}")
+        if self.unit is None and self.group != "controller":
+            raise ValueError(f"internal error: the output {self.name!r} ({self.group}) has no unit")
+
+    def declaration(self) -> "Output":
+        """The output without its value: name, unit, group and description."""
+        return replace(self, value=None)
+
+    def to_json(self) -> list:
+        """``[name, unit, group, description]`` (:meth:`from_json` inverts it)."""
+        return [self.name, self.unit, self.group, self.description]
+
+    @classmethod
+    def from_json(cls, data) -> "Output":
+        """The declaration that :meth:`to_json` wrote."""
+        name, unit, group, description = data
+        return cls(name, None, unit, group, description)
+
+    def __str__(self) -> str:
+        unit = "unit not fixed" if self.unit is None else self.unit
+        return f"{self.description or self.group} [{unit}]"
+
+
+class Outputs(Mapping):
+    """Outputs by name, in the order they were made; each name once.
+
+    As a mapping it gives each output's value (``outputs["energy"]``); :meth:`output` gives the
+    whole :class:`Output`. :meth:`add` refuses a name already present with a
+    :class:`DuplicateColumnError` that says what both are; :meth:`replace` changes the value of a
+    present name on purpose (the loops' reduction corrects the drivers' efforts).
+
+    Parameters
+    ----------
+    outputs : iterable of Output, optional
+    """
+
+    def __init__(self, outputs=()):
+        self._outputs: dict[str, Output] = {}
+        for output in outputs:
+            self.put(output)
+
+    def put(self, output: Output) -> None:
+        """Add ``output``; refuse its name if present."""
+        if output.name in self._outputs:
+            raise DuplicateColumnError(
+                f"internal error: the output column {output.name!r} was made twice, as "
+                f"{self._outputs[output.name]} and as {output} (the validation should have refused the "
+                "model's names)")
+        self._outputs[output.name] = output
+
+    def add(self, name: str, value, unit: str | None, group: str, description: str = ""):
+        """Declare and add the output ``name``; return its value."""
+        self.put(Output(name, value, unit, group, description))
+        return value
+
+    def replace(self, name: str, value) -> None:
+        """Set the value of an output already present (its declaration kept)."""
+        if name not in self._outputs:
             raise DuplicateColumnError(f"internal error: the output column {name!r} is replaced but was never made")
-        super().__setitem__(name, value)
+        self._outputs[name] = replace(self._outputs[name], value=value)
+
+    def output(self, name: str) -> Output:
+        """The whole output ``name``."""
+        return self._outputs[name]
+
+    def copy(self) -> "Outputs":
+        """The same outputs in a new collection."""
+        return Outputs(self._outputs.values())
+
+    def map(self, function) -> "Outputs":
+        """The outputs with ``function`` applied to every value, declarations kept."""
+        return Outputs(replace(o, value=function(o.value)) for o in self._outputs.values())
+
+    def declarations(self) -> list[Output]:
+        """Every output without its value, in order."""
+        return [o.declaration() for o in self._outputs.values()]
+
+    @classmethod
+    def of(cls, declarations, values: Mapping) -> "Outputs":
+        """The outputs of ``declarations`` (Output, values ignored) with the values of ``values``
+        (a mapping of every declared name and no other)."""
+        undeclared = set(values) - {d.name for d in declarations}
+        if undeclared:
+            raise RuntimeError(f"internal error: the output column(s) {', '.join(sorted(undeclared))} "
+                               "were made without a declaration")
+        return cls(replace(d, value=values[d.name]) for d in declarations)
+
+    def __getitem__(self, name: str):
+        return self._outputs[name].value
+
+    def __iter__(self):
+        return iter(self._outputs)
+
+    def __len__(self) -> int:
+        return len(self._outputs)
+
+    def __repr__(self) -> str:
+        return f"Outputs({list(self._outputs)})"
+
+
+def constraint_residual_units(con, dims: int) -> list[str]:
+    """Units of the residuals ``constraint_<name>_<k>`` of a loop constraint, in order: a planar
+    revolute closes x and y [m], a planar prismatic a distance and an angle [m, rad]; a spatial
+    spherical closes x, y, z [m], a point on a line two distances [m], a weld x, y, z [m] and the
+    axial vector of the relative orientation's skew part [-] (:mod:`flexkane.kane.spatial_constraints`)."""
+    if dims == 2:
+        return ["m", "m"] if con.type == "revolute" else ["m", "rad"]
+    return {"spherical": ["m"] * 3, "point_on_line": ["m"] * 2, "weld": ["m"] * 3 + ["-"] * 3}[con.type]
 
 
 class _Claims:

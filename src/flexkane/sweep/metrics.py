@@ -84,10 +84,9 @@ def summary_metrics(results) -> dict:
                      "wall_time": float(solver.get("wall_time", math.nan))}
     with np.errstate(all="ignore"):
         metrics["energy_error"], metrics["energy_check"] = energy_error(results)
-        for name, values in results.outputs.items():
-            if name.startswith("tip_"):
-                values = np.asarray(values, dtype=float)
-                metrics[f"max_abs_{name}"] = float(np.abs(values).max()) if values.size else math.nan
+        for name in results.outputs_of("tip"):    # the tip deflections (flexkane.model.columns.GROUPS)
+            values = np.asarray(results.outputs[name], dtype=float)
+            metrics[f"max_abs_{name}"] = float(np.abs(values).max()) if values.size else math.nan
     final = results.state[-1] if len(results.t) else np.full(len(results.state_names), math.nan)
     for name, value in zip(results.state_names, final):
         metrics[f"final_{name}"] = float(value)
