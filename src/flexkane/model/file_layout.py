@@ -23,12 +23,13 @@ TOP_KEYS = ("name", "dimensions", "description", "naming", "parameters", "bodies
             "sweep")
 BODY_KEYS = ("mass", "inertia", "points", "outline")
 BEAM_KEYS = ("L", "EI", "rho", "n_modes", "shape", "damping", "gravity", "elastic_forces",
-             "geometric_stiffening", "EA", "n_axial", "axial_shape", "rotary_inertia")
+             "geometric_stiffening", "EA", "n_axial", "axial_shape", "rotary_inertia", "static_corrections")
 #: Keys of a beam in a spatial model (dimensions = 3): two bending planes, torsion, axial stretch.
 SPATIAL_BEAM_KEYS = ("L", "rho", "EI_y", "EI_z", "n_modes_y", "n_modes_z", "shape_y", "shape_z", "GJ",
                      "rho_Ip", "n_torsion", "torsion_shape", "EA", "n_axial", "axial_shape",
                      "principal_angle", "damping", "gravity", "geometric_stiffening", "rotary_inertia",
-                     "rho_Iy", "rho_Iz", "damping_y", "damping_z", "torsion_damping", "axial_damping")
+                     "rho_Iy", "rho_Iz", "damping_y", "damping_z", "torsion_damping", "axial_damping",
+                     "static_corrections")
 SHAPE_KEYS = ("family", "roots")  # plus the options of the family, checked by the family
 JOINT_KEYS = ("type", "parent", "child", "parent_point", "parent_position", "station", "child_point",
               "angle", "axis", "axes", "orientation", "child_orientation", "coordinates", "speeds", "stiffness",

@@ -138,6 +138,7 @@ def _spatial_beam(name: str, beam: dict, path: str) -> Beam:
         n_torsion=n_torsion,
         torsion_shape=_shape(beam, "torsion_shape", path, "torsion-clamped-free" if n_torsion else None),
         principal_angle=beam.get("principal_angle"), rho_Iy=beam.get("rho_Iy"), rho_Iz=beam.get("rho_Iz"),
+        static_corrections=beam.get("static_corrections", True),
         **{key: _ratios(beam.get(key, [])) for key in ("damping_y", "damping_z", "torsion_damping", "axial_damping")})
 
 
@@ -196,7 +197,7 @@ def _model_from_dict(data: dict) -> Model:
             gravity=beam.get("gravity", "distributed"), elastic_forces=beam.get("elastic_forces", "strain-energy"),
             geometric_stiffening=beam.get("geometric_stiffening", False), EA=beam.get("EA"), n_axial=n_axial,
             axial_shape=_shape(beam, "axial_shape", path, "axial-fixed-free" if n_axial else None),
-            rotary_inertia=beam.get("rotary_inertia"))
+            rotary_inertia=beam.get("rotary_inertia"), static_corrections=beam.get("static_corrections", True))
     for name, joint in _parts(data, "joints", JOINT_KEYS).items():
         path = f"joints.{name}"
         driver = None
@@ -362,6 +363,8 @@ def _spatial_beam_out(b: Beam) -> dict:
         t["gravity"] = b.gravity
     if b.geometric_stiffening:
         t["geometric_stiffening"] = True
+    if b.static_corrections is not True:
+        t["static_corrections"] = b.static_corrections
     return t
 
 
@@ -405,6 +408,8 @@ def model_to_dict(model: Model) -> dict:
             t["axial_shape"] = _shape_out(b.axial_shape)
         if b.rotary_inertia is not None:
             t["rotary_inertia"] = b.rotary_inertia
+        if b.static_corrections is not True:
+            t["static_corrections"] = b.static_corrections
         beams[b.name] = t
     if beams:
         out["beams"] = beams
