@@ -139,7 +139,7 @@ def beam_checks(eom, model, spins) -> list[dict]:
         ``p1``, the lowest first bending frequency of the planes, only for the beams in ``spins``.
     """
     from .model.field_values import FieldValues
-    from .modes.from_spec import shape_family
+    from .modes.from_spec import beam_shape_family
 
     names = eom.state_names
     fields = FieldValues(model)
@@ -152,7 +152,7 @@ def beam_checks(eom, model, spins) -> list[dict]:
             modes = [c.q.name for c in eom.chain.of(name, role)]
             if not modes:
                 continue
-            family = shape_family(getattr(beam, shape_key), f"{path}.{shape_key}", params)
+            family = beam_shape_family(model, beam, shape_key, params)
             planes.append({"modes": [names.index(m) for m in modes],
                            "phi": np.asarray(family.phi(_STATIONS, len(modes)), dtype=float).tolist()})
             if name in spins:

@@ -27,6 +27,7 @@ EI = 50.0
 rho = 1.5
 F = 0.01
 [beams.B]
+static_corrections = false   # the oracle is the Ritz solution in the clamped-free modes
 L = "L"
 EI = "EI"
 rho = "rho"

@@ -22,6 +22,7 @@ dimensions = 3
 name = "tip-loaded-spatial-beam"
 
 [beams.b]
+static_corrections = false   # the oracle is the Ritz solution in the clamped-free modes
 L = {L}
 rho = 0.7
 EI_y = {EI_Y}

@@ -160,7 +160,8 @@ def test_registry_lists_every_family_named_in_the_design():
     assert set(family_names()) == {
         "clamped-free", "pinned-free", "pinned-pinned", "clamped-pinned", "clamped-clamped",
         "free-free", "clamped-free-tip-mass", "polynomial", "expression", "axial-fixed-free",
-        "axial-fixed-fixed", "torsion-clamped-free", "torsion-clamped-clamped", "torsion-free-free"}
+        "axial-fixed-fixed", "torsion-clamped-free", "torsion-clamped-clamped", "torsion-free-free",
+        "torsion-polynomial", "axial-polynomial"}
 
 
 def test_unknown_family_name_lists_the_valid_names():

@@ -43,7 +43,7 @@ class ChainDrawing:
 
     def __init__(self, linear, points: int = 61):
         from ..model.field_values import FieldValues
-        from ..modes.from_spec import shape_family
+        from ..modes.from_spec import beam_shape_family
 
         lin = linear.linearization
         self.linear = linear
@@ -80,10 +80,10 @@ class ChainDrawing:
             L = fields.value(beam.L, f"{path}.L")
             xi = np.linspace(0.0, 1.0, points)
             modes = [index[q] for q in eom.chain.beam_modes(name)]
-            phi = (shape_family(beam.shape, f"{path}.shape", params).phi(xi, beam.n_modes) if modes
+            phi = (beam_shape_family(model, beam, "shape", params).phi(xi, beam.n_modes) if modes
                    else np.zeros((0, points)))
             axial = [index[s] for s in eom.chain.beam_axial(name)]
-            psi = (shape_family(beam.axial_shape, f"{path}.axial_shape", params).phi(xi, beam.n_axial)
+            psi = (beam_shape_family(model, beam, "axial_shape", params).phi(xi, beam.n_axial)
                    if axial else np.zeros((0, points)))
             self._beams[name] = (L * xi, modes, phi, axial, psi)
 
@@ -150,7 +150,7 @@ class SpatialBeamShapes:
 
     def __init__(self, linear, points: int = 61):
         from ..model.field_values import FieldValues
-        from ..modes.from_spec import shape_family
+        from ..modes.from_spec import beam_shape_family
 
         lin = linear.linearization
         model = lin.model
@@ -165,7 +165,7 @@ class SpatialBeamShapes:
                 coordinates = [c for c in lin.eom.chain.of(name, role) if c.q.name in index]
                 if not coordinates:
                     continue
-                family = shape_family(getattr(beam, key), f"{path}.{key}", fields.parameters)
+                family = beam_shape_family(model, beam, key, fields.parameters)
                 count = max(c.index for c in coordinates)
                 phi = family.phi(xi, count)
                 per_field[field_name] = ([index[c.q.name] for c in coordinates],

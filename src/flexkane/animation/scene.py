@@ -121,7 +121,7 @@ class Scene:
 
     # ------------------------------------------------------------------ construction
     def _beam_shape(self, model, coordinates, name: str, number) -> BeamShape:
-        from ..modes.from_spec import shape_family
+        from ..modes.from_spec import beam_shape_family
 
         beam = model.beams[name]
         L = number(beam.L, f"beams.{name}.L")
@@ -131,7 +131,7 @@ class Scene:
         transverse = np.zeros((N, len(xi)))
         axial = np.zeros((N, len(xi)))
         if modes:
-            family = shape_family(beam.shape, f"beams.{name}.shape", self._parameters)
+            family = beam_shape_family(model, beam, "shape", self._parameters)
             q = np.column_stack([self._column(m) for m in modes])              # (N, n)
             transverse = q @ family.phi(xi, len(modes))                        # (N, s)
             if beam.geometric_stiffening:
@@ -139,7 +139,7 @@ class Scene:
                 axial -= 0.5 * _cumulative_integral(slope ** 2, xi * L)
         stretch = [c.q for c in coordinates if c.owner == name and c.role == "axial"]
         if stretch:
-            family = shape_family(beam.axial_shape, f"beams.{name}.axial_shape", self._parameters)
+            family = beam_shape_family(model, beam, "axial_shape", self._parameters)
             s = np.column_stack([self._column(m) for m in stretch])
             axial += s @ family.phi(xi, len(stretch))
         return BeamShape(name, L, xi * L, transverse, axial)

@@ -90,7 +90,7 @@ class SpatialScene:
     def _beam_local(self, model, name: str, fields) -> tuple[np.ndarray, np.ndarray]:
         """A beam's undeformed centre line in its own frame B, shape (s, 3), and the displacement of its
         stations at every output row, shape (N, s, 3) [m]."""
-        from ..modes.from_spec import shape_family
+        from ..modes.from_spec import beam_shape_family
         from .scene import _cumulative_integral
 
         beam = model.beams[name]
@@ -103,14 +103,14 @@ class SpatialScene:
         for key, count, spec in (("y", beam.n_modes_y, beam.shape_y), ("z", beam.n_modes_z, beam.shape_z)):
             bend[key] = np.zeros((rows, len(xi)))
             if count:
-                family = shape_family(spec, f"{path}.shape_{key}", fields.parameters)
+                family = beam_shape_family(model, beam, f"shape_{key}", fields.parameters)
                 q = np.column_stack([self._column(f"q_{name}_{key}{i}") for i in range(1, count + 1)])
                 bend[key] = q @ family.phi(xi, count)
                 slope2 += (q @ family.phi(xi, count, deriv=1) / L) ** 2
         if beam.geometric_stiffening:
             local[:, :, 0] -= 0.5 * _cumulative_integral(slope2, xi * L)
         if beam.n_axial:
-            family = shape_family(beam.axial_shape, f"{path}.axial_shape", fields.parameters)
+            family = beam_shape_family(model, beam, "axial_shape", fields.parameters)
             s = np.column_stack([self._column(f"s_{name}_{k}") for k in range(1, beam.n_axial + 1)])
             local[:, :, 0] += s @ family.phi(xi, beam.n_axial)
         beta = fields.value(beam.principal_angle, f"{path}.principal_angle") if beam.principal_angle is not None \

@@ -26,7 +26,7 @@ from ..expressions import to_float
 from ..model.field_values import FieldValues
 from ..model.initial import initial_values
 from ..model.paths import get_value
-from ..modes.from_spec import shape_family
+from ..modes.from_spec import beam_shape_family
 from .distributed_loads import load_profile
 from .inputs import input_symbols
 from .loop_closure import project_coordinates
@@ -67,8 +67,8 @@ def constant_values(eom, model=None) -> dict:
             continue
         beam = model.beams[name]
         path = f"beams.{name}"
-        family = shape_family(beam.shape, f"{path}.shape", params)
-        axial = shape_family(beam.axial_shape, f"{path}.axial_shape", params) if beam.n_axial else None
+        family = beam_shape_family(model, beam, "shape", params)
+        axial = beam_shape_family(model, beam, "axial_shape", params) if beam.n_axial else None
         stations, profiles = {}, {}
         for spec in consts.used.values():
             if spec[0] == "station":   # the station is an expression of the parameters made by the derivation
@@ -76,7 +76,7 @@ def constant_values(eom, model=None) -> dict:
             elif spec[0] == "load":
                 profiles[spec[2]] = load_profile(spec[2], values)
         if hasattr(consts, "model_values"):   # a spatial beam (flexkane.kane.spatial_beam_constants)
-            values.update(consts.model_values(beam, fields, params, stations, profiles))
+            values.update(consts.model_values(beam, fields, params, stations, profiles, model=model))
             continue
         with np.errstate(over="raise", invalid="raise"):
             try:

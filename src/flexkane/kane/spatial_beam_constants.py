@@ -143,7 +143,7 @@ class SpatialBeamConstants(BeamConstants):
 
     # ------------------------------------------------------------------ numbers
     def model_values(self, beam, fields, parameters, stations: dict | None = None,
-                     profiles: dict | None = None) -> dict:
+                     profiles: dict | None = None, model=None) -> dict:
         """Numeric value of every constant used, for a beam of a model.
 
         Parameters
@@ -159,12 +159,15 @@ class SpatialBeamConstants(BeamConstants):
         profiles : dict, optional
             For each x-profile of a distributed load used, a function of x [m] (array to array)
             with the parameters' values substituted.
+        model : flexkane.model.model.Model, optional
+            The model of the beam: with it, the beam's bases get their static correction shapes
+            where it carries something at its tip (:func:`flexkane.modes.from_spec.beam_shape_family`).
 
         Returns
         -------
         dict of sympy.Symbol to float
         """
-        from ..modes.from_spec import shape_family
+        from ..modes.from_spec import beam_shape_family, shape_family
 
         path = f"beams.{beam.name}"
 
@@ -176,7 +179,8 @@ class SpatialBeamConstants(BeamConstants):
         for label, count, key in (("y", beam.n_modes_y, "shape_y"), ("z", beam.n_modes_z, "shape_z"),
                                   ("t", beam.n_torsion, "torsion_shape"), ("a", beam.n_axial, "axial_shape")):
             if count:
-                families[label] = (shape_family(getattr(beam, key), f"{path}.{key}", parameters), count)
+                families[label] = ((beam_shape_family(model, beam, key, parameters) if model is not None
+                                    else shape_family(getattr(beam, key), f"{path}.{key}", parameters)), count)
         ev = SpatialAtomEvaluator(number("L"), families)
         rho, rho_Ip = number("rho"), number("rho_Ip")
         rigidity = {"y": number("EI_z"), "z": number("EI_y")}

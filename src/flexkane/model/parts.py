@@ -240,6 +240,12 @@ class Beam:
     damping_y, damping_z, torsion_damping, axial_damping : list of Value
         Spatial beams: modal damping ratios zeta [-] of the shape functions of v, w, the twist and
         the axial stretch (one value for all of a kind, or one per function), empty for none.
+    static_corrections : bool
+        Where the beam carries a joint, a load, a spring or a loop joint at its tip, the last
+        functions of each basis (bending: two, torsion and axial: one; at most all but the first)
+        are its static deflection, twist and stretch under a unit tip force, moment, torque and
+        axial force
+        (:mod:`flexkane.modes.static_correction`); ``False`` keeps the family's functions only.
     """
 
     name: str
@@ -273,6 +279,7 @@ class Beam:
     damping_z: list[Value] = field(default_factory=list)
     torsion_damping: list[Value] = field(default_factory=list)
     axial_damping: list[Value] = field(default_factory=list)
+    static_corrections: bool = True
 
     def modes_text(self) -> str:
         """The beam's shape functions in words (``3 clamped-free + 1 axial, Rayleigh``; in 3D

@@ -301,6 +301,8 @@ BEAMS = Table("beams", Beam, (
           constants=(("modal", "D", "int rho d dx"), ("modal", "Dx", "int rho x d dx"),
                      ("modal", "Dphi", "int rho Phi_i d dx"), ("modal", "Dpsi", "int rho Psi_k d dx"),
                      ("modal", "DD", "int rho d d dx"))),
+    Field("static_corrections", "static correction shapes at the tip (true) or the family's functions alone",
+          None, write="changed"),
 ))
 
 #: A beam's shape-function family, ``shape = { family = ..., roots = [...], options }`` (the options

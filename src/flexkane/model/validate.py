@@ -430,6 +430,9 @@ def _check_beam(beam: Beam, values: _Values) -> float:
     _choice(f"{path}.elastic_forces", beam.elastic_forces, ELASTIC_MODELS)
     if not isinstance(beam.geometric_stiffening, bool):
         raise ModelError(f"{path}.geometric_stiffening", "true or false", beam.geometric_stiffening)
+    if not isinstance(beam.static_corrections, bool):
+        raise ModelError(f"{path}.static_corrections", "true or false (static correction shapes at the tip)",
+                         beam.static_corrections)
     n_axial = _integer(f"{path}.n_axial", beam.n_axial, 0, MAX_MODES, "number of axial shape functions")
     if beam.EA is not None:
         values.declared(BEAMS, "EA", beam, path)
@@ -506,6 +509,9 @@ def _check_spatial_beam(beam: Beam, values: _Values) -> float:
     if not isinstance(beam.geometric_stiffening, bool):
         raise ModelError(f"{path}.geometric_stiffening", "true or false", beam.geometric_stiffening)
     _check_shear_moment(path, beam, counts["n_axial"])
+    if not isinstance(beam.static_corrections, bool):
+        raise ModelError(f"{path}.static_corrections", "true or false (static correction shapes at the tip)",
+                         beam.static_corrections)
     if not any(counts.values()):
         raise ModelError(f"{path}.n_modes_y", "at least one shape function (n_modes_y, n_modes_z, n_torsion "
                          "or n_axial)", 0)
@@ -971,6 +977,17 @@ def _family(spec: ShapeSpec, path: str, n: int, kind: str, values: _Values) -> N
                          f"{spec.family!r} provides as specified", n)
 
 
+def _corrected_bases(model, beam, values: _Values) -> None:
+    """Build the bases with static correction shapes (errors, such as a family whose functions are
+    dependent, name the beam's shape key)."""
+    from ..modes.from_spec import COUNT_KEYS, beam_shape_family
+
+    keys = (("shape_y", "shape_z", "torsion_shape") if model.dimensions == 3 else ("shape",)) + ("axial_shape",)
+    for key in keys:
+        if getattr(beam, COUNT_KEYS[key]):
+            beam_shape_family(model, beam, key, values.parameters)
+
+
 def _check_structure(model, values: _Values) -> list:
     """Shape families, the chain's coordinates, initial conditions and dependent speeds."""
     from .coordinates import coordinate_names, coordinate_unit, speed_unit
@@ -987,6 +1004,7 @@ def _check_structure(model, values: _Values) -> list:
             _family(beam.shape, f"{path}.shape", beam.n_modes, "transverse", values)
         if beam.n_axial:
             _family(beam.axial_shape, f"{path}.axial_shape", beam.n_axial, "axial", values)
+        _corrected_bases(model, beam, values)
     coordinates = coordinate_names(model)   # names unique; initial conditions name existing coordinates
     units = {}
     for coord in coordinates:

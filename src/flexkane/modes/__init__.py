@@ -17,6 +17,8 @@ Families (``get_family`` names and options):
 ``free-free``                elastic modes; two rigid modes in ``rigid_modes``
 ``clamped-free-tip-mass``    options ``mass_ratio = M/(rho L)``, ``inertia_ratio = J/(rho L^3)``
 ``polynomial``               Rayleigh-Ritz ``xi^(k+1)``, ``k = 1..n``
+``torsion-polynomial``       Rayleigh-Ritz ``xi^k``, ``k = 1..n``, torsion (fixed root)
+``axial-polynomial``         Rayleigh-Ritz ``xi^k``, ``k = 1..n``, axial deformation
 ``expression``               options ``expressions`` (SymPy, in ``xi``), ``boundary``
 ``axial-fixed-free``         ``sqrt(2) sin((2k-1) pi xi / 2)``, axial deformation
 ``axial-fixed-fixed``        ``sqrt(2) sin(k pi xi)``, axial deformation
@@ -34,7 +36,7 @@ from ..errors import ModelError
 from .axial import AxialFixedFixed, AxialFixedFree
 from .base import RigidMode, ShapeFamily
 from .expression import Expression
-from .polynomial import Polynomial
+from .polynomial import AxialPolynomial, Polynomial, TorsionPolynomial
 from .tip_mass import ClampedFreeTipMass
 from .torsion import TorsionClampedClamped, TorsionClampedFree, TorsionFreeFree
 from .transverse import (ClampedClamped, ClampedFree, ClampedPinned, FreeFree, PinnedFree,
@@ -46,7 +48,7 @@ _FAMILIES: dict[str, type[ShapeFamily]] = {
     cls.name: cls for cls in (ClampedFree, PinnedFree, PinnedPinned, ClampedPinned, ClampedClamped,
                               FreeFree, ClampedFreeTipMass, Polynomial, Expression,
                               AxialFixedFree, AxialFixedFixed, TorsionClampedFree, TorsionClampedClamped,
-                              TorsionFreeFree)
+                              TorsionFreeFree, TorsionPolynomial, AxialPolynomial)
 }
 
 

@@ -110,14 +110,21 @@ def _bound(a: np.ndarray, b: np.ndarray, w: np.ndarray) -> np.ndarray:
     return np.outer(aw, bw) + np.finfo(float).tiny
 
 
+def _tolerance(family: ShapeFamily) -> float:
+    """The agreement asked of a family's integrals: ``TOLERANCE`` times its ``rounding_gain``, the
+    factor by which its functions amplify the rounding of the functions they combine (1 for the
+    families evaluated directly; :mod:`flexkane.modes.static_correction` combines modes)."""
+    return TOLERANCE * max(1.0, float(getattr(family, "rounding_gain", 1.0)))
+
+
 def _converge(evaluate: Callable[[int], tuple[np.ndarray, np.ndarray]], order: int,
-              path: str) -> tuple[np.ndarray, int]:
+              path: str, tolerance: float = TOLERANCE) -> tuple[np.ndarray, int]:
     """Raise the order from ``order`` until ``evaluate(order) -> (value, bound)`` settles."""
     previous, _ = evaluate(order)
     while order < MAX_ORDER:
         order = min(MAX_ORDER, order + max(16, order // 2))
         value, bound = evaluate(order)
-        if np.all(np.abs(value - previous) <= TOLERANCE * bound):
+        if np.all(np.abs(value - previous) <= tolerance * bound):
             return value, order
         previous = value
     raise ModelError(path, "functions smooth enough for Gauss-Legendre quadrature to converge",
@@ -208,7 +215,7 @@ def quadrature_order(family: ShapeFamily, n: int) -> int:
         x, w = gauss_legendre(k)
         return _products(family, n, x, w)
 
-    return _converge(evaluate, family.quadrature_order(n), family.name)[1]
+    return _converge(evaluate, family.quadrature_order(n), family.name, _tolerance(family))[1]
 
 
 class MassIntegrals(NamedTuple):
@@ -414,4 +421,4 @@ def stiffening_integrals(family: ShapeFamily, n: int, L: float,
         slope = family.phi(xi, n, 1)
         return gram_matrix(slope, slope, ww) / L, _bound(slope, slope, ww) / L
 
-    return _converge(evaluate, quadrature_order(family, n), "stiffening weight w")[0]
+    return _converge(evaluate, quadrature_order(family, n), "stiffening weight w", _tolerance(family))[0]
