@@ -382,8 +382,6 @@ def planar_engine_reason(model: Model, chain: Chain, lazy_mass: bool) -> str | N
             return f"beams.{beam.name}.gravity = 'midpoint'"
         if beam.elastic_forces != "strain-energy":
             return f"beams.{beam.name}.elastic_forces = {beam.elastic_forces!r}"
-    if any(c.state_law for c in chain.coordinates):
-        return "a driver's law reads the state"
     if lazy_mass:
         return f"the mass matrix assembled from data ({len(chain.u)} speeds)"
     return None

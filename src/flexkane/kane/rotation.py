@@ -83,14 +83,22 @@ class Rotation:
     matrix : sympy.Matrix, shape (3, 3)
         Direction cosines: ``v_A = matrix * v_B``.
     quaternion : tuple of 4 sympy.Expr
-        Euler parameters ``(e0, e1, e2, e3)`` of the same rotation.
+        Euler parameters ``(e0, e1, e2, e3)`` of the same rotation (formed when first read for a
+        turn about z, whose ``euler`` is None).
     angle : sympy.Expr or None
         The angle [rad] of a turn about z (A's z axis, which is B's), None for any other rotation.
     """
 
     matrix: sp.Matrix
-    quaternion: tuple
+    euler: tuple | None
     angle: object = None
+
+    @property
+    def quaternion(self) -> tuple:
+        if self.euler is None:     # a turn about z
+            zero = sp.Integer(0)
+            return (sp.cos(self.angle / 2), zero, zero, sp.sin(self.angle / 2))
+        return self.euler
 
     def __mul__(self, other: "Rotation") -> "Rotation":
         """``self`` (B in A) followed by ``other`` (C in B): C in A."""
@@ -108,15 +116,19 @@ class Rotation:
         return Rotation(self.matrix.T, (e0, -e1, -e2, -e3), None if self.angle is None else -self.angle)
 
     def is_identity(self) -> bool:
+        if self.angle is not None:
+            return self.angle == 0
         return self.matrix == sp.eye(3)
 
     def apply(self, v) -> tuple:
         """Components in A of a vector with components ``v`` in B."""
-        return tuple(self.matrix * sp.Matrix(v))
+        M = self.matrix
+        return tuple(_row_product((M[i, 0], M[i, 1], M[i, 2]), v) for i in range(3))
 
     def inverse_apply(self, v) -> tuple:
         """Components in B of a vector with components ``v`` in A."""
-        return tuple(self.matrix.T * sp.Matrix(v))
+        M = self.matrix
+        return tuple(_row_product((M[0, i], M[1, i], M[2, i]), v) for i in range(3))
 
     def map(self, function) -> "Rotation":
         """The same rotation with ``function`` applied to every entry (naming, substitution); a turn
@@ -136,8 +148,13 @@ def about_z(angle) -> Rotation:
         return IDENTITY
     c, s = sp.cos(angle), sp.sin(angle)
     zero, one = sp.Integer(0), sp.Integer(1)
-    return Rotation(sp.Matrix([[c, -s, zero], [s, c, zero], [zero, zero, one]]),
-                    (sp.cos(angle / 2), zero, zero, sp.sin(angle / 2)), angle)
+    return Rotation(sp.Matrix([[c, -s, zero], [s, c, zero], [zero, zero, one]]), None, angle)
+
+
+def _row_product(row, v) -> sp.Expr:
+    """``row . v`` with the exact zeros (of rotations about coordinate axes, of planar vectors) left out."""
+    terms = [a * b for a, b in zip(row, v) if a != 0 and b != 0]
+    return sp.Add(*terms) if terms else sp.Integer(0)
 
 
 def about_axis(axis, angle) -> Rotation:

@@ -17,7 +17,7 @@ __all__ = ["SpatialRigidProperties", "matvec"]
 
 def matvec(A: sp.Matrix, v) -> tuple:
     """``A v`` for a (3, 3) matrix and a 3-vector given as a tuple."""
-    return tuple(sum((A[i, j] * v[j] for j in range(3)), sp.Integer(0)) for i in range(3))
+    return tuple(dot((A[i, 0], A[i, 1], A[i, 2]), v) for i in range(3))
 
 
 @dataclass
