@@ -97,12 +97,14 @@ def spatial_active_forces(kin) -> dict[str, list]:
     index = {u: r for r, u in enumerate(speeds)}
     parts = {kind: [sp.Integer(0)] * n for kind in ("elastic", "gravity", "damping", "joints", "loads", "springs")}
 
-    def add(kind, frame, force=None, torque=None):
-        """Contributions of a force (frame axes) at the frame's origin and a torque on it."""
+    def add(kind, frame, force=None, torque=None, velocity=None):
+        """Contributions of a force (frame axes; or the axes of ``velocity``, the velocity of the
+        frame's origin in other axes) at the frame's origin and a torque on it."""
+        velocity = frame.v if velocity is None else velocity
         for r, u in enumerate(speeds):
             term = sp.Integer(0)
             if force is not None:
-                term += dot(tuple(chain.partial(c, u) for c in frame.v), force)
+                term += dot(tuple(chain.partial(c, u) for c in velocity), force)
             if torque is not None:
                 term += dot(tuple(chain.partial(c, u) for c in frame.omega), torque)
             if term != 0:
@@ -172,6 +174,10 @@ def spatial_active_forces(kin) -> dict[str, list]:
         l0 = kin.value(f"{path}.rest_length", spring.rest_length, f"l0_{spring.name}")
         tension = k * (length - l0) + c * rate
         fb = tuple(-tension * x for x in e)             # on b, in N
+        if chain.dimensions == 2:    # in N, on the velocities in N (as the planar engine writes them)
+            add("springs", b, fb, velocity=vb)
+            add("springs", a, tuple(-x for x in fb), velocity=va)
+            continue
         add("springs", b, b.rotation.inverse_apply(fb))
         add("springs", a, a.rotation.inverse_apply(tuple(-x for x in fb)))
     for r, term in enumerate(input_forces(kin)):     # control inputs (kane/inputs.py)

@@ -70,13 +70,13 @@ class SpatialRigidProperties:
         """The same properties with their large components replaced by intermediates
         (``Sx_<label>``, ``Jxy_<label>``, ``Rx_<label>``, ``Kx_<label>`` ...; planar ones
         ``J_<label>`` and ``K_<label>`` about z, as the planar engine names them)."""
+        S = tuple(chain.name(c, f"S{a}_{label}") for c, a in zip(self.S, "xyz"))     # named in the fields' order
         J = sp.zeros(3, 3)
         for i in range(3):
             for j in range(i, 3):
                 stem = "J" if self.planar else f"J{'xyz'[i]}{'xyz'[j]}"
                 J[i, j] = J[j, i] = chain.name(self.J[i, j], f"{stem}_{label}")
         about = ("", "", "") if self.planar else "xyz"      # a planar K has its z component only
-        return SpatialRigidProperties(self.m, tuple(chain.name(c, f"S{a}_{label}") for c, a in zip(self.S, "xyz")),
-                                      J, tuple(chain.name(c, f"R{a}_{label}") for c, a in zip(self.R, "xyz")),
+        return SpatialRigidProperties(self.m, S, J, tuple(chain.name(c, f"R{a}_{label}") for c, a in zip(self.R, "xyz")),
                                       tuple(chain.name(c, f"K{a}_{label}") for c, a in zip(self.K, about)),
                                       self.planar)
