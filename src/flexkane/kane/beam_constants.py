@@ -118,6 +118,33 @@ class BeamConstants:
         """``int_0^L rho_I f(x) dx``."""
         return sp.Add(*[c * self.rotary(ONE, a) for a, c in f.items()])
 
+    # the spatial engine's calls for the same constants (a planar chain derived by the spatial engine:
+    # its beams bend in the family y only, their sections turning about z)
+    @staticmethod
+    def _family_y(label: str) -> None:
+        if label != "y":
+            raise ValueError(f"a planar beam bends in the family y only (sections turning about z), not {label!r}")
+
+    def section(self, axis: str, a: Atom, b: Atom) -> sp.Symbol:
+        """:meth:`rotary` of the sections turning about z (``axis`` ``"y"``, the bending family)."""
+        self._family_y(axis)
+        return self.rotary(a, b)
+
+    def section_integrate(self, axis: str, f: Field, g: Field) -> sp.Expr:
+        """:meth:`rotary_integrate` (``axis`` as for :meth:`section`)."""
+        self._family_y(axis)
+        return self.rotary_integrate(f, g)
+
+    def section_integrate1(self, axis: str, f: Field) -> sp.Expr:
+        """:meth:`rotary_integrate1` (``axis`` as for :meth:`section`)."""
+        self._family_y(axis)
+        return self.rotary_integrate1(f)
+
+    def bending_stiffness(self, i: int, j: int, label: str) -> sp.Symbol:
+        """:meth:`stiffness` ``H_ij`` of the bending family ``label`` ``"y"``."""
+        self._family_y(label)
+        return self.stiffness(i, j)
+
     def single(self, a: Atom) -> sp.Symbol:
         """``int_0^L rho a(x) dx`` (equal to :meth:`pair` with ``ONE``)."""
         return self.pair(ONE, a)

@@ -196,12 +196,13 @@ def spatial_distributed_load_forces(kin, load, speeds) -> list:
         Shape (len(speeds),).
     """
     bm = kin.beams[load.beam]
-    loads = _LoadIntegrals(kin, load, ("fx", "fy", "fz"))
+    keys = ("fx", "fy", "fz") if kin.chain.dimensions == 3 else ("fx", "fy")    # a planar chain's: in the plane
+    loads = _LoadIntegrals(kin, load, keys)
     if load.frame == "ground":
         R = bm.frame.rotation.matrix
-        directions = [tuple(R[k, j] for j in range(3)) for k in range(3)]
+        directions = [tuple(R[k, j] for j in range(3)) for k in range(len(keys))]
     else:
-        directions = [tuple(sp.Integer(1 if j == k else 0) for j in range(3)) for k in range(3)]
+        directions = [tuple(sp.Integer(1 if j == k else 0) for j in range(3)) for k in range(len(keys))]
     return _load_forces(kin, loads, directions, bm.v, speeds)
 
 

@@ -33,7 +33,13 @@ from .spatial_inertia import spatial_inertia_forces
 from .spatial_kinematics import SpatialKinematics
 from .spatial_outputs import spatial_output_expressions
 
-__all__ = ["EquationsOfMotion", "derive"]
+__all__ = ["EquationsOfMotion", "PLANAR_ENGINE", "derive", "planar_engine_reason"]
+
+#: The engine that derives planar chains by default: ``"spatial"`` (planar motion in the spatial
+#: engine, :class:`~flexkane.kane.spatial_kinematics.SpatialKinematics`) or ``"planar"`` (the planar
+#: engine, :class:`~flexkane.kane.kinematics.Kinematics`), for the models the spatial one takes
+#: (:func:`planar_engine_reason`); :func:`derive`'s ``engine`` chooses per call.
+PLANAR_ENGINE = "spatial"
 
 
 class _Expanded:
@@ -327,7 +333,7 @@ class EquationsOfMotion:
         return numeric.initial_state(self, model)
 
 
-def derive(model: Model, *, lazy_mass: bool | None = None) -> EquationsOfMotion:
+def derive(model: Model, *, lazy_mass: bool | None = None, engine: str | None = None) -> EquationsOfMotion:
     """Derive Kane's equations of motion of a model.
 
     Parameters
@@ -338,7 +344,12 @@ def derive(model: Model, *, lazy_mass: bool | None = None) -> EquationsOfMotion:
         Whether the entries of the symbolic mass matrix are formed only when read. By default,
         by the structure: a planar chain without drivers or closed loops with at least
         ``LAZY_MASS_MIN_SPEEDS`` speeds, whose generated code sums ``M`` from its
-        :class:`~flexkane.kane.inertia.MassAssembly`; the entries are the same either way.
+        :class:`~flexkane.kane.inertia.MassAssembly`; the entries are the same either way. A planar
+        chain for which it is given (or which has that many speeds) is derived by the planar engine.
+    engine : {"spatial", "planar"}, optional
+        The engine of a planar model (default :data:`PLANAR_ENGINE`): the spatial one for the
+        models it takes (:func:`planar_engine_reason` says why one stays on the planar engine),
+        the planar one otherwise; the equations are the same (names, printed form, numbers).
 
     Returns
     -------
@@ -350,30 +361,60 @@ def derive(model: Model, *, lazy_mass: bool | None = None) -> EquationsOfMotion:
         raise ModelError("model", "a flexkane Model (flexkane.load_model, flexkane.builtin_model)",
                          type(model).__name__)
     model.validate()
+    engine = PLANAR_ENGINE if engine is None else engine
+    if engine not in ("spatial", "planar"):
+        raise ModelError("engine", "'spatial' or 'planar'", engine)
     from ..progress import activity
 
     with activity(f"deriving the equations of motion of {model.name}", delay=0):   # on stderr (flexkane.progress)
-        return _derive(model, lazy_mass)
+        return _derive(model, lazy_mass, engine)
 
 
-def _derive(model: Model, lazy_mass: bool | None) -> EquationsOfMotion:
+def planar_engine_reason(model: Model, chain: Chain, lazy_mass: bool) -> str | None:
+    """Why a planar model stays on the planar engine (a feature the spatial engine lacks for it
+    today), or None when the spatial engine derives it.
+
+    ``lazy_mass``: whether the chain has the mass matrix assembled from data,
+    :class:`~flexkane.kane.inertia.MassAssembly` (at least ``LAZY_MASS_MIN_SPEEDS`` speeds, no
+    drivers, no closed loops), or :func:`derive` was asked for one form of it (``lazy_mass`` given),
+    which spatial chains do not have yet: such a chain stays on the planar engine whichever form
+    of its mass matrix is asked, so that both are the same expressions.
+    """
+    for beam in model.beams.values():
+        if beam.gravity == "midpoint":
+            return f"beams.{beam.name}.gravity = 'midpoint'"
+        if beam.elastic_forces != "strain-energy":
+            return f"beams.{beam.name}.elastic_forces = {beam.elastic_forces!r}"
+    if lazy_mass:
+        return f"the mass matrix assembled from data ({len(chain.u)} speeds)"
+    return None
+
+
+def _derive(model: Model, lazy_mass: bool | None, engine: str = "spatial") -> EquationsOfMotion:
     """:func:`derive` of a validated model."""
     budget = DerivationBudget()   # bounded time and size (see flexkane.kane.budget)
     chain = build_chain(model)
-    spatial = chain.dimensions == 3
-    kin = SpatialKinematics(chain) if spatial else Kinematics(chain)
-    budget.check_time("the kinematics")
+    long_chain = not model.constraints and len(chain.u) >= LAZY_MASS_MIN_SPEEDS \
+        and all(c.driver is None for c in chain.coordinates)
+    assembly = long_chain or lazy_mass is not None      # the mass assembly asked for, either form of M
     if lazy_mass is None:
-        lazy_mass = not model.constraints and len(chain.u) >= LAZY_MASS_MIN_SPEEDS \
-            and all(c.driver is None for c in chain.coordinates)
+        lazy_mass = long_chain
+    spatial = chain.dimensions == 3 or (engine == "spatial" and planar_engine_reason(model, chain, assembly) is None)
+    if spatial:
+        kin = SpatialKinematics(chain)
+        # a planar chain's frames in the planar terms of its outputs, sensors, constraints, reports
+        view = kin if chain.dimensions == 3 else Kinematics.of_spatial(kin)
+    else:
+        kin = view = Kinematics(chain)
+    budget.check_time("the kinematics")
     inertia = spatial_inertia_forces(kin) if spatial else generalized_inertia_forces(kin, lazy=lazy_mass)
     mass = inertia.assembly.expressions() if getattr(inertia, "lazy", False) and inertia.assembly is not None \
         else list(inertia.mass_matrix)
     budget.check_size(mass + list(inertia.remainder), "the inertia forces")
-    control_signals(kin)   # sensors, controller states and outputs: the names efforts may use
+    control_signals(view)   # sensors, controller states and outputs: the names efforts may use
     parse_state_laws(chain)   # drivers' laws that read them (kane.driver_laws)
     active = spatial_active_forces(kin) if spatial else generalized_active_forces(kin)
     budget.check_time("the active forces")
-    eom = EquationsOfMotion(chain, kin, inertia, active)
+    eom = EquationsOfMotion(chain, view, inertia, active)
     budget.check_size(eom.compact.expressions(), "the equations")
     return eom

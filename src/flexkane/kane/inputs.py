@@ -166,7 +166,7 @@ def input_forces(kin) -> list:
     """
     import sympy as sp
 
-    from .kinematics import rot
+    from .kinematics import Kinematics, rot
 
     chain = kin.chain
     speeds = chain.u
@@ -179,7 +179,7 @@ def input_forces(kin) -> list:
         if symbol is not None:
             coord = chain.of(name)[0]
             forces[speeds.index(coord.u)] += symbol
-    if chain.dimensions == 3:
+    if not isinstance(kin, Kinematics):    # the spatial engine (a planar chain's too)
         _spatial_load_forces(kin, symbols, forces)
         return forces
     for name, load in chain.model.loads.items():
@@ -197,16 +197,24 @@ def input_forces(kin) -> list:
 
 
 def _spatial_load_forces(kin, symbols: dict, forces: list) -> None:
-    """Add the load channels of a spatial chain to ``forces``: ``v_P,r . F + w_r . T`` with F and T
-    along the axes of the frame at the load's point (turned from N for ``frame = "ground"``)."""
+    """Add the load channels of a chain derived by the spatial engine to ``forces``:
+    ``v_P,r . F + w_r . T`` with F and T along the axes of the frame at the load's point (turned from
+    N for ``frame = "ground"``); a planar chain's force in the x-y plane, its torque about z."""
+    import sympy as sp
+
     from .spatial_frame import dot
 
     chain = kin.chain
+    zero = sp.Integer(0)
     for name, load in chain.model.loads.items():
         frame = kin.load_frame(load)
 
         def vector(letter):
-            value = tuple(symbols[f"{INPUT_PREFIX}load_{name}_{letter}{axis}"] for axis in "xyz")
+            if chain.dimensions == 2 and letter == "t":
+                return (zero, zero, symbols[f"{INPUT_PREFIX}load_{name}_torque"])
+            axes = "xyz" if chain.dimensions == 3 else "xy"
+            value = tuple(symbols[f"{INPUT_PREFIX}load_{name}_{letter}{axis}"] for axis in axes)
+            value = value + (zero,) * (3 - len(value))
             return value if load.frame == "local" else frame.rotation.inverse_apply(value)
 
         force = vector("f") if load.force is not None else None

@@ -160,6 +160,8 @@ class Intermediates:
     def partial(self, expr, u: sp.Symbol) -> sp.Expr:
         """Total partial derivative of ``expr`` with respect to the speed (or coordinate) ``u``."""
         expr = sp.sympify(expr)
+        if expr.is_Number:      # a constant component (the zeros of a planar chain's vectors)
+            return sp.S.Zero
         terms = [sp.diff(expr, u)]
         for s in self._among(expr):
             ds = self.partial_of(s, u)
@@ -186,6 +188,8 @@ class Intermediates:
             Speed -> symbol of its derivative u'; when given, the terms in u' are included.
         """
         expr = sp.sympify(expr)
+        if expr.is_Number:
+            return sp.S.Zero
         free = expr.free_symbols
         terms = [sp.diff(expr, q) * qd for q, qd in self.qdot.items() if q in free]
         if speeds_rates:

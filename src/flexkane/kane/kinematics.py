@@ -138,6 +138,31 @@ class Kinematics:
         for joint in chain.joints:
             self._add_joint(joint)
 
+    @classmethod
+    def of_spatial(cls, spatial) -> "Kinematics":
+        """The kinematics of a planar chain derived by the spatial engine, in this class's terms.
+
+        Every frame of ``spatial`` (a :class:`~flexkane.kane.spatial_kinematics.SpatialKinematics`
+        of a planar chain) turns about z: its angle, angular velocity, position and velocity are
+        the rotation's angle, the z component of its angular velocity and the x, y components of
+        its position and velocity; a beam's fields are its x and y fields, its sections' rotation
+        the turn about z of a Rayleigh beam. Nothing is derived again: the frames are the same
+        named quantities, for the outputs, sensors, loop constraints and reports of planar chains.
+        """
+        kin = cls.__new__(cls)
+        kin.chain, kin.symbols, kin.constants = spatial.chain, spatial.symbols, spatial.constants
+
+        def frame(f) -> FrameMotion:
+            return FrameMotion(f.rotation.angle, f.omega[2], tuple(f.r[:2]), tuple(f.v[:2]))
+
+        kin.bodies = {name: frame(f) for name, f in spatial.bodies.items()}
+        kin.beams = {name: BeamMotion(bm.beam, frame(bm.frame), bm.constants, bm.r[0], bm.r[1], tuple(bm.v[:2]),
+                                      bm.turns["y"][1] if "y" in bm.turns else None)
+                     for name, bm in spatial.beams.items()}
+        kin.joint_frames = {name: (frame(a), frame(c)) for name, (a, c) in spatial.joint_frames.items()}
+        kin.link_offsets = {name: (tuple(s[:2]), turn.angle) for name, (s, turn) in spatial.link_offsets.items()}
+        return kin
+
     # ------------------------------------------------------------------ values
     def value(self, path: str, value, name: str) -> sp.Expr:
         return self.symbols.value(path, value, name)

@@ -13,6 +13,11 @@ Euler parameters (free of branches and singularities) for the outputs. Entries t
 0 or 1 (rotations about a coordinate axis, identity orientations) stay exact, so a rotation about
 ``z`` is the planar ``[[c, -s, 0], [s, c, 0], [0, 0, 1]]``.
 
+A turn about the fixed z axis (the planar chains' every rotation) also keeps its angle
+(:attr:`Rotation.angle`): such turns compose by adding their angles, so that the orientation of a
+link of a planar chain is ``about_z(theta)`` with ``theta`` the sum of the joint angles (eq. 8.17)
+and its direction cosines ``cos(theta)``, ``sin(theta)``, exactly the planar engine's.
+
 Euler parameter kinematics (Kane, Likins and Levinson): with ``w`` the angular velocity of B in A,
 components along B's axes, ``e' = 1/2 E(e) w`` (:func:`euler_parameter_rates`).
 """
@@ -23,7 +28,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-__all__ = ["IDENTITY", "Rotation", "about_axis", "body_sequence", "euler_parameter_matrix",
+__all__ = ["IDENTITY", "Rotation", "about_axis", "about_z", "body_sequence", "euler_parameter_matrix",
            "euler_parameter_rates", "unit_vector", "yaw_pitch_roll"]
 
 _AXES = {"x": (1, 0, 0), "y": (0, 1, 0), "z": (0, 0, 1)}
@@ -78,11 +83,22 @@ class Rotation:
     matrix : sympy.Matrix, shape (3, 3)
         Direction cosines: ``v_A = matrix * v_B``.
     quaternion : tuple of 4 sympy.Expr
-        Euler parameters ``(e0, e1, e2, e3)`` of the same rotation.
+        Euler parameters ``(e0, e1, e2, e3)`` of the same rotation (formed when first read for a
+        turn about z, whose ``euler`` is None).
+    angle : sympy.Expr or None
+        The angle [rad] of a turn about z (A's z axis, which is B's), None for any other rotation.
     """
 
     matrix: sp.Matrix
-    quaternion: tuple
+    euler: tuple | None
+    angle: object = None
+
+    @property
+    def quaternion(self) -> tuple:
+        if self.euler is None:     # a turn about z
+            zero = sp.Integer(0)
+            return (sp.cos(self.angle / 2), zero, zero, sp.sin(self.angle / 2))
+        return self.euler
 
     def __mul__(self, other: "Rotation") -> "Rotation":
         """``self`` (B in A) followed by ``other`` (C in B): C in A."""
@@ -90,30 +106,55 @@ class Rotation:
             return self
         if self.is_identity():
             return other
+        if self.angle is not None and other.angle is not None:   # turns about z: angles add
+            return about_z(self.angle + other.angle)
         return Rotation(self.matrix * other.matrix, _quaternion_product(self.quaternion, other.quaternion))
 
     def transpose(self) -> "Rotation":
         """The inverse rotation (A in B)."""
         e0, e1, e2, e3 = self.quaternion
-        return Rotation(self.matrix.T, (e0, -e1, -e2, -e3))
+        return Rotation(self.matrix.T, (e0, -e1, -e2, -e3), None if self.angle is None else -self.angle)
 
     def is_identity(self) -> bool:
+        if self.angle is not None:
+            return self.angle == 0
         return self.matrix == sp.eye(3)
 
     def apply(self, v) -> tuple:
         """Components in A of a vector with components ``v`` in B."""
-        return tuple(self.matrix * sp.Matrix(v))
+        M = self.matrix
+        return tuple(_row_product((M[i, 0], M[i, 1], M[i, 2]), v) for i in range(3))
 
     def inverse_apply(self, v) -> tuple:
         """Components in B of a vector with components ``v`` in A."""
-        return tuple(self.matrix.T * sp.Matrix(v))
+        M = self.matrix
+        return tuple(_row_product((M[0, i], M[1, i], M[2, i]), v) for i in range(3))
 
     def map(self, function) -> "Rotation":
-        """The same rotation with ``function`` applied to every entry (naming, substitution)."""
+        """The same rotation with ``function`` applied to every entry (naming, substitution); a turn
+        about z stays one, of angle ``function(angle)``."""
+        if self.angle is not None:
+            return about_z(function(self.angle))
         return Rotation(self.matrix.applyfunc(function), tuple(function(c) for c in self.quaternion))
 
 
-IDENTITY = Rotation(sp.eye(3), (sp.Integer(1), sp.Integer(0), sp.Integer(0), sp.Integer(0)))
+IDENTITY = Rotation(sp.eye(3), (sp.Integer(1), sp.Integer(0), sp.Integer(0), sp.Integer(0)), sp.Integer(0))
+
+
+def about_z(angle) -> Rotation:
+    """A turn by ``angle`` [rad] about z: ``[[c, -s, 0], [s, c, 0], [0, 0, 1]]``, the planar rotation."""
+    angle = sp.sympify(angle)
+    if angle == 0:
+        return IDENTITY
+    c, s = sp.cos(angle), sp.sin(angle)
+    zero, one = sp.Integer(0), sp.Integer(1)
+    return Rotation(sp.Matrix([[c, -s, zero], [s, c, zero], [zero, zero, one]]), None, angle)
+
+
+def _row_product(row, v) -> sp.Expr:
+    """``row . v`` with the exact zeros (of rotations about coordinate axes, of planar vectors) left out."""
+    terms = [a * b for a, b in zip(row, v) if a != 0 and b != 0]
+    return sp.Add(*terms) if terms else sp.Integer(0)
 
 
 def about_axis(axis, angle) -> Rotation:
@@ -138,7 +179,7 @@ def body_sequence(sequence: str, angles) -> Rotation:
     about the new y, then about the newest x."""
     out = IDENTITY
     for letter, angle in zip(sequence, angles):
-        out = out * about_axis(_AXES[letter], angle)
+        out = out * (about_z(angle) if letter == "z" else about_axis(_AXES[letter], angle))
     return out
 
 

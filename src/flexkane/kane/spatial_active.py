@@ -24,13 +24,17 @@ axes of the frame at P, where the velocities are expressed.
 * ``damping``: the beams' modal damping, ``-2 zeta_i sqrt(K_ii M_ii) u_i`` for each bending
   plane, the twist and the stretch (as the planar beams'). Each source is a list of n
 expressions (one per speed).
+
+A planar chain (``dimensions = 2``, :class:`~flexkane.kane.spatial_kinematics.SpatialKinematics`
+of planar motion) gives its vectors a zero z component: gravity (eq. 8.33), load forces, a load's
+torque about z; its symbols are named as the planar engine names them.
 """
 
 from __future__ import annotations
 
 import sympy as sp
 
-from .active import moving_rest
+from .active import gravity_vector, moving_rest
 from .distributed_loads import spatial_distributed_load_forces
 from .inputs import input_forces
 from .spatial_beam import beam_active_forces
@@ -45,6 +49,8 @@ def spatial_gravity_vector(kin):
     grav = kin.chain.model.gravity
     if grav is None:
         return None
+    if kin.chain.dimensions == 2:
+        return (*gravity_vector(kin), sp.Integer(0))
     g = kin.value("gravity.g", grav.g, "g")
     n = direction(kin.symbols, "gravity.direction", grav.direction, "g_direction")
     return tuple(g * c for c in n)
@@ -93,12 +99,14 @@ def spatial_active_forces(kin) -> dict[str, list]:
     index = {u: r for r, u in enumerate(speeds)}
     parts = {kind: [sp.Integer(0)] * n for kind in ("elastic", "gravity", "damping", "joints", "loads", "springs")}
 
-    def add(kind, frame, force=None, torque=None):
-        """Contributions of a force (frame axes) at the frame's origin and a torque on it."""
+    def add(kind, frame, force=None, torque=None, velocity=None):
+        """Contributions of a force (frame axes; or the axes of ``velocity``, the velocity of the
+        frame's origin in other axes) at the frame's origin and a torque on it."""
+        velocity = frame.v if velocity is None else velocity
         for r, u in enumerate(speeds):
             term = sp.Integer(0)
             if force is not None:
-                term += dot(tuple(chain.partial(c, u) for c in frame.v), force)
+                term += dot(tuple(chain.partial(c, u) for c in velocity), force)
             if torque is not None:
                 term += dot(tuple(chain.partial(c, u) for c in frame.omega), torque)
             if term != 0:
@@ -119,8 +127,13 @@ def spatial_active_forces(kin) -> dict[str, list]:
         stiffness = joint_coordinate_values(kin, joint, "stiffness", "k")
         damping = joint_coordinate_values(kin, joint, "damping", "c")
         moving = moving_rest(kin, joint)    # an actuator: its power is counted in the work W
-        rest = joint_coordinate_values(kin, joint, "rest", "rest") if joint.stiffness is not None and \
-            moving is None else []
+        rest = []
+        if joint.stiffness is not None and moving is None and chain.dimensions == 2 and joint.rest is not None:
+            # the planar name of the rest position
+            rest = [kin.value(f"joints.{joint.name}.rest", joint.rest, f"{coords[0].q.name}_rest")] \
+                + [None] * (len(coords) - 1)
+        elif joint.stiffness is not None and moving is None:
+            rest = joint_coordinate_values(kin, joint, "rest", "rest")
         torque = _joint_efforts(kin, joint, "torque")
         for k, c in enumerate(coords):
             if c.u is None:
@@ -141,10 +154,14 @@ def spatial_active_forces(kin) -> dict[str, list]:
 
         def components(values, what):
             vec = tuple(kin.symbols.effort(f"{path}.{what}[{k}]", v) for k, v in enumerate(values))
+            vec = vec + (sp.Integer(0),) * (3 - len(vec))     # a planar chain's (fx, fy)
             return vec if load.frame == "local" else frame.rotation.inverse_apply(vec)
 
-        add("loads", frame, components(load.force, "force") if load.force is not None else None,
-            components(load.torque, "torque") if load.torque is not None else None)
+        if chain.dimensions == 2 and load.torque is not None:     # about z
+            torque = (sp.Integer(0), sp.Integer(0), kin.symbols.effort(f"{path}.torque", load.torque))
+        else:
+            torque = components(load.torque, "torque") if load.torque is not None else None
+        add("loads", frame, components(load.force, "force") if load.force is not None else None, torque)
 
     for spring in model.springs.values():
         path = f"springs.{spring.name}"
@@ -159,6 +176,10 @@ def spatial_active_forces(kin) -> dict[str, list]:
         l0 = kin.value(f"{path}.rest_length", spring.rest_length, f"l0_{spring.name}")
         tension = k * (length - l0) + c * rate
         fb = tuple(-tension * x for x in e)             # on b, in N
+        if chain.dimensions == 2:    # in N, on the velocities in N (as the planar engine writes them)
+            add("springs", b, fb, velocity=vb)
+            add("springs", a, tuple(-x for x in fb), velocity=va)
+            continue
         add("springs", b, b.rotation.inverse_apply(fb))
         add("springs", a, a.rotation.inverse_apply(tuple(-x for x in fb)))
     for r, term in enumerate(input_forces(kin)):     # control inputs (kane/inputs.py)

@@ -25,6 +25,11 @@ torque ``rho_J (d(w_a)/dt a + w_B x w_a a)`` has exactly that power (in the plan
 Rayleigh beam's ``1/2 int rho_I (w + y_t')^2 dx``). The strain energy
 ``1/2 int (EI_z v''^2 + EI_y w''^2 + GJ theta'^2 + EA u'^2) dx`` gives ``F_r = -K q`` with the modal
 stiffness constants, and modal damping ``-2 zeta_i sqrt(K_ii M_ii) u_i`` as in the planar beams.
+
+A beam of a planar chain (``dimensions = 2``) is the case of one bending family, y, without twist:
+its modes (role ``mode``) are that family's, with the planar atoms and constants (``phi(i)``,
+``E_i``, ``G_ij``, ``H_ij``; :func:`family_coordinates`) and its ``rotary_inertia`` the
+``rho_Iz`` of its sections turning about z.
 """
 
 from __future__ import annotations
@@ -78,13 +83,28 @@ class SpatialBeamMotion:
         return {c.u for c in chain.of(self.beam.name) if c.role in BEAM_ROLES}
 
 
+def family_coordinates(chain, name: str, role: str) -> list:
+    """A beam's coordinates of a role (``mode_y``, ``mode_z``, ``torsion``, ``axial``); a planar
+    chain's beam has its modes (role ``mode``) as the family y and no family z, no twist."""
+    if chain.dimensions == 2 and role in ("mode_y", "mode_z", "torsion"):
+        role = "mode" if role == "mode_y" else None
+        if role is None:
+            return []
+    return chain.of(name, role)
+
+
+def family_label(chain, label: str):
+    """The direction label of a family's atoms: None for a planar chain's beams (planar atoms)."""
+    return None if chain.dimensions == 2 else label
+
+
 def beam_motion(kin, beam, frame: SpatialFrame, constants: SpatialBeamConstants) -> SpatialBeamMotion:
     """The fields of a spatial beam whose frame is ``frame`` (module docstring)."""
     chain = kin.chain
-    coords = {role: [c for c in chain.of(beam.name, role)] for role in ("mode_y", "mode_z", "torsion", "axial")}
+    coords = {role: family_coordinates(chain, beam.name, role) for role in ("mode_y", "mode_z", "torsion", "axial")}
     bend = {}
     for label in ("y", "z"):
-        bend[label] = Field({phi(c.index, label): c.q for c in coords[f"mode_{label}"]})
+        bend[label] = Field({phi(c.index, family_label(chain, label)): c.q for c in coords[f"mode_{label}"]})
     Xterms: dict = {X: sp.Integer(1)}
     for c in coords["axial"]:
         Xterms[psi(c.index)] = c.q
@@ -94,7 +114,7 @@ def beam_motion(kin, beam, frame: SpatialFrame, constants: SpatialBeamConstants)
             for a, ca in enumerate(modes):
                 for cb in modes[a:]:
                     factor = sp.Rational(-1, 2) if ca is cb else sp.Integer(-1)
-                    Xterms[dfs(ca.index, cb.index, label)] = factor * ca.q * cb.q
+                    Xterms[dfs(ca.index, cb.index, family_label(chain, label))] = factor * ca.q * cb.q
     Y, Z = bend["y"], bend["z"]
     if nonzero_field(beam.principal_angle):
         beta = kin.value(f"beams.{beam.name}.principal_angle", beam.principal_angle, f"beta_{beam.name}")
@@ -107,9 +127,11 @@ def beam_motion(kin, beam, frame: SpatialFrame, constants: SpatialBeamConstants)
         turns["t"] = ((1, 0, 0), rigid(frame.omega[0]) + Field({theta(c.index): c.u for c in coords["torsion"]}))
     c, s = (sp.cos(beta), sp.sin(beta)) if nonzero_field(beam.principal_angle) else (1, 0)
     for label, key, axis, sign in (("y", "rho_Iz", (0, -s, c), 1), ("z", "rho_Iy", (0, c, s), -1)):
-        if nonzero_field(getattr(beam, key)):
+        if kin.chain.dimensions == 2:   # a planar beam's sections turn about z with its rotary inertia
+            key = "rotary_inertia" if label == "y" else None
+        if key is not None and nonzero_field(getattr(beam, key)):
             about = sp.Add(*[a * w for a, w in zip(axis, frame.omega)])
-            turns[label] = (axis, rigid(about) + Field({dphi(m.index, label): sign * m.u
+            turns[label] = (axis, rigid(about) + Field({dphi(m.index, family_label(chain, label)): sign * m.u
                                                         for m in coords[f"mode_{label}"]}))
     return SpatialBeamMotion(beam, frame, constants, r, v, turns)
 
@@ -157,9 +179,12 @@ def beam_own_properties(kin, name: str, a_rem: tuple):
     k = bm.constants
     X, Y, Z = bm.r
     integ = k.integrate
-    J = sp.Matrix([[integ(Y, Y) + integ(Z, Z), -integ(X, Y), -integ(X, Z)],
-                   [-integ(X, Y), integ(X, X) + integ(Z, Z), -integ(Y, Z)],
-                   [-integ(X, Z), -integ(Y, Z), integ(X, X) + integ(Y, Y)]])
+    if kin.planar:     # J_zz only (SpatialRigidProperties.planar)
+        J = sp.diag(0, 0, integ(X, X) + integ(Y, Y))
+    else:
+        J = sp.Matrix([[integ(Y, Y) + integ(Z, Z), -integ(X, Y), -integ(X, Z)],
+                       [-integ(X, Y), integ(X, X) + integ(Z, Z), -integ(Y, Z)],
+                       [-integ(X, Z), -integ(Y, Z), integ(X, X) + integ(Y, Y)]])
     R = tuple(k.integrate1(c) for c in a_rem)
     K = (integ(Y, a_rem[2]) - integ(Z, a_rem[1]), integ(Z, a_rem[0]) - integ(X, a_rem[2]),
          integ(X, a_rem[1]) - integ(Y, a_rem[0]))
@@ -168,7 +193,7 @@ def beam_own_properties(kin, name: str, a_rem: tuple):
         J += k.section(key, ONE, ONE) * sp.Matrix(axis) * sp.Matrix(axis).T
         H = tuple(k.section_integrate1(key, turn) * a for a in axis)
         K = add(K, add(tuple(k.section_integrate1(key, turn.map(kin.chain.dt)) * a for a in axis), cross(w, H)))
-    return SpatialRigidProperties(k.pair(ONE, ONE), tuple(k.integrate1(c) for c in bm.r), J, R, K)
+    return SpatialRigidProperties(k.pair(ONE, ONE), tuple(k.integrate1(c) for c in bm.r), J, R, K, kin.planar)
 
 
 def add_beam_rows(kin, M: list, rem: list, a_rems: dict) -> None:
@@ -216,7 +241,7 @@ def _modal_mass(k, role: str, i: int) -> sp.Expr:
         return k.polar(theta(i), theta(i))
     if role == "axial":
         return k.pair(psi(i), psi(i))
-    label = role[-1]
+    label = role[-1] if role != "mode" else None
     return k.pair(phi(i, label), phi(i, label))
 
 
@@ -225,9 +250,12 @@ def modal_damping(kin, name: str, role: str, stiffness) -> list:
     no damping ratio), as the planar beams' modal damping (:mod:`flexkane.kane.active`)."""
     bm = kin.beams[name]
     key, label = DAMPING_FIELDS[role]
+    if kin.chain.dimensions == 2 and role == "mode_y":   # a planar beam's modes: damping, zeta_<b>_<i>
+        key, label = "damping", ""
     ratios = getattr(bm.beam, key)
     out = []
-    for j, c in enumerate(kin.chain.of(name, role)):
+    coords = family_coordinates(kin.chain, name, role)
+    for j, c in enumerate(coords):
         if not ratios:
             out.append(sp.Integer(0))
             continue
@@ -236,7 +264,7 @@ def modal_damping(kin, name: str, role: str, stiffness) -> list:
         if zeta == 0:
             out.append(sp.Integer(0))
             continue
-        out.append(-2 * zeta * sp.sqrt(stiffness(c.index, c.index) * _modal_mass(bm.constants, role, c.index)) * c.u)
+        out.append(-2 * zeta * sp.sqrt(stiffness(c.index, c.index) * _modal_mass(bm.constants, c.role, c.index)) * c.u)
     return out
 
 
@@ -253,8 +281,8 @@ def beam_active_forces(kin, parts: dict, gravity) -> None:
         notebook = bm.beam.elastic_forces == "shear-moment"   # bending: spatial_beam_notebook
         for role, stiffness in (("mode_y", lambda i, j: k.bending_stiffness(i, j, "y")),
                                 ("mode_z", lambda i, j: k.bending_stiffness(i, j, "z")),
-                                ("torsion", k.torsion_stiffness), ("axial", k.axial_stiffness)):
-            coords = chain.of(name, role)
+                                ("torsion", lambda i, j: k.torsion_stiffness(i, j)), ("axial", k.axial_stiffness)):
+            coords = family_coordinates(chain, name, role)
             for cj in coords if not (notebook and role.startswith("mode")) else ():
                 parts["elastic"][index[cj.u]] += -sp.Add(*[stiffness(ci.index, cj.index) * ci.q for ci in coords])
             for cj, force in zip(coords, modal_damping(kin, name, role, stiffness)):
@@ -281,8 +309,8 @@ def strain_energy(kin, name: str) -> sp.Expr:
     out = []
     for role, stiffness in (("mode_y", lambda i, j: k.bending_stiffness(i, j, "y")),
                             ("mode_z", lambda i, j: k.bending_stiffness(i, j, "z")),
-                            ("torsion", k.torsion_stiffness), ("axial", k.axial_stiffness)):
-        coords = chain.of(name, role)
+                            ("torsion", lambda i, j: k.torsion_stiffness(i, j)), ("axial", k.axial_stiffness)):
+        coords = family_coordinates(chain, name, role)
         for ci in coords:
             for cj in coords:
                 out.append(stiffness(ci.index, cj.index) * ci.q * cj.q / 2)

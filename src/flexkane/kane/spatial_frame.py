@@ -14,6 +14,11 @@ A point P fixed in (or moving in) the frame at ``p`` (frame axes):
 turned relative to F by ``C_FC`` (constant or a function of q) with relative angular velocity
 ``w_rel`` (C's axes): ``w_C = C^T w_F + w_rel``, ``v_C = C^T v_F``. Accelerations are
 ``a = d(v)/dt + w x v`` with ``d/dt`` of the components (:func:`acceleration_remainder`).
+
+A frame of a planar chain turns about z only: its rotation is ``about_z(theta)``
+(:func:`~flexkane.kane.rotation.about_z`), its angular velocity ``(0, 0, omega)``, its position and
+velocity have a zero z component, and :meth:`SpatialFrame.named` names ``theta``, ``omega``,
+``rx``, ``ry``, ``vx``, ``vy`` as the planar engine does.
 """
 
 from __future__ import annotations
@@ -23,25 +28,41 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .intermediates import FRAME_NAME_ABOVE
-from .rotation import IDENTITY, Rotation
+from .rotation import IDENTITY, Rotation, about_z
 
 __all__ = ["GROUND", "SpatialFrame", "acceleration_remainder", "add", "cross", "dot", "ground_frame"]
 
 ZERO3 = (sp.Integer(0),) * 3
 
 
+_ZERO = sp.S.Zero
+
+
+def _product(x, y):
+    """``x * y``, exactly 0 without SymPy's work when either is the zero of a planar chain's vectors."""
+    return _ZERO if x is _ZERO or y is _ZERO else x * y
+
+
+def _sum(*terms):
+    nonzero = [t for t in terms if t is not _ZERO]
+    if len(nonzero) <= 1:
+        return nonzero[0] if nonzero else _ZERO
+    return sp.Add(*nonzero)
+
+
 def cross(a, b) -> tuple:
     """``a x b`` of two 3-vectors (same axes)."""
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+    return (_sum(_product(a[1], b[2]), -_product(a[2], b[1])), _sum(_product(a[2], b[0]), -_product(a[0], b[2])),
+            _sum(_product(a[0], b[1]), -_product(a[1], b[0])))
 
 
 def dot(a, b) -> sp.Expr:
     """``a . b`` of two 3-vectors (same axes)."""
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    return _sum(_product(a[0], b[0]), _product(a[1], b[1]), _product(a[2], b[2]))
 
 
 def add(a, b) -> tuple:
-    return tuple(x + y for x, y in zip(a, b))
+    return tuple(_sum(x, y) for x, y in zip(a, b))
 
 
 @dataclass
@@ -80,6 +101,11 @@ class SpatialFrame:
         def name(expr, what):
             return chain.name(expr, f"{what}_{label}", FRAME_NAME_ABOVE)
 
+        if chain.dimensions == 2:    # a planar chain's frame: its angle about z, named as the planar engine does
+            return SpatialFrame(about_z(name(self.rotation.angle, "theta")),
+                                (*self.omega[:2], name(self.omega[2], "omega")),
+                                tuple(name(c, f"r{a}") for c, a in zip(self.r, "xyz")),
+                                tuple(name(c, f"v{a}") for c, a in zip(self.v, "xyz")))
         R = self.rotation.matrix
         rotation = Rotation(sp.Matrix(3, 3, lambda i, j: name(R[i, j], f"R{i + 1}{j + 1}")),
                             tuple(name(c, f"e{k}") for k, c in enumerate(self.rotation.quaternion)))

@@ -47,7 +47,7 @@ def own_properties(kin, body: str) -> SpatialRigidProperties:
     cc = dot(c, c)
     J = I + sp.Matrix(3, 3, lambda i, j: (m * cc if i == j else 0) - m * c[i] * c[j])
     ma = tuple(m * x for x in a)
-    return SpatialRigidProperties(m, tuple(m * x for x in c), J, ma, add(cross(c, ma), euler))
+    return SpatialRigidProperties(m, tuple(m * x for x in c), J, ma, add(cross(c, ma), euler), kin.planar)
 
 
 def spatial_inertia_forces(kin) -> InertiaForces:
@@ -106,7 +106,7 @@ def spatial_inertia_forces(kin) -> InertiaForces:
                 Ar, Wr = twist_at(speeds[r], F)
                 As, Ws = twist_at(speeds[s], F)
                 P = composite[F]
-                M[r][s] += (P.m * dot(Ar, As) + dot(Ar, cross(Ws, P.S)) + dot(As, cross(Wr, P.S))
+                M[r][s] += (P.m * dot(Ar, As) + dot(Ws, cross(P.S, Ar)) + dot(Wr, cross(P.S, As))
                             + dot(Wr, matvec(P.J, Ws)))
     add_beam_rows(kin, M, rem, a_rems)
     for r in range(n):

@@ -41,11 +41,12 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..errors import ModelError
-from .rotation import IDENTITY, Rotation, about_axis, body_sequence, euler_parameter_matrix, \
+from .rotation import IDENTITY, Rotation, about_axis, about_z, body_sequence, euler_parameter_matrix, \
     euler_parameter_rates, unit_vector
 from .spatial_frame import ZERO3, cross
 
-__all__ = ["JointMotion", "joint_motion", "kinematic_equations", "orientation", "plane_axes", "vector"]
+__all__ = ["JointMotion", "joint_motion", "kinematic_equations", "orientation", "planar_joint_motion", "plane_axes",
+           "vector"]
 
 
 def _literal(value):
@@ -169,6 +170,36 @@ def joint_motion(joint, coords, symbols) -> JointMotion:
         return JointMotion(ZERO3, IDENTITY, ZERO3, ZERO3)
     raise ModelError(f"{path}.type", "revolute, prismatic, cylindrical, universal, planar, spherical, "
                      "free or weld", kind)
+
+
+def planar_joint_motion(joint, coords, symbols) -> JointMotion:
+    """The relative motion of a joint of a planar chain (``dimensions = 2``): turns about z and
+    translations in the x-y plane.
+
+    J_c is turned from J_p by the joint's constant ``angle`` (plus the angle coordinate of a
+    revolute or free joint); a prismatic joint slides along the direction at ``axis`` [rad] from
+    J_p's x axis; a free joint's x, y are J_c's origin in J_p and its speeds the components along
+    J_c's axes of that origin's velocity in J_p (eq. 8.10: ``v = u1 i + u2 j``), whose kinematic
+    equations the planar chain holds.
+    """
+    path = f"joints.{joint.name}"
+    zero = sp.Integer(0)
+    offset = symbols.value(f"{path}.angle", joint.angle, f"theta_{joint.name}")
+    if joint.type == "revolute":
+        (c,) = coords
+        return JointMotion(ZERO3, about_z(c.q + offset), (zero, zero, c.u), ZERO3)
+    if joint.type == "prismatic":
+        (c,) = coords
+        axis = symbols.value(f"{path}.axis", joint.axis, f"alpha_{joint.name}")
+        n = (sp.cos(axis), sp.sin(axis), zero)
+        turn = about_z(offset)
+        return JointMotion(tuple(a * c.q for a in n), turn, ZERO3, turn.inverse_apply(tuple(a * c.u for a in n)))
+    if joint.type == "free":
+        cx, cy, ca = coords
+        return JointMotion((cx.q, cy.q, zero), about_z(ca.q + offset), (zero, zero, ca.u), (cx.u, cy.u, zero))
+    if joint.type == "weld":
+        return JointMotion(ZERO3, about_z(offset), ZERO3, ZERO3)
+    raise ModelError(f"{path}.type", "revolute, prismatic, free or weld (a planar joint)", joint.type)
 
 
 def kinematic_equations(joint, coords) -> dict:

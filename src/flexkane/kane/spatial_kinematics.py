@@ -14,17 +14,28 @@ and ``R_L = R_P Lambda``, ``r_L = r_P + R_P s``: the spatial form of eq. 8.17. A
 the body's axes and its origin at the joint (the body's ``child_point``); its mass-centre frame is the
 link frame moved to the mass centre. Each quantity is named (:meth:`SpatialFrame.named`), so a link's
 expressions refer to its parent's symbols and never re-expand.
+
+A planar chain (``dimensions = 2``) is the special case of planar motion: its joints turn about z
+and translate in the x-y plane (:func:`flexkane.kane.spatial_joints.planar_joint_motion`, the
+joint's constant ``angle`` in the joint's turn, so ``O_p``, ``O_c`` are the identity), its points
+have a zero z component and its bodies the inertia tensor ``diag(0, 0, I)`` (only the moment of
+inertia about the normal enters planar motion). Every rotation is then ``about_z`` of the link's
+angle and every zero is an exact zero, so the expressions are those of the planar engine (eq. 8.17),
+with the planar engine's names of the symbols; its beams are those of
+:mod:`flexkane.kane.spatial_beam` bending in one family, with the planar modal constants
+(:class:`~flexkane.kane.beam_constants.BeamConstants`: ``E_i``, ``G_ij``, ``H_ij``).
 """
 
 from __future__ import annotations
 
 import sympy as sp
 
-from .rotation import Rotation
+from .beam_constants import BeamConstants
+from .rotation import IDENTITY, Rotation
 from .spatial_beam import beam_motion, station_geometry
 from .spatial_beam_constants import SpatialBeamConstants
 from .spatial_frame import GROUND, SpatialFrame, add, cross, ground_frame
-from .spatial_joints import joint_motion, orientation, vector
+from .spatial_joints import joint_motion, orientation, planar_joint_motion, vector
 
 __all__ = ["SpatialKinematics"]
 
@@ -59,20 +70,36 @@ class SpatialKinematics:
         self.bodies: dict[str, SpatialFrame] = {}
         self.beams: dict = {}
         label_beams = len(model.beams) > 1
-        self.constants: dict = {name: SpatialBeamConstants(name, name if label_beams else "") for name in model.beams}
+        constants = BeamConstants if self.planar else SpatialBeamConstants
+        self.constants: dict = {name: constants(name, name if label_beams else "") for name in model.beams}
         self.joint_frames: dict[str, tuple[SpatialFrame, SpatialFrame]] = {}
         self.link_offsets: dict[str, tuple[tuple, Rotation]] = {}
+        self._stations: dict = {}
         for joint in chain.joints:
             self._add_joint(joint)
 
     # ------------------------------------------------------------------ values
+    @property
+    def planar(self) -> bool:
+        """Whether the chain is a planar one (motion in the x-y plane, module docstring)."""
+        return self.chain.dimensions == 2
+
     def value(self, path: str, value, name: str) -> sp.Expr:
         return self.symbols.value(path, value, name)
+
+    def _plane_vector(self, path: str, values, name: str) -> tuple:
+        """A planar chain's position field (x, y) [m] as a 3-vector with a zero z component; its
+        symbols named ``x_<name>``, ``y_<name>`` as the planar engine names them."""
+        x, y = values or (0, 0)
+        return (self.value(f"{path}[0]", x, f"x_{name}"), self.value(f"{path}[1]", y, f"y_{name}"), sp.Integer(0))
 
     def body_point(self, body: str, point: str | None) -> tuple:
         """Local position of a named point of a body from its mass centre, body axes [m]."""
         if point is None:
             return (sp.Integer(0),) * 3
+        if self.planar:
+            return self._plane_vector(f"bodies.{body}.points.{point}", self.chain.model.bodies[body].points[point],
+                                      f"{body}_{point}")
         return vector(self.symbols, f"bodies.{body}.points.{point}", self.chain.model.bodies[body].points[point],
                       f"{body}_{point}")
 
@@ -91,10 +118,12 @@ class SpatialKinematics:
         body = getattr(part, f"body_{end}")
         if body == "ground":
             pos = getattr(part, f"position_{end}", None)
+            if self.planar:
+                return ground_frame(self._plane_vector(f"{path}.position_{end}", pos, f"{part.name}_{end}"))
             return ground_frame(vector(self.symbols, f"{path}.position_{end}", pos, f"{part.name}_{end}"))
-        if body in self.beams:
+        if body in self.beams:     # the station named x_<beam>_<part> in a planar chain, as the planar engine does
             return self.beam_station(body, f"{path}.station_{end}", getattr(part, f"station_{end}"),
-                                     f"{part.name}_{end}")[0]
+                                     part.name if self.planar else f"{part.name}_{end}")[0]
         return self.point_frame(body, getattr(part, f"point_{end}", None))
 
     def load_frame(self, load) -> SpatialFrame:
@@ -106,6 +135,8 @@ class SpatialKinematics:
     def inertia_tensor(self, body: str) -> sp.Matrix:
         """Inertia tensor of a body about its mass centre, body axes (3, 3) [kg m^2]."""
         given = self.chain.model.bodies[body]
+        if self.planar:     # the moment of inertia about the normal z
+            return sp.diag(0, 0, self.value(f"bodies.{body}.inertia", given.inertia, f"I_{body}"))
         rows = given.inertia_tensor()
         principal = not isinstance(given.inertia[0], (list, tuple))    # [Ixx, Iyy, Izz]
         path = f"bodies.{body}.inertia"
@@ -125,6 +156,9 @@ class SpatialKinematics:
     def _parent(self, joint) -> tuple[SpatialFrame, tuple]:
         """The parent link's frame and the attachment's position in it (for a beam: the frame of
         the station, which follows the deflection, both slopes and the twist there)."""
+        if joint.parent == "ground" and self.planar:
+            return GROUND, self._plane_vector(f"joints.{joint.name}.parent_position", joint.parent_position,
+                                              joint.name)
         if joint.parent == "ground":
             return GROUND, vector(self.symbols, f"joints.{joint.name}.parent_position", joint.parent_position,
                                   f"p_{joint.name}")
@@ -135,7 +169,10 @@ class SpatialKinematics:
     def station_frame(self, joint) -> tuple[SpatialFrame, tuple, Rotation]:
         """The frame at a joint's station on its parent beam, with its origin and orientation in
         the beam frame (:func:`flexkane.kane.spatial_beam.station_geometry`)."""
-        return self.beam_station(joint.parent, f"joints.{joint.name}.station", joint.station, joint.name)
+        if joint.name not in self._stations:     # asked for the parent frame, then for the link's offsets
+            self._stations[joint.name] = self.beam_station(joint.parent, f"joints.{joint.name}.station",
+                                                           joint.station, joint.name)
+        return self._stations[joint.name]
 
     def beam_station(self, beam: str, path: str, value, label: str) -> tuple[SpatialFrame, tuple, Rotation]:
         """The frame of the section at a station (field ``path`` of value ``value`` [m]) of a beam,
@@ -149,11 +186,15 @@ class SpatialKinematics:
     def _add_joint(self, joint) -> None:
         chain = self.chain
         path = f"joints.{joint.name}"
-        motion = joint_motion(joint, chain.joint_coordinates(joint.name), self.symbols)
-        Op = orientation(self.symbols, f"{path}.orientation", getattr(joint, "orientation", None),
-                         f"Op_{joint.name}")
-        Oc = orientation(self.symbols, f"{path}.child_orientation", getattr(joint, "child_orientation", None),
-                         f"Oc_{joint.name}")
+        if self.planar:
+            motion = planar_joint_motion(joint, chain.joint_coordinates(joint.name), self.symbols)
+            Op = Oc = IDENTITY
+        else:
+            motion = joint_motion(joint, chain.joint_coordinates(joint.name), self.symbols)
+            Op = orientation(self.symbols, f"{path}.orientation", getattr(joint, "orientation", None),
+                             f"Op_{joint.name}")
+            Oc = orientation(self.symbols, f"{path}.child_orientation", getattr(joint, "child_orientation", None),
+                             f"Oc_{joint.name}")
         P, p = self._parent(joint)
         s = add(p, Op.apply(motion.d))
         local = Op * motion.rotation * Oc.transpose()
