@@ -192,6 +192,16 @@ def test_generated_loop_form_of_a_spatial_chain_equals_the_written_out_form(monk
     _loop_equals_written_out(eom, "assemble_spatial_mass_matrix")
 
 
+def test_spatial_loop_fills_the_mass_matrix_around_a_constant_block(monkeypatch):
+    """spacecraft-flexible-slew (16 speeds: a free hub with flexible appendages): its modal mass is
+    a constant block factored once per run; the loop sums the rest of M, and the right-hand side
+    is the written-out one."""
+    eom = flexkane.derive(flexkane.builtin_model("spacecraft-flexible-slew"), cache=False)
+    monkeypatch.setattr(codegen, "SPATIAL_MASS_LOOP_MIN_SPEEDS", 2)
+    assert "schur_solve(" in generate_rhs_source(eom)
+    _loop_equals_written_out(eom, "assemble_spatial_mass_matrix")
+
+
 @pytest.mark.slow
 def test_short_chains_and_the_chapter_example_keep_the_written_out_mass_matrix():
     for model in (chain_model(2), flexkane.builtin_model("flexible-arm")):
