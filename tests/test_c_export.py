@@ -7,8 +7,8 @@ symbolic one and satisfies ``M u' = f`` with the forcing. Models: the chapter's 
 closed-loop four-bar (also with a stabilized loop), the slider-crank (a crank driven at a
 prescribed speed closing a loop over a flexible rod), the arm under a PID law (a controller state
 z in y = [q, u, z], a torque saturated by min/max), the arm under a PD law of sensors (joint angle and
-rate, tip deflection, strain outputs) and, marked slow, spin-up (a prescribed hub speed, geometric
-stiffening). The header's orders are checked against the run manifest.
+rate, tip deflection, strain outputs), a spatial chain whose Numba module sums M by the compiled loop
+and, marked slow, spin-up (a prescribed hub speed, geometric stiffening). The header's orders are checked against the run manifest.
 """
 
 from __future__ import annotations
@@ -155,6 +155,28 @@ def _compare_at_random_states(model, numba, lib, prefix: str, count: int = 5) ->
 def test_c_matches_numba_at_random_states(exported, name):
     model, numba, lib, prefix, _ = exported(name)
     _compare_at_random_states(model, numba, lib, prefix)
+
+
+@needs_cc
+def test_c_matches_numba_where_the_loop_sums_a_spatial_mass_matrix(tmp_path, monkeypatch):
+    """A chain of four bodies on revolute joints about x, y, z, x: the Numba module sums M by the
+    compiled loop over pair tables (chosen here: by default from codegen.SPATIAL_MASS_LOOP_MIN_SPEEDS
+    speeds), the C writes M out entry by entry."""
+    import sys
+    from pathlib import Path
+
+    from flexkane.numerics import codegen
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    from spatial_mass_loop import revolute_chain
+
+    monkeypatch.setattr(codegen, "SPATIAL_MASS_LOOP_MIN_SPEEDS", 2)
+    model = flexkane.loads_model(revolute_chain(4))
+    numba = _Numba(model)
+    assert "assemble_spatial_mass_matrix(_M, " in numba.derivation.source()
+    export_c(model, tmp_path, force=True)
+    prefix = c_identifier(model.name)
+    _compare_at_random_states(model, numba, _compile(tmp_path, prefix), prefix)
 
 
 @needs_cc

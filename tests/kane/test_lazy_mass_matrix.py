@@ -17,7 +17,7 @@ import sympy as sp
 from flexkane.derivation_cache import model_source
 from flexkane.kane import equations
 from flexkane.kane.compact import LazyMassMatrix
-from flexkane.kane.inertia import LAZY_MASS_MIN_SPEEDS
+from flexkane.kane.inertia import LAZY_MASS_MIN_SPEEDS, SPATIAL_LAZY_MASS_MIN_SPEEDS
 from flexkane.numerics import codegen
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
@@ -36,6 +36,7 @@ def _derived(lazy: bool):
 
 def test_the_threshold_is_the_one_of_the_compiled_loop():
     assert LAZY_MASS_MIN_SPEEDS == codegen.MASS_LOOP_MIN_SPEEDS == codegen.UNROLL_LDL_MAX + 1
+    assert SPATIAL_LAZY_MASS_MIN_SPEEDS == codegen.SPATIAL_MASS_LOOP_MIN_SPEEDS
 
 
 def test_generated_code_reads_only_the_diagonal_of_a_long_chains_mass_matrix():
@@ -82,3 +83,28 @@ def test_lazy_mass_matrix_of_a_branched_chain_with_a_rayleigh_beam_and_a_slider(
     assert isinstance(lazy_eom.compact.mass_matrix, LazyMassMatrix)
     assert lazy_eom.constants == eager.constants
     assert lazy_eom.mass_matrix == eager.mass_matrix
+
+
+@pytest.mark.parametrize("label", ["spherical chain of 3", "spatial arm of 2 flexible links"])
+def test_lazy_mass_matrix_of_a_spatial_chain_is_the_written_out_one(label):
+    """A spatial chain's entries (spherical joints; flexible links with their sections' turns and a
+    payload moved by the modes) formed when read are the written-out ones, and so are the
+    constants and the forcing."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
+    from spatial_chains import flexible_arm, pendulum_chain
+
+    import flexkane
+
+    text = {"spherical chain of 3": lambda: pendulum_chain(3),
+            "spatial arm of 2 flexible links": lambda: flexible_arm(2, 1)}[label]()
+    lazy_eom = equations.derive(flexkane.loads_model(text), lazy_mass=True)
+    eager = equations.derive(flexkane.loads_model(text))     # by default: below the spatial threshold
+    mass = lazy_eom.compact.mass_matrix
+    assert len(eager.u) < SPATIAL_LAZY_MASS_MIN_SPEEDS and isinstance(eager.compact.mass_matrix, sp.MatrixBase)
+    assert isinstance(mass, LazyMassMatrix)
+    assert not mass.inertia.terms._entry                  # nothing formed by derive
+    assert lazy_eom.compact.mass_assembly.dimensions == 3
+    assert lazy_eom.constants == eager.constants
+    assert lazy_eom.compact.forcing == eager.compact.forcing
+    assert sp.Matrix(mass) == eager.compact.mass_matrix
+    assert {s for s, _ in lazy_eom.intermediates} == {s for s, _ in eager.intermediates}

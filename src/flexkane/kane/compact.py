@@ -86,8 +86,7 @@ class CompactEquations:
     mass_assembly : MassAssembly or None
         The same ``mass_matrix`` as twists and composite bodies in terms of the intermediates
         (:class:`flexkane.kane.inertia.MassAssembly`, rows numbered as ``u``), which generated code
-        of a long chain sums by a compiled loop; None when not available (spatial chains, closed
-        loops).
+        of a long chain sums by a compiled loop; None when not available (closed loops).
     """
 
     intermediates: list

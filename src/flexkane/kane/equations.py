@@ -24,7 +24,7 @@ from .compact import CompactEquations, LazyMassMatrix
 from .constraints import loop_constraints
 from .controllers import control_signals
 from .driver_laws import parse_state_laws, reduce_by_drivers, speed_coupling, state_driver_substitutions
-from .inertia import LAZY_MASS_MIN_SPEEDS, InertiaForces, generalized_inertia_forces
+from .inertia import InertiaForces, generalized_inertia_forces, lazy_mass_min_speeds
 from .kinematics import Kinematics
 from .loop_reduction import reduce_by_loops
 from .outputs import output_expressions
@@ -342,8 +342,9 @@ def derive(model: Model, *, lazy_mass: bool | None = None, engine: str | None = 
         A model (validated here).
     lazy_mass : bool, optional
         Whether the entries of the symbolic mass matrix are formed only when read. By default,
-        by the structure: a planar chain without drivers or closed loops with at least
-        ``LAZY_MASS_MIN_SPEEDS`` speeds, whose generated code sums ``M`` from its
+        by the structure: a chain without drivers or closed loops with at least
+        ``LAZY_MASS_MIN_SPEEDS`` speeds (``SPATIAL_LAZY_MASS_MIN_SPEEDS`` of a spatial chain;
+        :mod:`flexkane.kane.inertia`), whose generated code sums ``M`` from its
         :class:`~flexkane.kane.inertia.MassAssembly`; the entries are the same either way. A planar
         chain for which it is given (or which has that many speeds) is derived by the planar engine.
     engine : {"spatial", "planar"}, optional
@@ -394,7 +395,8 @@ def _derive(model: Model, lazy_mass: bool | None, engine: str = "spatial") -> Eq
     """:func:`derive` of a validated model."""
     budget = DerivationBudget()   # bounded time and size (see flexkane.kane.budget)
     chain = build_chain(model)
-    long_chain = not model.constraints and len(chain.u) >= LAZY_MASS_MIN_SPEEDS \
+    threshold = lazy_mass_min_speeds(chain.dimensions)
+    long_chain = not model.constraints and len(chain.u) >= threshold \
         and all(c.driver is None for c in chain.coordinates)
     assembly = long_chain or lazy_mass is not None      # the mass assembly asked for, either form of M
     if lazy_mass is None:
@@ -407,7 +409,7 @@ def _derive(model: Model, lazy_mass: bool | None, engine: str = "spatial") -> Eq
     else:
         kin = view = Kinematics(chain)
     budget.check_time("the kinematics")
-    inertia = spatial_inertia_forces(kin) if spatial else generalized_inertia_forces(kin, lazy=lazy_mass)
+    inertia = spatial_inertia_forces(kin, lazy=lazy_mass) if spatial else generalized_inertia_forces(kin, lazy=lazy_mass)
     mass = inertia.assembly.expressions() if getattr(inertia, "lazy", False) and inertia.assembly is not None \
         else list(inertia.mass_matrix)
     budget.check_size(mass + list(inertia.remainder), "the inertia forces")

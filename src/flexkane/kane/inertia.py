@@ -41,13 +41,31 @@ from ..model.coordinates import BEAM_ROLES
 from .kinematics import Kinematics, rigid_vec
 from .modal_field import ONE, vec_map
 
-__all__ = ["LAZY_MASS_MIN_SPEEDS", "InertiaForces", "MassAssembly", "generalized_inertia_forces"]
+__all__ = ["LAZY_MASS_MIN_SPEEDS", "SPATIAL_LAZY_MASS_MIN_SPEEDS", "InertiaForces", "MassAssembly",
+           "generalized_inertia_forces", "lazy_mass_min_speeds"]
 
 #: Fewest speeds for which :func:`flexkane.kane.equations.derive` forms the mass matrix's entries
 #: only when read: generated code then sums ``M`` from the :class:`MassAssembly`
 #: (``flexkane.numerics.codegen.MASS_LOOP_MIN_SPEEDS`` is this number: one more than the 8 speeds up to
 #: which generated code unrolls the L D L^T factorization, ``codegen.UNROLL_LDL_MAX``).
 LAZY_MASS_MIN_SPEEDS = 9
+
+#: The same for spatial chains (``codegen.SPATIAL_MASS_LOOP_MIN_SPEEDS``), chosen by measurement
+#: (benchmarks/RESULTS.md, "Spatial chains: the mass matrix summed by the loop"): a spatial chain's
+#: twists of every speed at every deeper frame are formed anyway for the generalized active forces,
+#: so its written-out ``M`` costs only their products (sparse where joint axes are), while the loop
+#: carries dense twists at run time. Up to 18 speeds (rigid chains of 3, 6, 12 revolute and 6
+#: spherical joints, the flexible arms of 1 and 2 links, the built-in models of 13 and 16 speeds)
+#: the written-out form built and evaluated faster; at 19 (a flexible arm of 3 links) the loop
+#: compiled 3 times faster (its right-hand side stays one function where the written-out one is
+#: split into parts) and evaluated 6 % faster.
+SPATIAL_LAZY_MASS_MIN_SPEEDS = 19
+
+
+def lazy_mass_min_speeds(dimensions: int) -> int:
+    """:data:`LAZY_MASS_MIN_SPEEDS` of a planar chain, :data:`SPATIAL_LAZY_MASS_MIN_SPEEDS` of a
+    spatial one."""
+    return SPATIAL_LAZY_MASS_MIN_SPEEDS if dimensions == 3 else LAZY_MASS_MIN_SPEEDS
 
 
 def shared_frames(roots_r, roots_s, beyond):
@@ -77,7 +95,7 @@ class InertiaForces:
         Whether ``mass_matrix`` is formed on first use, entry by entry (:meth:`entry`).
     assembly : MassAssembly or None
         The same mass matrix as data for a compiled sum over twists (generated code of long
-        chains); None where the engine does not provide it (spatial chains).
+        chains); None where a link's offset in its parent is not known.
     """
 
     def __init__(self, mass_matrix: sp.Matrix | None, remainder: list, speeds: list,
@@ -112,7 +130,8 @@ class InertiaForces:
 
 @dataclass
 class MassAssembly:
-    """The mass matrix of a planar chain as data: twists and composite bodies (module docstring).
+    """The mass matrix of a chain as data: twists and composite bodies (module docstring; a
+    spatial chain's: ``dimensions`` below).
 
     ``M_rs`` is the sum of three kinds of terms, which a compiled loop
     (:mod:`flexkane.numerics.mass_assembly`) adds up from the arrays below, so that the generated
@@ -143,6 +162,12 @@ class MassAssembly:
         ``(speed index, beam's link index, (c_x, c_y, c_w))``.
     explicit : dict of (int, int) to sympy.Expr
         Entries ``(r, s)``, ``r <= s``, added as expressions.
+    dimensions : int
+        2 (the planar data above) or 3: a spatial chain's (:mod:`flexkane.kane.spatial_inertia`),
+        whose ``offsets`` are each link frame's orientation in its parent's (direction cosines row
+        by row) and origin there [m] (12; zeros for a link on the ground),
+        ``inertia`` the composite ``(m, S_x, S_y, S_z, J_xx, J_xy, J_xz, J_yy, J_yz, J_zz)`` (10),
+        twists ``(A, W)`` and wrenches ``(c_v, c_w)`` 6 components each.
     """
 
     parent: list
@@ -151,6 +176,7 @@ class MassAssembly:
     sources: list
     wrenches: list
     explicit: dict
+    dimensions: int = 2
 
     def reduced(self, free: list, sub) -> "MassAssembly":
         """The assembly of the rows and columns ``free`` (indices of speeds), numbered 0, 1, ...
@@ -162,7 +188,7 @@ class MassAssembly:
                             [(row[r], b, tup(t)) for r, b, t in self.sources if r in row],
                             [(row[r], b, tup(c)) for r, b, c in self.wrenches if r in row],
                             {(row[r], row[s]): sub(e) for (r, s), e in self.explicit.items()
-                             if r in row and s in row})
+                             if r in row and s in row}, self.dimensions)
 
     def expressions(self) -> list:
         """Every expression of the assembly (offsets, composites, twists, wrenches, entries)."""

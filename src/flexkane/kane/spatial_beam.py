@@ -196,10 +196,10 @@ def beam_own_properties(kin, name: str, a_rem: tuple):
     return SpatialRigidProperties(k.pair(ONE, ONE), tuple(k.integrate1(c) for c in bm.r), J, R, K, kin.planar)
 
 
-def add_beam_rows(kin, M: list, rem: list, a_rems: dict) -> None:
+def add_beam_rows(kin, M: list | None, rem: list, a_rems: dict) -> None:
     """Add the terms of every beam's own modal speeds to ``M`` (upper triangle) and ``rem``:
     ``int rho v_P,r . v_P,s dx`` (+ the polar terms) for pairs with an own speed, and
-    ``int rho v_P,r . a_rem dx`` for own rows."""
+    ``int rho v_P,r . a_rem dx`` for own rows (``M`` None: ``rem`` only)."""
     chain = kin.chain
     speeds = chain.u
     n = len(speeds)
@@ -212,7 +212,7 @@ def add_beam_rows(kin, M: list, rem: list, a_rems: dict) -> None:
         a_rem = a_rems[name]
         active = [r for r in range(n) if not all(c.is_zero() for c in V[r])]
         for i, r in enumerate(active):
-            for s in active[i:]:
+            for s in active[i:] if M is not None else ():
                 if speeds[r] in own or speeds[s] in own:
                     M[r][s] += sp.Add(*[k.integrate(a, b) for a, b in zip(V[r], V[s])])
             if speeds[r] in own:
@@ -222,7 +222,7 @@ def add_beam_rows(kin, M: list, rem: list, a_rems: dict) -> None:
             alpha_rem = turn.map(chain.dt)
             turning = [r for r in range(n) if not W[r].is_zero()]
             for i, r in enumerate(turning):
-                for s in turning[i:]:
+                for s in turning[i:] if M is not None else ():
                     if speeds[r] in own or speeds[s] in own:
                         M[r][s] += k.section_integrate(key, W[r], W[s])
                 if speeds[r] in own:

@@ -11,7 +11,7 @@ generated ``rhs_prepare(p)`` and ``M u' = f`` is solved by block elimination (``
 see :mod:`flexkane.numerics.constant_block`). ``rhs`` returns 0, or 2 (non-finite) / 4 (singular
 mass matrix) with ``dy`` filled with NaN.
 
-A planar chain with more than ``UNROLL_LDL_MAX`` speeds (no constant block, no closed loops) has
+A chain with more than ``UNROLL_LDL_MAX`` speeds (no constant block, no closed loops) has
 its ``M`` summed by the loop of :mod:`flexkane.numerics.mass_assembly`, compiled once per
 installation, from the twists, composite bodies, link poses and beam-mode wrenches of
 :class:`flexkane.kane.inertia.MassAssembly`, which the generated code evaluates (a number of
@@ -41,7 +41,7 @@ from sympy.printing.codeprinter import PrintMethodNotImplementedError
 from sympy.printing.precedence import precedence
 from sympy.printing.pycode import PythonCodePrinter
 
-from flexkane.kane.inertia import LAZY_MASS_MIN_SPEEDS
+from flexkane.kane.inertia import LAZY_MASS_MIN_SPEEDS, SPATIAL_LAZY_MASS_MIN_SPEEDS
 from flexkane.numerics import constant_block, large_rhs, mass_assembly
 from flexkane.numerics.code_budget import check_compiled_operations, compiled_operations
 from flexkane.numerics.large_rhs import Statement
@@ -67,8 +67,8 @@ _RESERVED = {"t", "y", "p", "dy", "math", "np", "njit", "min", "max", "abs", "ra
              "ldl_solve", "mass_matrix_failure", "float", "int", "complex", "bool", "len",
              "rhs", "outputs", "PIVOT_RTOL", "w", "system_rhs", "ldl_factor", "ldl_substitute",
              "schur_solve", "constant_block_factor", "NP_PREPARED", "BLOCK_SPEEDS",
-             "REST_SPEEDS", "assemble_mass_matrix", "MASS_POSES", "MASS_MOMENTA", "MASS_PAIR_STARTS",
-             "MASS_PAIR_SOURCES", "MASS_PAIR_ROWS", "MASS_PAIR_COLUMNS"}
+             "REST_SPEEDS", "assemble_mass_matrix", "assemble_spatial_mass_matrix", "MASS_POSES", "MASS_MOMENTA", "MASS_PAIR_STARTS",
+             "MASS_PAIR_SOURCES", "MASS_PAIR_ROWS", "MASS_PAIR_COLUMNS", "MASS_TEMPLATE"}
 
 
 class _MathPrinter(PythonCodePrinter):
@@ -407,7 +407,10 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
                    for target, text, expr in zip(targets, texts, reduced)]
     if definitions:
         statements = _evaluation_order(statements)
-    block = [] if unrolled or tables is not None else _constant_block(eom, mass)
+    # a planar assembly is summed only without a constant block; a spatial one fills the rest of M
+    # around the block (the loop's pairs within the block, constants, are left unread)
+    block = [] if unrolled or (tables is not None and equations.mass_assembly.dimensions == 2) \
+        else _constant_block(eom, mass)
     if block:  # the constant block is factored by {name}_prepare, not evaluated by each call
         skipped = {f"_M[{i}, {j}]" for i in block for j in block}
         statements = [st for st in statements if st.target not in skipped]
@@ -438,7 +441,7 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
               "",
               ""]
     if tables is not None:
-        lines = lines[:-2] + _mass_loop_module_lines(prefix, tables) + ["", ""]
+        lines = lines[:-2] + _mass_loop_module_lines(prefix, tables, equations.mass_assembly) + ["", ""]
     prologue, solve = [], f"ldl_solve(_M, dy[{nq}:])"
     n_coefficients = tabulated.n_coefficients if split else 0
     block_exprs = []
@@ -467,7 +470,8 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
               f'    """Write [q\', u\'{zd}] ({nq + nu + nz},) into dy; return 0, 2 or 4."""']
     ind = "    "
     lines += prologue
-    allocations = _mass_loop_allocations(ind, nu, tables) if tables is not None else []
+    allocations = _mass_loop_allocations(ind, nu, tables, equations.mass_assembly, prefix) \
+        if tables is not None else []
     used = _used_names([*prologue, *allocations, *(st.text for st in statements), solve])
     lines += [f"{ind}{local} = {source}" for local, source in loads.items() if local in used]
     if tables is not None:
@@ -476,7 +480,9 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
         lines.append(f"{ind}_M = np.empty(({nu}, {nu}))")
     lines += [f"{ind}{st.target} = {st.text}" for st in statements]
     if tables is not None:
-        lines.append(f"{ind}assemble_mass_matrix(_M, _AX, _AI, _AT, _AC, _AW[{_mass_loop_data_size(tables)}:], "
+        assembly = equations.mass_assembly
+        lines.append(f"{ind}{_mass_loop_function(assembly)}(_M, _AX, _AI, _AT, _AC, "
+                     f"_AW[{_mass_loop_data_size(tables, assembly)}:], "
                      f"{prefix}MASS_POSES, {prefix}MASS_MOMENTA, {prefix}MASS_PAIR_STARTS, "
                      f"{prefix}MASS_PAIR_SOURCES, {prefix}MASS_PAIR_ROWS, {prefix}MASS_PAIR_COLUMNS)")
     if unrolled:
@@ -492,19 +498,24 @@ def generate_rhs_source(eom, name: str = "rhs", quadratures: Mapping[str, sympy.
 # (above the unrolled L D L^T): from there the entries written out cost Numba more than the loop. The
 # derivation's own threshold, so that the chains whose M it leaves unformed are the ones summed here.
 MASS_LOOP_MIN_SPEEDS = LAZY_MASS_MIN_SPEEDS
+# The same for spatial chains (chosen by measurement: flexkane.kane.inertia.SPATIAL_LAZY_MASS_MIN_SPEEDS).
+SPATIAL_MASS_LOOP_MIN_SPEEDS = SPATIAL_LAZY_MASS_MIN_SPEEDS
 
 
 def _mass_loop_tables(eom, equations, mass: sympy.Matrix):
     """The loop's tables if ``M`` is summed by :mod:`flexkane.numerics.mass_assembly`, else None.
 
     A rule on the structure: the equations carry a :class:`flexkane.kane.inertia.MassAssembly`
-    (planar chains without closed loops), there are at least ``MASS_LOOP_MIN_SPEEDS`` speeds, no
-    constant block of ``M`` is factored once per run (a beam's modal mass), and the assembly refers
-    to no symbol the equations do not know (a composite term that vanishes in ``M``).
+    (chains without closed loops), there are at least ``MASS_LOOP_MIN_SPEEDS`` speeds (of a spatial
+    chain ``SPATIAL_MASS_LOOP_MIN_SPEEDS``), of a planar
+    chain no constant block of ``M`` is factored once per run (a beam's modal mass; a spatial
+    chain's loop fills ``M`` around such a block), and the assembly refers to no symbol the
+    equations do not know (a composite term that vanishes in ``M``).
     """
     assembly = getattr(equations, "mass_assembly", None)
     nu = mass.shape[0]
-    if assembly is None or nu < MASS_LOOP_MIN_SPEEDS or _constant_block(eom, mass):
+    if assembly is None or nu < (SPATIAL_MASS_LOOP_MIN_SPEEDS if assembly.dimensions == 3 else MASS_LOOP_MIN_SPEEDS) \
+            or (assembly.dimensions == 2 and _constant_block(eom, mass)):
         return None
     known = {*eom.q, *eom.u, *eom.constants, eom.t, *(getattr(eom, "z", None) or []),
              *(s for s, _ in getattr(equations, "intermediates", None) or [])}
@@ -515,18 +526,55 @@ def _mass_loop_tables(eom, equations, mass: sympy.Matrix):
 
 
 def _mass_loop_items(assembly, tables) -> tuple[list[str], list]:
-    """Targets and expressions the generated code evaluates for the loop (and M's explicit entries)."""
+    """Targets and expressions the generated code evaluates for the loop (and M's explicit entries).
+
+    Of a spatial assembly, the numbers among the values (joint axes, 0 and 1 of rotations, about
+    half of a rigid chain's) are not stored by statements but copied from a module constant
+    (:func:`_mass_loop_template`), and the others are stored into the flat allocation ``_AW``:
+    Numba compiles each store of an array element more slowly than a scalar statement (a chain of
+    12 revolute links: the right-hand side in 8.3 s of CPU with 327 stores, 5.2 s so)."""
     items = [(f"_M[{i}, {j}]", e) for (i, j), e in sorted(assembly.explicit.items()) if e != 0]
-    items += [(f"_AX[{b}, {k}]", assembly.offsets[b][k]) for b in tables.offsets for k in range(4)]
-    items += [(f"_AI[{b}, {k}]", assembly.inertia[b][k]) for b in tables.composites for k in range(4)]
-    items += [(f"_AT[{n}, {k}]", assembly.sources[src][2][k]) for n, src in enumerate(tables.sources)
-              for k in range(3)]
-    items += [(f"_AC[{n}, {k}]", assembly.wrenches[w][2][k]) for n, w in enumerate(tables.wrenches)
-              for k in range(3)]
+    for array, start, cols, rows in _mass_loop_values(assembly, tables):
+        for b, values in rows:
+            for k, e in enumerate(values):
+                if assembly.dimensions == 2:
+                    items.append((f"{array}[{b}, {k}]", e))
+                elif not sympy.sympify(e).is_Number:
+                    items.append((f"_AW[{start + b * cols + k}]", e))
     return [t for t, _ in items], [sympy.sympify(e) for _, e in items]
 
 
-def _mass_loop_module_lines(prefix: str, tables) -> list[str]:
+def _mass_loop_values(assembly, tables) -> list[tuple[str, int, int, list]]:
+    """Per array of values of the loop: its name, start in ``_AW``, columns and its rows read
+    ``(row, values)``."""
+    starts, at = {}, 0
+    for array, rows, cols in _mass_loop_shapes(tables, assembly):
+        starts[array] = (at, cols)
+        at += rows * cols
+    rows = {"_AX": [(b, assembly.offsets[b]) for b in tables.offsets],
+            "_AI": [(b, assembly.inertia[b]) for b in tables.composites],
+            "_AT": [(n, assembly.sources[k][2]) for n, k in enumerate(tables.sources)],
+            "_AC": [(n, assembly.wrenches[w][2]) for n, w in enumerate(tables.wrenches)]}
+    return [(array, *starts[array], rows[array]) for array in rows]
+
+
+def _mass_loop_template(assembly, tables) -> list[float]:
+    """The values of the loop's arrays that are numbers (zero elsewhere) of a spatial assembly."""
+    template = [0.0] * _mass_loop_data_size(tables, assembly)
+    for _, start, cols, rows in _mass_loop_values(assembly, tables):
+        for b, values in rows:
+            for k, e in enumerate(values):
+                if sympy.sympify(e).is_Number:
+                    template[start + b * cols + k] = float(e)
+    return template
+
+
+def _mass_loop_function(assembly) -> str:
+    """The loop of :mod:`flexkane.numerics.mass_assembly` that sums ``assembly``."""
+    return "assemble_spatial_mass_matrix" if assembly.dimensions == 3 else "assemble_mass_matrix"
+
+
+def _mass_loop_module_lines(prefix: str, tables, assembly) -> list[str]:
     """Module lines: the loop's import and integer tables."""
     def literal(table):
         if table.ndim == 1:
@@ -536,33 +584,38 @@ def _mass_loop_module_lines(prefix: str, tables) -> list[str]:
 
     return ["# M summed from twists and composite bodies by a loop compiled once per installation",
             f"# (flexkane.numerics.mass_assembly, source {mass_assembly.source_digest()}).",
-            "from flexkane.numerics.mass_assembly import assemble_mass_matrix  # noqa: E402",
+            f"from flexkane.numerics.mass_assembly import {_mass_loop_function(assembly)}  # noqa: E402",
             f"{prefix}MASS_POSES = {literal(tables.poses)}",
             f"{prefix}MASS_MOMENTA = {literal(tables.momenta)}",
             f"{prefix}MASS_PAIR_STARTS = {literal(tables.pair_starts)}",
             f"{prefix}MASS_PAIR_SOURCES = {literal(tables.pair_sources)}",
             f"{prefix}MASS_PAIR_ROWS = {literal(tables.pair_rows)}",
-            f"{prefix}MASS_PAIR_COLUMNS = {literal(tables.pair_columns)}"]
+            f"{prefix}MASS_PAIR_COLUMNS = {literal(tables.pair_columns)}"] \
+        + ([f"{prefix}MASS_TEMPLATE = np.array({_mass_loop_template(assembly, tables)!r})"]
+           if assembly.dimensions == 3 else [])
 
 
-def _mass_loop_shapes(tables) -> list[tuple[str, int, int]]:
+def _mass_loop_shapes(tables, assembly) -> list[tuple[str, int, int]]:
     """The loop's arrays of values: name, rows, columns (views of one allocation ``_AW``)."""
     n_links = max([*tables.offsets, *tables.composites, -1]) + 1
-    return [("_AX", n_links, 4), ("_AI", n_links, 4), ("_AT", len(tables.sources), 3),
-            ("_AC", len(tables.wrenches), 3)]
+    pose, composite, twist = (12, 10, 6) if assembly.dimensions == 3 else (4, 4, 3)
+    return [("_AX", n_links, pose), ("_AI", n_links, composite), ("_AT", len(tables.sources), twist),
+            ("_AC", len(tables.wrenches), twist)]
 
 
-def _mass_loop_data_size(tables) -> int:
-    return sum(rows * cols for _, rows, cols in _mass_loop_shapes(tables))
+def _mass_loop_data_size(tables, assembly) -> int:
+    return sum(rows * cols for _, rows, cols in _mass_loop_shapes(tables, assembly))
 
 
-def _mass_loop_allocations(ind: str, nu: int, tables) -> list[str]:
-    """``_M`` (zero) and one allocation for the loop's values and its scratch space."""
-    n_links = max([*tables.offsets, *tables.composites, -1]) + 1
-    size = _mass_loop_data_size(tables) + mass_assembly.work_size(n_links, len(tables.sources))
-    lines = [f"{ind}_M = np.zeros(({nu}, {nu}))", f"{ind}_AW = np.empty({size})"]
+def _mass_loop_allocations(ind: str, nu: int, tables, assembly, prefix: str) -> list[str]:
+    """``_M`` (zero) and one allocation for the loop's values and its scratch space (of a spatial
+    assembly, its values that are numbers copied from ``MASS_TEMPLATE``)."""
+    data = _mass_loop_data_size(tables, assembly)
+    lines = [f"{ind}_M = np.zeros(({nu}, {nu}))", f"{ind}_AW = np.empty({data + tables.work})"]
+    if assembly.dimensions == 3:
+        lines.append(f"{ind}_AW[:{data}] = {prefix}MASS_TEMPLATE")
     at = 0
-    for array, rows, cols in _mass_loop_shapes(tables):
+    for array, rows, cols in _mass_loop_shapes(tables, assembly):
         lines.append(f"{ind}{array} = _AW[{at}:{at + rows * cols}].reshape({rows}, {cols})")
         at += rows * cols
     return lines

@@ -24,6 +24,21 @@ recursive yardstick does, so that a pair costs one dot product:
 
 the planar equations of :mod:`flexkane.kane.inertia` (same terms, another frame and order of
 summation: the numbers agree to round-off).
+
+A spatial chain's assembly (:mod:`flexkane.kane.spatial_inertia`) is summed in the links' own
+frames instead, as the written-out matrix is (:func:`assemble_spatial_mass_matrix`): each source's
+twist ``t = (A, W)`` is carried out link by link to the deeper links where it pairs, with the
+rotation ``Lambda`` and offset ``s`` of each link's frame in its parent's,
+
+    t_child = (Lambda^T (A + W x s), Lambda^T W),
+    momentum of a source: h_s = I_F t_s = (m A + W x S, S x A + J W)   (composite about F)
+    wrench of a mode:     h_r = (c_v, c_w)                          (at the beam's frame)
+    M_rs += t_r(F) . h_s,
+
+so that its ``M`` is the written-out one term by term whatever the state (the Euler parameters of a
+spherical or free joint, whose norm drifts in an integration, enter both through the same
+``Lambda``). A transport costs about 39 operations; a chain of k links carries about k^2 / 2
+twists, which the loop does at run time while the generated code grows with k.
 """
 
 from __future__ import annotations
@@ -37,7 +52,8 @@ from numba import njit
 
 from flexkane.numerics.checked_numba_cache import guard_namespace
 
-__all__ = ["AssemblyTables", "assemble_mass_matrix", "assembly_tables", "source_digest", "work_size"]
+__all__ = ["AssemblyTables", "assemble_mass_matrix", "assemble_spatial_mass_matrix", "assembly_tables",
+           "source_digest", "work_size"]
 
 # Operations of one step of each loop (counted as in codegen: + - * /).
 _POSE_OPERATIONS = 12
@@ -45,6 +61,10 @@ _TWIST_OPERATIONS = 8
 _COMPOSITE_OPERATIONS = 14
 _MOMENTUM_OPERATIONS = 12
 _PAIR_OPERATIONS = 6
+# The same, of the spatial loop.
+_SPATIAL_TRANSPORT_OPERATIONS = 39
+_SPATIAL_MOMENTUM_OPERATIONS = 36
+_SPATIAL_PAIR_OPERATIONS = 12
 
 
 @njit(cache=True, error_model="numpy")
@@ -124,6 +144,77 @@ def assemble_mass_matrix(M, X, I, T, C, work, poses, momenta, pair_starts, pair_
             M[pair_rows[e], pair_columns[e]] += P[g] * h0 + P[g + 1] * h1 + P[g + 2] * h2
 
 
+@njit(cache=True, error_model="numpy")
+def assemble_spatial_mass_matrix(M, X, I, T, C, work, transports, momenta, pair_starts, pair_slots,
+                                 pair_rows, pair_columns):
+    """Add the composite-body and wrench terms of a spatial chain to the upper triangle of ``M``
+    (in place; module docstring).
+
+    Parameters
+    ----------
+    M : ndarray (nu, nu)
+        Mass matrix, holding the explicit entries (zero elsewhere); upper triangle written.
+    X : ndarray (n_links, 12)
+        Each link frame's orientation ``Lambda`` in its parent's, row by row (``v_parent =
+        Lambda v_link``), then its origin ``s`` there [-, m] (rows of links on the ground unread).
+    I : ndarray (n_links, 10)
+        Composite ``(m, S_x, S_y, S_z, J_xx, J_xy, J_xz, J_yy, J_yz, J_zz)`` about each link's
+        frame, its axes [kg, kg m, kg m^2].
+    T : ndarray (n_sources, 6)
+        Twists ``(A, W)`` of the sources at their link's frame, its axes [m/s, rad/s per speed].
+    C : ndarray (n_wrenches, 6)
+        Wrenches ``(c_v, c_w)`` of beam modes at their beam's frame, its axes.
+    work : ndarray (6 n_slots,)
+        Scratch space: the twists, the sources' own (slots 0 to n_sources - 1), then those carried.
+    transports : ndarray (n, 3) of uint64
+        ``(slot, from slot, link)``: the twist of a slot carried into ``link``'s frame from its
+        parent's, in order (a slot after the one it is carried from).
+    momenta : ndarray (n_momenta, 2) of uint64
+        ``(index, link)``: first every source (``index`` its row of T and its slot), whose momentum
+        ``I t`` is formed, then the wrenches used (``index`` a row of C).
+    pair_starts : ndarray (n_momenta + 1,) of uint64
+        The pairs of momentum ``n`` are ``pair_starts[n]`` to ``pair_starts[n + 1]``.
+    pair_slots, pair_rows, pair_columns : ndarray (n_pairs,) of uint64
+        Per pair, the slot of a twist at the momentum's link and the entry of M:
+        ``M[row, column] += t_slot . h_momentum``.
+    """
+    W = work
+    n_sources = T.shape[0]
+    for k in range(n_sources):
+        for c in range(6):
+            W[6 * k + c] = T[k, c]
+    for n in range(transports.shape[0]):
+        to, fr, b = 6 * transports[n, 0], 6 * transports[n, 1], transports[n, 2]
+        w0, w1, w2 = W[fr + 3], W[fr + 4], W[fr + 5]
+        sx, sy, sz = X[b, 9], X[b, 10], X[b, 11]
+        v0 = W[fr] + w1 * sz - w2 * sy        # A + W x s
+        v1 = W[fr + 1] + w2 * sx - w0 * sz
+        v2 = W[fr + 2] + w0 * sy - w1 * sx
+        W[to] = X[b, 0] * v0 + X[b, 3] * v1 + X[b, 6] * v2
+        W[to + 1] = X[b, 1] * v0 + X[b, 4] * v1 + X[b, 7] * v2
+        W[to + 2] = X[b, 2] * v0 + X[b, 5] * v1 + X[b, 8] * v2
+        W[to + 3] = X[b, 0] * w0 + X[b, 3] * w1 + X[b, 6] * w2
+        W[to + 4] = X[b, 1] * w0 + X[b, 4] * w1 + X[b, 7] * w2
+        W[to + 5] = X[b, 2] * w0 + X[b, 5] * w1 + X[b, 8] * w2
+    for n in range(momenta.shape[0]):
+        k, b = momenta[n, 0], momenta[n, 1]
+        if n < n_sources:          # I_F t of a source, at its link F
+            a0, a1, a2, w0, w1, w2 = T[k, 0], T[k, 1], T[k, 2], T[k, 3], T[k, 4], T[k, 5]
+            m, s0, s1, s2 = I[b, 0], I[b, 1], I[b, 2], I[b, 3]
+            h0 = m * a0 + w1 * s2 - w2 * s1
+            h1 = m * a1 + w2 * s0 - w0 * s2
+            h2 = m * a2 + w0 * s1 - w1 * s0
+            h3 = s1 * a2 - s2 * a1 + I[b, 4] * w0 + I[b, 5] * w1 + I[b, 6] * w2
+            h4 = s2 * a0 - s0 * a2 + I[b, 5] * w0 + I[b, 7] * w1 + I[b, 8] * w2
+            h5 = s0 * a1 - s1 * a0 + I[b, 6] * w0 + I[b, 8] * w1 + I[b, 9] * w2
+        else:                      # a beam mode's wrench, at its beam's frame
+            h0, h1, h2, h3, h4, h5 = C[k, 0], C[k, 1], C[k, 2], C[k, 3], C[k, 4], C[k, 5]
+        for e in range(pair_starts[n], pair_starts[n + 1]):
+            g = 6 * pair_slots[e]
+            M[pair_rows[e], pair_columns[e]] += (W[g] * h0 + W[g + 1] * h1 + W[g + 2] * h2
+                                                 + W[g + 3] * h3 + W[g + 4] * h4 + W[g + 5] * h5)
+
+
 @dataclass
 class AssemblyTables:
     """What the generated code of one assembly evaluates, and the loop's integer tables.
@@ -139,9 +230,13 @@ class AssemblyTables:
     wrenches : list of int
         Indices into ``assembly.wrenches`` of the wrenches used (row of ``C`` = position).
     poses, momenta, pair_starts, pair_sources, pair_rows, pair_columns : ndarray
-        The tables of :func:`assemble_mass_matrix`.
+        The tables of :func:`assemble_mass_matrix` (of a spatial chain's assembly: ``poses`` is
+        the table ``transports`` of :func:`assemble_spatial_mass_matrix` and ``pair_sources`` its
+        ``pair_slots``).
     operations : int
         Floating-point operations of one call of the loop.
+    work : int
+        Length of the loop's scratch array.
     """
 
     offsets: list
@@ -155,6 +250,7 @@ class AssemblyTables:
     pair_rows: np.ndarray
     pair_columns: np.ndarray
     operations: int
+    work: int
 
 
 def assembly_tables(assembly) -> AssemblyTables:
@@ -162,7 +258,9 @@ def assembly_tables(assembly) -> AssemblyTables:
 
     Every source forms its momentum at its link F; a source at F or at a link inward of F (on the
     path to the ground) pairs with it, once per unordered pair at the same link. A beam mode's
-    wrench pairs with the sources at its beam or inward of it (those move the beam rigidly).
+    wrench pairs with the sources at its beam or inward of it (those move the beam rigidly). Of a
+    spatial chain, the twist of each source at each link where it pairs is a slot, carried from
+    the link's parent (``transports``, parents first).
     """
     parent = assembly.parent
     sources = assembly.sources
@@ -200,23 +298,44 @@ def assembly_tables(assembly) -> AssemblyTables:
             s = sources[k][0]
             pairs.append((k, h, min(r, s), max(r, s)))
     needed = {b for _, b in momenta}
-    posed = sorted({a for b in needed for a in inward(b)})     # tree order: parents first
+    composites = sorted({f for _, f, _ in sources})
     as_table = lambda rows, width: np.array(rows, dtype=np.uint64).reshape(len(rows), width)  # noqa: E731
+    unsigned = lambda values: np.array(values, dtype=np.uint64)  # noqa: E731
     n_sources = len(sources)
-    operations = (_POSE_OPERATIONS * len(posed) + (_TWIST_OPERATIONS + _MOMENTUM_OPERATIONS) * n_sources
-                  + _COMPOSITE_OPERATIONS * n_sources + 8 * len(used_wrenches)
-                  + _PAIR_OPERATIONS * len(pairs))
+    if assembly.dimensions == 3:   # twists carried out link by link: slots (assemble_spatial_mass_matrix)
+        slots: dict = {(k, b): k for k, (_, b, _) in enumerate(sources)}
+        transports: list = []
+
+        def slot(k, b):
+            if (k, b) not in slots:
+                before = slot(k, parent[b])
+                slots[(k, b)] = n_sources + len(transports)
+                transports.append((slots[(k, b)], before, b))
+            return slots[(k, b)]
+
+        pairs = [(slot(k, momenta[h][1]), h, i, j) for k, h, i, j in pairs]
+        posed = sorted({b for _, _, b in transports})
+        poses = as_table(transports, 3)
+        operations = (_SPATIAL_TRANSPORT_OPERATIONS * len(transports) + _SPATIAL_MOMENTUM_OPERATIONS * n_sources
+                      + _SPATIAL_PAIR_OPERATIONS * len(pairs))
+        work = 6 * (n_sources + len(transports))
+    else:
+        posed = sorted({a for b in needed for a in inward(b)})     # tree order: parents first
+        poses = as_table([(b, b if parent[b] < 0 else parent[b]) for b in posed], 2)
+        operations = (_POSE_OPERATIONS * len(posed) + (_TWIST_OPERATIONS + _MOMENTUM_OPERATIONS) * n_sources
+                      + _COMPOSITE_OPERATIONS * n_sources + 8 * len(used_wrenches)
+                      + _PAIR_OPERATIONS * len(pairs))
+        work = work_size(max([*posed, *composites, -1]) + 1, n_sources)
     starts = [0] * (len(momenta) + 1)
     for _, h, _, _ in pairs:
         starts[h + 1] += 1
     for n in range(len(momenta)):
         starts[n + 1] += starts[n]
-    unsigned = lambda values: np.array(values, dtype=np.uint64)  # noqa: E731
-    return AssemblyTables(posed, sorted({f for _, f, _ in sources}), list(range(len(sources))),
-                          used_wrenches, as_table([(b, b if parent[b] < 0 else parent[b]) for b in posed], 2),
+    return AssemblyTables(posed, composites, list(range(len(sources))),
+                          used_wrenches, poses,
                           as_table(momenta, 2), unsigned(starts), unsigned([k for k, _, _, _ in pairs]),
                           unsigned([i for _, _, i, _ in pairs]), unsigned([j for _, _, _, j in pairs]),
-                          operations)
+                          operations, work)
 
 
 def work_size(n_links: int, n_sources: int) -> int:
