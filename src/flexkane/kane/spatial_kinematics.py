@@ -22,7 +22,7 @@ import sympy as sp
 
 from .rotation import Rotation
 from .spatial_beam import beam_motion, station_geometry
-from .spatial_beam_constants import SpatialBeamConstants
+from .modal_sums import IndexedBeamConstants
 from .spatial_frame import GROUND, SpatialFrame, add, cross, ground_frame
 from .spatial_joints import joint_motion, orientation, vector
 
@@ -59,7 +59,7 @@ class SpatialKinematics:
         self.bodies: dict[str, SpatialFrame] = {}
         self.beams: dict = {}
         label_beams = len(model.beams) > 1
-        self.constants: dict = {name: SpatialBeamConstants(name, name if label_beams else "") for name in model.beams}
+        self.constants: dict = {name: IndexedBeamConstants(name, name if label_beams else "") for name in model.beams}
         self.joint_frames: dict[str, tuple[SpatialFrame, SpatialFrame]] = {}
         self.link_offsets: dict[str, tuple[tuple, Rotation]] = {}
         for joint in chain.joints:
