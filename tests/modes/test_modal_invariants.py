@@ -9,6 +9,7 @@ from flexkane.errors import ModelError
 from flexkane.kane.equations import derive
 from flexkane.kane.modal_body import constant_value, planar_invariants, spatial_invariants
 from flexkane.kane.numeric import constant_values
+from flexkane.kane.spatial_beam_constants import SpatialBeamConstants
 from flexkane.model import as_spatial, loads_model
 from flexkane.model.field_values import FieldValues
 from flexkane.modes import get_family
@@ -140,11 +141,28 @@ axis = [0, 0, 1]
 """
 
 
+#: Kinds of constants that are invariants of a beam (the others: values at stations, loads' integrals).
+INVARIANT_KINDS = {"pair", "polar", "section", "rotary", "H", "Hs", "Kt", "HA"}
+
+
+def _per_constant_quadrature(consts, beam, fields) -> dict:
+    """The values of a spatial beam's invariant constants as computed before the invariants, one
+    quadrature per constant (:meth:`SpatialBeamConstants.model_values`)."""
+    used = consts.used
+    consts.used = {s: spec for s, spec in used.items() if spec[0] in INVARIANT_KINDS}
+    try:
+        return SpatialBeamConstants.model_values(consts, beam, fields, fields.parameters)
+    finally:
+        consts.used = used
+
+
 def _compare_every_constant(eom, model, invariants_of):
     values = constant_values(eom)
     fields = FieldValues(model)
     compared = 0
     for name, consts in eom.kinematics.constants.items():
+        if model.dimensions == 3:   # the engine's values come from the invariants: today's quadrature
+            values.update(_per_constant_quadrature(consts, model.beams[name], fields))
         inv = invariants_of(model.beams[name], fields, fields.parameters)
         # entries zero to rounding (off-diagonal H of orthogonal modes) judged by their kind's largest
         largest = {}
