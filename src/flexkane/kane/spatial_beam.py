@@ -40,6 +40,7 @@ import sympy as sp
 
 from ..model.columns import Output
 from ..model.parts import nonzero_field
+from . import modal_sums
 from .chain import BEAM_ROLES
 from .modal_field import ONE, X, Field, cross3, dfs, dphi, phi, psi, rigid, theta, vec3, vec3_map
 from .spatial_beam_constants import SpatialBeamConstants
@@ -150,11 +151,11 @@ def station_geometry(bm: SpatialBeamMotion, x, text: str, chain) -> tuple:
     k = bm.constants
 
     def at(field, deriv=0):
-        return field.evaluate(lambda atom: k.station(atom, x, text, deriv))
+        return modal_sums.evaluate(field, lambda atom: k.station(atom, x, text, deriv))
 
     p = tuple(at(c) for c in bm.r)
     coords = chain.of(bm.beam.name, "torsion")
-    twist = sp.Add(*[k.station(theta(c.index), x, text) * c.q for c in coords])
+    twist = modal_sums.modal_dot([k.station(theta(c.index), x, text) for c in coords], [c.q for c in coords])
     angles = (at(bm.r[1], 1), -at(bm.r[2], 1), twist)
     turn = body_sequence("zyx", angles)
     rates = [chain.dt(a) for a in angles]
@@ -284,7 +285,8 @@ def beam_active_forces(kin, parts: dict, gravity) -> None:
                                 ("torsion", lambda i, j: k.torsion_stiffness(i, j)), ("axial", k.axial_stiffness)):
             coords = family_coordinates(chain, name, role)
             for cj in coords if not (notebook and role.startswith("mode")) else ():
-                parts["elastic"][index[cj.u]] += -sp.Add(*[stiffness(ci.index, cj.index) * ci.q for ci in coords])
+                parts["elastic"][index[cj.u]] += -modal_sums.modal_dot([stiffness(ci.index, cj.index) for ci in coords],
+                                                                       [ci.q for ci in coords])
             for cj, force in zip(coords, modal_damping(kin, name, role, stiffness)):
                 parts["damping"][index[cj.u]] += force
         if notebook:

@@ -33,7 +33,7 @@ import sympy as sp
 from .beam_constants import BeamConstants
 from .rotation import IDENTITY, Rotation
 from .spatial_beam import beam_motion, station_geometry
-from .spatial_beam_constants import SpatialBeamConstants
+from .modal_sums import IndexedBeamConstants
 from .spatial_frame import GROUND, SpatialFrame, add, cross, ground_frame
 from .spatial_joints import joint_motion, orientation, planar_joint_motion, vector
 
@@ -70,7 +70,7 @@ class SpatialKinematics:
         self.bodies: dict[str, SpatialFrame] = {}
         self.beams: dict = {}
         label_beams = len(model.beams) > 1
-        constants = BeamConstants if self.planar else SpatialBeamConstants
+        constants = BeamConstants if self.planar else IndexedBeamConstants
         self.constants: dict = {name: constants(name, name if label_beams else "") for name in model.beams}
         self.joint_frames: dict[str, tuple[SpatialFrame, SpatialFrame]] = {}
         self.link_offsets: dict[str, tuple[tuple, Rotation]] = {}

@@ -68,11 +68,15 @@ _RESERVED = {"t", "y", "p", "dy", "math", "np", "njit", "min", "max", "abs", "ra
              "rhs", "outputs", "PIVOT_RTOL", "w", "system_rhs", "ldl_factor", "ldl_substitute",
              "schur_solve", "constant_block_factor", "NP_PREPARED", "BLOCK_SPEEDS",
              "REST_SPEEDS", "assemble_mass_matrix", "assemble_spatial_mass_matrix", "MASS_POSES", "MASS_MOMENTA", "MASS_PAIR_STARTS",
-             "MASS_PAIR_SOURCES", "MASS_PAIR_ROWS", "MASS_PAIR_COLUMNS", "MASS_TEMPLATE"}
+             "MASS_PAIR_SOURCES", "MASS_PAIR_ROWS", "MASS_PAIR_COLUMNS", "MASS_TEMPLATE", "modal_sum1", "modal_sum2"}
 
 
 class _MathPrinter(PythonCodePrinter):
     """Python printer for Numba: ``math.`` calls, floats printed exactly, errors on the unknown."""
+
+    #: Modal sums (flexkane.kane.modal_sums.ModalSum) printed as calls of the loops of
+    #: flexkane.numerics.modal_loops instead of term by term.
+    modal_loops = True
 
     def __init__(self):
         super().__init__({"fully_qualified_modules": True, "standard": "python3"})

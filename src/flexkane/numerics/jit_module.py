@@ -58,7 +58,7 @@ import numba
 from flexkane._version import __version__
 from flexkane.checked_cache import note_damage, read_checked, write_checked
 from flexkane.forking import fork_allowed as _fork_allowed   # may a compiling child be a fork
-from flexkane.numerics import linear_algebra, scalar_typing
+from flexkane.numerics import linear_algebra, modal_loops, scalar_typing
 from flexkane.numerics.checked_numba_cache import entry_intact, files_intact, guard_namespace
 from flexkane.numerics.system_function import SIGNATURE
 from flexkane.progress import activity, tick, ticking
@@ -94,7 +94,7 @@ def template_text(module: ModuleType) -> str:
 
 
 def _templates() -> list[tuple[str, str]]:
-    return [(m.__name__, template_text(m)) for m in (linear_algebra,)]
+    return [(m.__name__, template_text(m)) for m in (linear_algebra, modal_loops)]
 
 
 def default_cache_dir() -> Path:
@@ -178,9 +178,8 @@ def compose_module_source(source: str, key: str) -> str:
     blocks = [f'"""flexkane generated module {key}: do not edit, it is regenerated from the model.'
               '"""',
               "import math\n\nimport numpy as np\nfrom numba import njit"]
-    templates = dict(_templates())
-    blocks.append(f"# ==== template {linear_algebra.__name__} ====\n"
-                  + templates[linear_algebra.__name__])
+    for module, text in _templates():
+        blocks.append(f"# ==== template {module} ====\n" + text)
     blocks.append("# ==== generated ====\n" + source)
     return "\n\n".join(block.rstrip("\n") for block in blocks) + "\n"
 
