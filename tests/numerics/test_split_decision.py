@@ -50,7 +50,9 @@ def test_short_statements_stay_one_function_and_equal_the_split_form(equations, 
         t, y = float(rng.uniform(0.0, 1.0)), rng.normal(scale=0.5, size=n)
         a, b = np.empty(n), np.empty(n)
         assert rhs_straight(t, y, p, a) == rhs_split(t, y, p, b) == 0
-        np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12 * np.max(np.abs(b)))
+        # the same sums in another order, through a solve with stiff modal rows (accelerations of
+        # 5e5 beside 0.1): round-off, not a 1e-12 agreement
+        np.testing.assert_allclose(a, b, rtol=1e-10, atol=1e-11 * np.max(np.abs(b)))
 
 
 def test_a_model_with_long_sums_is_still_split(monkeypatch):

@@ -82,7 +82,7 @@ def constant_value(inv: ModalInvariants, spec: tuple) -> float | None:
     return None
 
 
-def spatial_invariants(beam, fields, parameters) -> ModalInvariants:
+def spatial_invariants(beam, fields, parameters, model=None) -> ModalInvariants:
     """The invariants of a spatial beam of a model, with its uniform sections.
 
     Parameters
@@ -93,6 +93,9 @@ def spatial_invariants(beam, fields, parameters) -> ModalInvariants:
         Values of the model's fields.
     parameters : dict
         The model's parameter values (numeric options of the shape families).
+    model : flexkane.model.model.Model, optional
+        The beam's model: with it, the bases get their static correction shapes where the beam
+        carries something at its tip (:func:`flexkane.modes.from_spec.beam_shape_family`).
 
     Returns
     -------
@@ -100,14 +103,16 @@ def spatial_invariants(beam, fields, parameters) -> ModalInvariants:
         Bending families ``y`` (deflection along y_p, ``"EI:y"`` = EI_z, ``"rho_I:y"`` = rho_Iz) and
         ``z`` (``EI_y``, ``rho_Iy``), torsion, axial; the section properties the beam gives.
     """
-    from ..modes.from_spec import shape_family
+    from ..modes.from_spec import beam_shape_family, shape_family
 
     path = f"beams.{beam.name}"
 
     def basis(key: str, count: int) -> ShapeBasis | None:
         if not count:
             return None
-        return ShapeBasis.of_family(shape_family(getattr(beam, key), f"{path}.{key}", parameters), count)
+        family = beam_shape_family(model, beam, key, parameters) if model is not None \
+            else shape_family(getattr(beam, key), f"{path}.{key}", parameters)
+        return ShapeBasis.of_family(family, count)
 
     bending = {label: basis(key, count) for label, key, count in
                (("y", "shape_y", beam.n_modes_y), ("z", "shape_z", beam.n_modes_z)) if count}

@@ -291,14 +291,14 @@ class IndexedBeamConstants(SpatialBeamConstants):
         return contract(Field({ONE: 1}), f, lambda a, b: self.section(axis, a, b))
 
     def model_values(self, beam, fields, parameters, stations: dict | None = None,
-                     profiles: dict | None = None) -> dict:
+                     profiles: dict | None = None, model=None) -> dict:
         """Numeric value of every constant used (:meth:`SpatialBeamConstants.model_values`): the
         integrals of the shape functions read from the beam's invariants
         (:func:`flexkane.kane.modal_body.spatial_invariants`, each array computed once per parameter
         set), the values at stations and the loads' integrals as there."""
         from .modal_body import constant_value, spatial_invariants
 
-        invariants = spatial_invariants(beam, fields, parameters)
+        invariants = spatial_invariants(beam, fields, parameters, model)
         out, rest = {}, {}
         for symbol, spec in self.used.items():
             value = constant_value(invariants, spec)
@@ -309,7 +309,7 @@ class IndexedBeamConstants(SpatialBeamConstants):
         used = self.used
         try:
             self.used = rest
-            out.update(super().model_values(beam, fields, parameters, stations, profiles))
+            out.update(super().model_values(beam, fields, parameters, stations, profiles, model=model))
         finally:
             self.used = used
         return {symbol: out[symbol] for symbol in used}
