@@ -172,8 +172,9 @@ class Results:
 
     def write(self, directory: Path) -> list[Path]:
         """Write results.csv, results.units.json and results.npz into ``directory`` (atomically);
-        return the paths."""
+        return the paths. The directory is made when missing."""
         directory = Path(directory)
+        directory.mkdir(parents=True, exist_ok=True)
         csv_path = directory / "results.csv"
         atomic_write_text(csv_path, csv_text(self))
         units_path = directory / "results.units.json"

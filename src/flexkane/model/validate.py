@@ -977,17 +977,6 @@ def _family(spec: ShapeSpec, path: str, n: int, kind: str, values: _Values) -> N
                          f"{spec.family!r} provides as specified", n)
 
 
-def _corrected_bases(model, beam, values: _Values) -> None:
-    """Build the bases with static correction shapes (errors, such as a family whose functions are
-    dependent, name the beam's shape key)."""
-    from ..modes.from_spec import COUNT_KEYS, beam_shape_family
-
-    keys = (("shape_y", "shape_z", "torsion_shape") if model.dimensions == 3 else ("shape",)) + ("axial_shape",)
-    for key in keys:
-        if getattr(beam, COUNT_KEYS[key]):
-            beam_shape_family(model, beam, key, values.parameters)
-
-
 def _check_structure(model, values: _Values) -> list:
     """Shape families, the chain's coordinates, initial conditions and dependent speeds."""
     from .coordinates import coordinate_names, coordinate_unit, speed_unit
@@ -1004,7 +993,6 @@ def _check_structure(model, values: _Values) -> list:
             _family(beam.shape, f"{path}.shape", beam.n_modes, "transverse", values)
         if beam.n_axial:
             _family(beam.axial_shape, f"{path}.axial_shape", beam.n_axial, "axial", values)
-        _corrected_bases(model, beam, values)
     coordinates = coordinate_names(model)   # names unique; initial conditions name existing coordinates
     units = {}
     for coord in coordinates:
