@@ -284,7 +284,7 @@ def test_campbell_reports_each_spin_rate_and_converge_each_mode_count(tmp_path, 
     assert main(["converge", "flexible-arm", "--n-modes", "1..2", "--out", str(tmp_path / "v")]) == 0
     lines = [line for line in flexkane_lines(capsys.readouterr().err) if "convergence study" in line]
     assert [line.split(" (")[0] for line in lines] == [
-        "flexkane: convergence study of flexible-arm: 1/2, 1 modes per beam",
+        "flexkane: convergence study of flexible-arm: 1/2, 1 mode per beam",
         "flexkane: convergence study of flexible-arm: 2/2, 2 modes per beam"]
     assert main(["converge", "flexible-arm", "--n-modes", "1..2", "--out", str(tmp_path / "q"), "--quiet"]) == 0
     assert capsys.readouterr().err == ""

@@ -330,14 +330,14 @@ def steps(text: str, total: int, *, delay: float = LONG) -> Steps:
     return Steps(text, total, delay=delay)
 
 
-def each_reported(values, text: str, each: str) -> Iterator:
+def each_reported(values, text: str, each) -> Iterator:
     """``values`` one by one, each reported when it is done (a :class:`Steps` line: ``k/N``,
-    ``each.format(value)``, its time), e.g. ``for spin in each_reported(spins, "Campbell diagram of
-    spin-up", "Omega = {:g} rad/s")``."""
+    ``each.format(value)``, or ``each(value)`` for a function, and its time), e.g. ``for spin in
+    each_reported(spins, "Campbell diagram of spin-up", "Omega = {:g} rad/s")``."""
     with steps(text, len(values)) as progress:
         for value in values:
             yield value
-            progress.done(each.format(value))
+            progress.done(each(value) if callable(each) else each.format(value))
 
 
 class ProgressBar:

@@ -294,7 +294,8 @@ def convergence_study(model: Model, n_modes, *, about: str = "equilibrium", spin
     counts = checked_mode_counts(n_modes)
     rows, values, notes, labels = [], [], [], []
     sim = model.simulation
-    for n in each_reported(counts, f"convergence study of {model.name}", "{} modes per beam"):
+    for n in each_reported(counts, f"convergence study of {model.name}",
+                           lambda n: f"{n} mode{'' if n == 1 else 's'} per beam"):
         variant = _study_variant(model, n, notes)
         lin = Linearization(variant, about=about, spin=spin, hub=hub)
         modal = modal_analysis(lin.at(outputs=False))
